@@ -1,0 +1,225 @@
+#pragma once
+// Attrib<N, T, S>: the value type of the language.  Inside a program an
+// Attrib is a register and every operation on it is recorded; outside one it
+// is a uniform whose value the host sets between runs.
+#include <concepts>
+#include <cstdint>
+#include <type_traits>
+
+#include "sh/detail/value.hpp"
+
+namespace sh {
+
+enum class Semantic { Attrib, Point, Vector, Normal, Color, TexCoord, Position };
+
+template <class T>
+struct scalar_of;
+template <> struct scalar_of<float> { static constexpr ir::Scalar value = ir::Scalar::F32; };
+template <> struct scalar_of<double> { static constexpr ir::Scalar value = ir::Scalar::F64; };
+template <> struct scalar_of<std::int32_t> { static constexpr ir::Scalar value = ir::Scalar::I32; };
+template <> struct scalar_of<bool> { static constexpr ir::Scalar value = ir::Scalar::Bool; };
+
+template <class T>
+concept Number = std::is_arithmetic_v<T>;
+
+namespace detail {
+// Common base, so that functions can take any Attrib by its Value.
+class ValueHolder {
+ public:
+  const Value& value() const { return value_; }
+
+ protected:
+  ValueHolder() = default;
+  explicit ValueHolder(Value v) : value_(std::move(v)) {}
+  Value value_;
+};
+struct FromValue {};  // tag: wrap an existing Value
+
+// Constructor arguments as four components; a single one fills them all.
+template <class... U>
+std::array<double, 4> components(U... xs) {
+  if constexpr (sizeof...(U) == 1) {
+    double v = (static_cast<double>(xs), ...);
+    return {v, v, v, v};
+  } else {
+    return {static_cast<double>(xs)...};
+  }
+}
+}  // namespace detail
+
+template <int N, class T = float, Semantic S = Semantic::Attrib>
+class Attrib;
+
+template <class A>
+concept AttribLike = std::derived_from<A, detail::ValueHolder> && requires {
+  A::width;
+  typename A::scalar_type;
+};
+
+template <int N, class T, Semantic S>
+class SwizzleRef;
+
+template <int N, class T, Semantic S>
+class Attrib : public detail::ValueHolder {
+  static_assert(N >= 1 && N <= 4, "an Attrib has 1 to 4 components");
+
+ public:
+  static constexpr int width = N;
+  using scalar_type = T;
+  static constexpr Semantic semantic = S;
+  static constexpr ir::Type ir_type() { return {scalar_of<T>::value, N}; }
+
+  Attrib() : ValueHolder(detail::declare(ir_type(), detail::Declared::Temp)) {}
+  Attrib(detail::FromValue, detail::Value v) : ValueHolder(std::move(v)) {}
+
+  // A copy is a new variable holding the value, as in Sh.
+  Attrib(const Attrib& other) : Attrib() { detail::assign(value_, other.value()); }
+  // A temporary result is adopted rather than copied.
+  Attrib(Attrib&& other) noexcept : ValueHolder(std::move(other.value_)) {}
+  template <Semantic S2>
+  Attrib(const Attrib<N, T, S2>& other) : Attrib() {
+    detail::assign(value_, other.value());
+  }
+  template <Number... U>
+    requires(sizeof...(U) == N || sizeof...(U) == 1)
+  Attrib(U... components) : Attrib() {
+    detail::assign(value_, detail::constant(ir_type(), detail::components(components...)));
+  }
+
+  Attrib& operator=(const Attrib& other) {
+    detail::assign(value_, other.value());
+    return *this;
+  }
+  template <AttribLike A>
+    requires(A::width == N || A::width == 1)
+  Attrib& operator=(const A& other) {
+    detail::assign(value_, other.value());
+    return *this;
+  }
+  template <Number U>
+  Attrib& operator=(U x) {
+    detail::assign(value_, detail::constant(scalar_of<T>::value, static_cast<double>(x)));
+    return *this;
+  }
+
+  template <class U> Attrib& operator+=(const U& x) { return *this = *this + x; }
+  template <class U> Attrib& operator-=(const U& x) { return *this = *this - x; }
+  template <class U> Attrib& operator*=(const U& x) { return *this = *this * x; }
+  template <class U> Attrib& operator/=(const U& x) { return *this = *this / x; }
+  template <class U> Attrib& operator%=(const U& x) { return *this = *this % x; }
+  Attrib& operator++() { return *this += 1; }
+  Attrib& operator--() { return *this -= 1; }
+  void operator++(int) { *this += 1; }
+  void operator--(int) { *this -= 1; }
+
+  // Swizzles: read components, or write only those (v(0, 1) = ...).
+  SwizzleRef<1, T, S> operator()(int a) const { return {detail::swizzle(value_, {a})}; }
+  SwizzleRef<2, T, S> operator()(int a, int b) const { return {detail::swizzle(value_, {a, b})}; }
+  SwizzleRef<3, T, S> operator()(int a, int b, int c) const { return {detail::swizzle(value_, {a, b, c})}; }
+  SwizzleRef<4, T, S> operator()(int a, int b, int c, int d) const { return {detail::swizzle(value_, {a, b, c, d})}; }
+
+  template <class U>
+  Attrib<N, U, S> cast() const {
+    return {detail::FromValue{}, detail::cast(value_, scalar_of<U>::value)};
+  }
+
+  Attrib& name(const std::string& n) {
+    detail::set_name(value_, n);
+    return *this;
+  }
+  // Host-side value of a uniform (outside programs).
+  T get(int i = 0) const { return static_cast<T>(detail::host_value(value_)[i]); }
+};
+
+// What a swizzle returns: reads like an Attrib; assignment writes through
+// to the swizzled components of the original variable.  Copying it into an
+// Attrib makes a new variable, so function parameters stay copies.
+template <int N, class T, Semantic S>
+class SwizzleRef : public Attrib<N, T, S> {
+ public:
+  SwizzleRef(detail::Value v) : Attrib<N, T, S>(detail::FromValue{}, std::move(v)) {}
+  SwizzleRef(const SwizzleRef&) = default;
+  using Attrib<N, T, S>::operator=;
+  SwizzleRef& operator=(const SwizzleRef& other) {
+    detail::assign(this->value_, other.value());
+    return *this;
+  }
+};
+
+// Program interface variables.
+template <class A>
+class Input : public A {
+ public:
+  Input() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::Input)) {}
+  using A::operator=;
+};
+template <class A>
+class Output : public A {
+ public:
+  Output() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::Output)) {}
+  using A::operator=;
+  Output& operator=(const Output& other) {
+    A::operator=(other);
+    return *this;
+  }
+};
+template <class A>
+class InOut : public A {
+ public:
+  InOut() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::InOut)) {}
+  using A::operator=;
+  InOut& operator=(const InOut& other) {
+    A::operator=(other);
+    return *this;
+  }
+};
+
+// A constant: a value fixed while recording.
+template <int N, class T = float, Semantic S = Semantic::Attrib>
+class ConstAttrib : public Attrib<N, T, S> {
+ public:
+  template <Number... U>
+    requires(sizeof...(U) == N || sizeof...(U) == 1)
+  ConstAttrib(U... components)
+      : Attrib<N, T, S>(detail::FromValue{},
+                        detail::constant(Attrib<N, T, S>::ir_type(), detail::components(components...))) {}
+};
+
+// ---- aliases ---------------------------------------------------------------
+
+#define SH_ATTRIB_ALIASES(Name, Sem)                          \
+  using Name##1f = Attrib<1, float, Semantic::Sem>;          \
+  using Name##2f = Attrib<2, float, Semantic::Sem>;          \
+  using Name##3f = Attrib<3, float, Semantic::Sem>;          \
+  using Name##4f = Attrib<4, float, Semantic::Sem>;          \
+  using Name##1d = Attrib<1, double, Semantic::Sem>;         \
+  using Name##2d = Attrib<2, double, Semantic::Sem>;         \
+  using Name##3d = Attrib<3, double, Semantic::Sem>;         \
+  using Name##4d = Attrib<4, double, Semantic::Sem>;         \
+  using Name##1i = Attrib<1, std::int32_t, Semantic::Sem>;   \
+  using Name##2i = Attrib<2, std::int32_t, Semantic::Sem>;   \
+  using Name##3i = Attrib<3, std::int32_t, Semantic::Sem>;   \
+  using Name##4i = Attrib<4, std::int32_t, Semantic::Sem>;   \
+  using Name##1b = Attrib<1, bool, Semantic::Sem>;           \
+  using Name##2b = Attrib<2, bool, Semantic::Sem>;           \
+  using Name##3b = Attrib<3, bool, Semantic::Sem>;           \
+  using Name##4b = Attrib<4, bool, Semantic::Sem>;           \
+  using Const##Name##1f = ConstAttrib<1, float, Semantic::Sem>; \
+  using Const##Name##2f = ConstAttrib<2, float, Semantic::Sem>; \
+  using Const##Name##3f = ConstAttrib<3, float, Semantic::Sem>; \
+  using Const##Name##4f = ConstAttrib<4, float, Semantic::Sem>; \
+  using Const##Name##1i = ConstAttrib<1, std::int32_t, Semantic::Sem>; \
+  using Const##Name##2i = ConstAttrib<2, std::int32_t, Semantic::Sem>; \
+  using Const##Name##3i = ConstAttrib<3, std::int32_t, Semantic::Sem>; \
+  using Const##Name##4i = ConstAttrib<4, std::int32_t, Semantic::Sem>;
+
+SH_ATTRIB_ALIASES(Attrib, Attrib)
+SH_ATTRIB_ALIASES(Point, Point)
+SH_ATTRIB_ALIASES(Vector, Vector)
+SH_ATTRIB_ALIASES(Normal, Normal)
+SH_ATTRIB_ALIASES(Color, Color)
+SH_ATTRIB_ALIASES(TexCoord, TexCoord)
+SH_ATTRIB_ALIASES(Position, Position)
+#undef SH_ATTRIB_ALIASES
+
+}  // namespace sh

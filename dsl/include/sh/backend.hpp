@@ -1,0 +1,103 @@
+#pragma once
+// The one interface every backend implements, the registry that finds them
+// by name, and the run() call users make.  A kernel is a pure function of
+// the optimised IR and the options: uniform values and tables are handed to
+// it at every run, so a new uniform value never recompiles anything.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sh/ir/eval.hpp"
+#include "sh/ir/program.hpp"
+#include "sh/program.hpp"
+
+namespace sh {
+
+using ir::Precision;
+enum class MathMode : std::uint8_t { Precise, Fast };
+
+struct Options {
+  Precision precision = Precision::F32;
+  MathMode math = MathMode::Precise;
+  int threads = 0;                        // 0: every core
+  std::uint64_t max_loop_iterations = 1u << 24;  // per loop, per element
+  bool checked = false;                   // interp: report first NaN / bad table read
+  bool optimize = true;                   // run the passes before compiling
+  std::string device;                     // backend-specific device choice
+
+  std::string key() const;  // what a compiled kernel depends on
+};
+
+struct BufferView {
+  ir::Type type;
+  std::size_t count = 0;
+  void* data = nullptr;
+};
+
+struct TableView {
+  ir::Type element;
+  int rank = 1;
+  std::array<int, 3> dims{1, 1, 1};
+  const void* data = nullptr;
+};
+
+struct RunArgs {
+  std::size_t count = 0;  // stream elements
+  std::vector<BufferView> inputs, outputs;
+  std::vector<std::array<double, 4>> uniforms;  // parallel to ir.uniforms
+  std::vector<TableView> tables;                // parallel to ir.tables
+};
+
+struct RunStats {
+  std::string backend;
+  bool compiled = false;   // this run compiled the kernel (not cached)
+  double compile_ms = 0;
+  double run_ms = 0;
+  std::size_t elements = 0;
+  std::vector<std::string> diagnostics;  // checked mode findings
+};
+
+class Kernel {
+ public:
+  virtual ~Kernel() = default;
+  virtual void run(const RunArgs& args, RunStats& stats) = 0;
+  // What the kernel became (LLVM IR, OpenCL C, ...), for --dump options.
+  virtual std::string listing() const { return {}; }
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string name() const = 0;
+  virtual std::unique_ptr<Kernel> compile(const ir::Program& program, const Options& options) = 0;
+  // Devices or platform in one line each, for `info`.
+  virtual std::vector<std::string> describe() const { return {}; }
+};
+
+using BackendFactory = std::function<std::unique_ptr<Backend>()>;
+void register_backend(const std::string& name, BackendFactory factory);
+std::vector<std::string> backend_names();
+Backend& find_backend(const std::string& name);  // throws sh::Error naming the known ones
+
+// SH_BACKEND from the environment, else "cpu" where built, else "interp".
+std::string default_backend_name();
+void use_backend(const std::string& name);  // Sh's shUseBackend
+
+struct BackendChoice {
+  std::string name;  // empty: the default backend
+  Options options;
+};
+BackendChoice backend(const std::string& name, Options options = {});
+
+// Runs `program` over the streams: every input the same length, every
+// output that length (an empty output channel is sized to it).
+RunStats run(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+             const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice = {});
+
+// The kernel run() would use (compiled or from the cache), e.g. to dump it.
+std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& choice = {});
+
+}  // namespace sh

@@ -1,0 +1,71 @@
+#pragma once
+// Sh-era spellings, so that code written for Sh (the seed ray tracer's
+// tracer and intersector among it) compiles with cosmetic edits only.
+#include "sh/dsl.hpp"
+
+#define SH_COMPAT_FAMILY(Name)                         \
+  using Sh##Name##1f = sh::Name##1f;                   \
+  using Sh##Name##2f = sh::Name##2f;                   \
+  using Sh##Name##3f = sh::Name##3f;                   \
+  using Sh##Name##4f = sh::Name##4f;                   \
+  using Sh##Name##1i = sh::Name##1i;                   \
+  using Sh##Name##2i = sh::Name##2i;                   \
+  using Sh##Name##3i = sh::Name##3i;                   \
+  using Sh##Name##4i = sh::Name##4i;                   \
+  using ShConst##Name##1f = sh::Const##Name##1f;       \
+  using ShConst##Name##2f = sh::Const##Name##2f;       \
+  using ShConst##Name##3f = sh::Const##Name##3f;       \
+  using ShConst##Name##4f = sh::Const##Name##4f;       \
+  using ShInput##Name##1f = sh::Input<sh::Name##1f>;   \
+  using ShInput##Name##2f = sh::Input<sh::Name##2f>;   \
+  using ShInput##Name##3f = sh::Input<sh::Name##3f>;   \
+  using ShInput##Name##4f = sh::Input<sh::Name##4f>;   \
+  using ShOutput##Name##1f = sh::Output<sh::Name##1f>; \
+  using ShOutput##Name##2f = sh::Output<sh::Name##2f>; \
+  using ShOutput##Name##3f = sh::Output<sh::Name##3f>; \
+  using ShOutput##Name##4f = sh::Output<sh::Name##4f>; \
+  using ShInOut##Name##1f = sh::InOut<sh::Name##1f>;   \
+  using ShInOut##Name##2f = sh::InOut<sh::Name##2f>;   \
+  using ShInOut##Name##3f = sh::InOut<sh::Name##3f>;   \
+  using ShInOut##Name##4f = sh::InOut<sh::Name##4f>;
+
+SH_COMPAT_FAMILY(Attrib)
+SH_COMPAT_FAMILY(Point)
+SH_COMPAT_FAMILY(Vector)
+SH_COMPAT_FAMILY(Normal)
+SH_COMPAT_FAMILY(Color)
+SH_COMPAT_FAMILY(TexCoord)
+SH_COMPAT_FAMILY(Position)
+#undef SH_COMPAT_FAMILY
+
+using ShProgram = sh::Program;
+using ShStream = sh::Stream;
+template <class T> using ShChannel = sh::Channel<T>;
+template <class T> using ShArray1D = sh::Table1D<T>;
+template <class T> using ShArray2D = sh::Table2D<T>;
+template <class T> using ShArray3D = sh::Table3D<T>;
+template <class T> using ShTable1D = sh::Table1D<T>;
+template <class T> using ShTable2D = sh::Table2D<T>;
+template <class T> using ShTable3D = sh::Table3D<T>;
+using ShMatrix3x3f = sh::Matrix3x3f;
+using ShMatrix4x4f = sh::Matrix4x4f;
+using ShMatrix3x4f = sh::Matrix3x4f;
+
+inline void shUseBackend(const std::string& name) { sh::use_backend(name); }
+
+namespace sh::detail {
+struct Named {
+  const char* name;
+  template <AttribLike A>
+  Plain<A> operator=(const A& value) const {
+    Plain<A> named = value;
+    named.name(name);
+    return named;
+  }
+};
+}  // namespace sh::detail
+
+// Sh's SH_DECL(name): declares a variable and gives it its own name in the
+// IR, e.g.  ShAttrib3f SH_DECL(sptr) = step > 0.0f;
+#define SH_DECL(var) var = ::sh::detail::Named{#var}
+#define SH_NAMED(var) var.name(#var)

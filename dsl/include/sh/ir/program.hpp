@@ -1,0 +1,101 @@
+#pragma once
+// The IR of a program: a typed signature (inputs, outputs, uniforms, tables)
+// and a body of structured statements.  Registers are variables, not SSA: an
+// assignment writes the components its mask names and leaves the others.
+#include <array>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "sh/ir/op.hpp"
+#include "sh/ir/type.hpp"
+
+namespace sh::ir {
+
+using VarId = int;
+
+enum class VarKind : std::uint8_t { Input, Output, InOut, Uniform, Const, Temp };
+const char* var_kind_name(VarKind k);
+
+struct Var {
+  VarKind kind = VarKind::Temp;
+  Type type;
+  std::string name;            // for people only: never part of the hash
+  std::array<double, 4> value{};  // the constant's components (Const only)
+};
+
+// A read of a variable through a swizzle; the swizzle's size is the width
+// the operation sees.
+struct Operand {
+  VarId var = -1;
+  Swizzle swizzle;
+  int width() const { return swizzle.size; }
+};
+
+struct TableDecl {
+  Type element;
+  int rank = 1;  // 1, 2 or 3 dimensions
+  std::string name;
+};
+
+struct Stmt;
+using Block = std::vector<Stmt>;
+
+// dest[mask[i]] = op(args...)[i].  Table reads name their table.
+struct Assign {
+  VarId dest = -1;
+  Swizzle mask;
+  Op op = Op::Mov;
+  std::vector<Operand> args;
+  int table = -1;
+};
+
+// Runs then_body where cond's single component is > 0, else_body otherwise.
+struct If {
+  Operand cond;
+  Block then_body;
+  Block else_body;
+};
+
+// One form serves while, do/until and for loops.  Each iteration runs header
+// and tests cond (keep looping while cond > 0) either before the body
+// (test_at_top) or after it.  `continue` goes on with update, then the test.
+struct Loop {
+  Block header;
+  Operand cond;
+  bool test_at_top = true;
+  Block body;
+  Block update;
+};
+
+struct Break {};
+struct Continue {};
+
+struct Stmt {
+  std::variant<Assign, If, Loop, Break, Continue> node;
+};
+
+struct Program {
+  std::string name;
+  std::vector<Var> vars;
+  std::vector<VarId> inputs;    // in order; an InOut variable is in both lists
+  std::vector<VarId> outputs;
+  std::vector<VarId> uniforms;
+  std::vector<TableDecl> tables;
+  Block body;
+
+  VarId add_var(Var v) {
+    vars.push_back(std::move(v));
+    return static_cast<VarId>(vars.size() - 1);
+  }
+  VarId add_const(Type t, const std::array<double, 4>& value);
+  const Var& var(VarId id) const { return vars.at(static_cast<std::size_t>(id)); }
+  Type type_of(VarId id) const { return var(id).type; }
+};
+
+// Operand reading all of a variable.
+inline Operand whole(const Program& p, VarId id) {
+  return Operand{id, Swizzle::identity(p.type_of(id).width)};
+}
+
+}  // namespace sh::ir

@@ -1,0 +1,205 @@
+#pragma once
+// The library of functions kernels call.  Compound functions are expanded
+// into the IR's component-wise operations here, once, so every backend
+// evaluates them identically.  Conventions follow Sh where Sh had them:
+//   lerp(f, a, b) = f*a + (1-f)*b
+//   reflect(a, n) = 2(a·n)n - a      (mirrors a about n; a points away)
+//   refract(i, n, eta)               (i the incident direction, as in GLSL)
+//   faceforward(n, v) = n where n·v >= 0, else -n
+// normalize of a zero vector gives zero; length and normalize scale by the
+// largest component first, so huge and tiny vectors do not over/underflow.
+#include <algorithm>
+
+#include "sh/operators.hpp"
+
+namespace sh {
+namespace detail {
+Value lerp(const Value& f, const Value& a, const Value& b);
+Value length(const Value& v);
+Value normalize(const Value& v);
+Value reflect(const Value& a, const Value& n);
+Value refract(const Value& i, const Value& n, const Value& eta);
+Value faceforward(const Value& n, const Value& v);
+Value cond(const Value& c, const Value& a, const Value& b);
+Value fold(ir::Op op, const Value& v);  // v.x op v.y op ...
+Value frac(const Value& v);
+Value fillcast(const Value& v, int width);
+Value join(const Value& a, const Value& b);
+}  // namespace detail
+
+#define SH_UNARY_FUNCTION(name, OP)                                 \
+  template <AttribLike A>                                           \
+  Plain<A> name(const A& a) {                                       \
+    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {a.value()}));  \
+  }
+SH_UNARY_FUNCTION(abs, Abs)
+SH_UNARY_FUNCTION(sign, Sign)
+SH_UNARY_FUNCTION(floor, Floor)
+SH_UNARY_FUNCTION(ceil, Ceil)
+SH_UNARY_FUNCTION(round, Round)
+SH_UNARY_FUNCTION(sqrt, Sqrt)
+SH_UNARY_FUNCTION(rsqrt, Rsqrt)
+SH_UNARY_FUNCTION(rcp, Rcp)
+SH_UNARY_FUNCTION(exp, Exp)
+SH_UNARY_FUNCTION(exp2, Exp2)
+SH_UNARY_FUNCTION(log, Log)
+SH_UNARY_FUNCTION(log2, Log2)
+SH_UNARY_FUNCTION(sin, Sin)
+SH_UNARY_FUNCTION(cos, Cos)
+SH_UNARY_FUNCTION(tan, Tan)
+SH_UNARY_FUNCTION(asin, Asin)
+SH_UNARY_FUNCTION(acos, Acos)
+SH_UNARY_FUNCTION(atan, Atan)
+#undef SH_UNARY_FUNCTION
+
+#define SH_BINARY_FUNCTION(name, OP)                                                      \
+  template <AttribLike A, AttribLike B>                                                   \
+    requires Compatible<A, B>                                                             \
+  typename Result<A, B>::type name(const A& a, const B& b) {                              \
+    return wrap<typename Result<A, B>::type>(detail::apply(ir::Op::OP, {a.value(), b.value()})); \
+  }                                                                                       \
+  template <AttribLike A, Number U>                                                       \
+  Plain<A> name(const A& a, U b) {                                                        \
+    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {a.value(), constant_like<A>(b)}));  \
+  }                                                                                       \
+  template <AttribLike A, Number U>                                                       \
+  Plain<A> name(U a, const A& b) {                                                        \
+    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {constant_like<A>(a), b.value()}));  \
+  }
+SH_BINARY_FUNCTION(min, Min)
+SH_BINARY_FUNCTION(max, Max)
+SH_BINARY_FUNCTION(pow, Pow)
+SH_BINARY_FUNCTION(atan2, Atan2)
+SH_BINARY_FUNCTION(mod, Mod)
+#undef SH_BINARY_FUNCTION
+
+template <AttribLike A>
+Plain<A> frac(const A& a) {
+  return wrap<Plain<A>>(detail::frac(a.value()));
+}
+
+template <AttribLike A, class L, class H>
+Plain<A> clamp(const A& x, const L& lo, const H& hi) {
+  return min(max(x, lo), hi);
+}
+
+// Saturate: clamp to [0, 1].
+template <AttribLike A>
+Plain<A> sat(const A& x) {
+  return clamp(x, 0, 1);
+}
+
+// Positive part: max(x, 0).
+template <AttribLike A>
+Plain<A> pos(const A& x) {
+  return max(x, 0);
+}
+
+template <class F, AttribLike A, AttribLike B>
+  requires Compatible<A, B>
+typename Result<A, B>::type lerp(const F& f, const A& a, const B& b) {
+  detail::Value fv;
+  if constexpr (Number<F>) fv = constant_like<A>(f);
+  else fv = f.value();
+  return wrap<typename Result<A, B>::type>(detail::lerp(fv, a.value(), b.value()));
+}
+
+template <AttribLike A, class B, class C>
+auto mad(const A& a, const B& b, const C& c) {
+  return a * b + c;
+}
+
+template <AttribLike A>
+Attrib<1, typename A::scalar_type> length(const A& v) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::length(v.value()));
+}
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B>
+Attrib<1, typename A::scalar_type> distance(const A& a, const B& b) {
+  return length(a - b);
+}
+
+template <AttribLike A>
+Plain<A> normalize(const A& v) {
+  return wrap<Plain<A>>(detail::normalize(v.value()));
+}
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B>
+Plain<A> reflect(const A& a, const B& n) {
+  return wrap<Plain<A>>(detail::reflect(a.value(), n.value()));
+}
+
+template <AttribLike A, AttribLike B, class E>
+  requires Compatible<A, B>
+Plain<A> refract(const A& i, const B& n, const E& eta) {
+  detail::Value e;
+  if constexpr (Number<E>) e = constant_like<A>(eta);
+  else e = eta.value();
+  return wrap<Plain<A>>(detail::refract(i.value(), n.value(), e));
+}
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B>
+Plain<A> faceforward(const A& n, const B& v) {
+  return wrap<Plain<A>>(detail::faceforward(n.value(), v.value()));
+}
+
+template <class X>
+constexpr int width_of() {
+  if constexpr (AttribLike<X>) return X::width;
+  else return 1;
+}
+
+// c > 0 ? a : b, per component (a scalar c decides every component).  The
+// condition may be of another type than a and b: it is converted.
+template <class C, class A, class B>
+  requires AttribLike<A> || AttribLike<B>
+auto cond(const C& c, const A& a, const B& b) {
+  using R = std::conditional_t<AttribLike<A>, A, B>;
+  using T = typename R::scalar_type;
+  constexpr int W = std::max({width_of<C>(), width_of<A>(), width_of<B>()});
+  auto value_of = [](const auto& x) {
+    if constexpr (Number<std::decay_t<decltype(x)>>)
+      return detail::constant(scalar_of<T>::value, static_cast<double>(x));
+    else
+      return x.value();
+  };
+  return wrap<Attrib<W, T, R::semantic>>(detail::cond(value_of(c), value_of(a), value_of(b)));
+}
+
+template <AttribLike A>
+Attrib<1, typename A::scalar_type> any(const A& v) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::Or, (v > 0).value()));
+}
+template <AttribLike A>
+Attrib<1, typename A::scalar_type> all(const A& v) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::And, (v > 0).value()));
+}
+template <AttribLike A>
+Attrib<1, typename A::scalar_type> min_component(const A& v) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::Min, v.value()));
+}
+template <AttribLike A>
+Attrib<1, typename A::scalar_type> max_component(const A& v) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::Max, v.value()));
+}
+template <AttribLike A>
+Attrib<1, typename A::scalar_type> sum(const A& v) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::Add, v.value()));
+}
+
+// M components of v: extra ones repeat v's last component (Sh's fillcast).
+template <int M, AttribLike A>
+Attrib<M, typename A::scalar_type, A::semantic> fillcast(const A& v) {
+  return wrap<Attrib<M, typename A::scalar_type, A::semantic>>(detail::fillcast(v.value(), M));
+}
+
+template <AttribLike A, AttribLike B>
+  requires std::same_as<typename A::scalar_type, typename B::scalar_type> && (A::width + B::width <= 4)
+Attrib<A::width + B::width, typename A::scalar_type> join(const A& a, const B& b) {
+  return wrap<Attrib<A::width + B::width, typename A::scalar_type>>(detail::join(a.value(), b.value()));
+}
+
+}  // namespace sh

@@ -1,0 +1,108 @@
+#pragma once
+// Operators on Attribs: component-wise arithmetic and comparisons with
+// scalar broadcast (C++ numbers convert to constants of the Attrib's type),
+// masks (&&, ||, !), `|` the dot product and `^` the cross product.
+#include "sh/attrib.hpp"
+
+namespace sh {
+
+template <class A, class B>
+concept Compatible = AttribLike<A> && AttribLike<B> &&
+                     std::same_as<typename A::scalar_type, typename B::scalar_type> &&
+                     (A::width == B::width || A::width == 1 || B::width == 1);
+
+// The wider operand decides width and semantic; equal widths keep a shared
+// semantic and otherwise give a plain Attrib.
+template <AttribLike A, AttribLike B>
+struct Result {
+  static constexpr int width = A::width > B::width ? A::width : B::width;
+  static constexpr Semantic semantic = A::width > B::width   ? A::semantic
+                                       : B::width > A::width ? B::semantic
+                                       : A::semantic == B::semantic ? A::semantic
+                                                                    : Semantic::Attrib;
+  using type = Attrib<width, typename A::scalar_type, semantic>;
+};
+
+template <AttribLike A>
+using Plain = Attrib<A::width, typename A::scalar_type, A::semantic>;
+
+template <AttribLike A, Number U>
+detail::Value constant_like(U x) {
+  return detail::constant(scalar_of<typename A::scalar_type>::value, static_cast<double>(x));
+}
+
+template <class R>
+R wrap(detail::Value v) {
+  return R(detail::FromValue{}, std::move(v));
+}
+
+#define SH_BINARY_OPERATOR(sym, OP)                                                        \
+  template <AttribLike A, AttribLike B>                                                    \
+    requires Compatible<A, B>                                                              \
+  typename Result<A, B>::type operator sym(const A& a, const B& b) {                       \
+    return wrap<typename Result<A, B>::type>(detail::apply(ir::Op::OP, {a.value(), b.value()})); \
+  }                                                                                        \
+  template <AttribLike A, Number U>                                                        \
+  Plain<A> operator sym(const A& a, U b) {                                                 \
+    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {a.value(), constant_like<A>(b)}));   \
+  }                                                                                        \
+  template <AttribLike A, Number U>                                                        \
+  Plain<A> operator sym(U a, const A& b) {                                                 \
+    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {constant_like<A>(a), b.value()}));   \
+  }
+
+SH_BINARY_OPERATOR(+, Add)
+SH_BINARY_OPERATOR(-, Sub)
+SH_BINARY_OPERATOR(*, Mul)
+SH_BINARY_OPERATOR(/, Div)
+SH_BINARY_OPERATOR(%, Mod)
+SH_BINARY_OPERATOR(<, Lt)
+SH_BINARY_OPERATOR(<=, Le)
+SH_BINARY_OPERATOR(>, Gt)
+SH_BINARY_OPERATOR(>=, Ge)
+SH_BINARY_OPERATOR(==, Eq)
+SH_BINARY_OPERATOR(!=, Ne)
+SH_BINARY_OPERATOR(&&, And)
+SH_BINARY_OPERATOR(||, Or)
+#undef SH_BINARY_OPERATOR
+
+template <AttribLike A>
+Plain<A> operator-(const A& a) {
+  return wrap<Plain<A>>(detail::apply(ir::Op::Neg, {a.value()}));
+}
+
+template <AttribLike A>
+Plain<A> operator!(const A& a) {
+  return wrap<Plain<A>>(detail::apply(ir::Op::Not, {a.value()}));
+}
+
+namespace detail {
+Value dot(const Value& a, const Value& b);
+Value cross(const Value& a, const Value& b);
+}  // namespace detail
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B>
+Attrib<1, typename A::scalar_type> dot(const A& a, const B& b) {
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::dot(a.value(), b.value()));
+}
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B> && (A::width == B::width)
+Attrib<1, typename A::scalar_type> operator|(const A& a, const B& b) {
+  return dot(a, b);
+}
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B> && (A::width == 3) && (B::width == 3)
+typename Result<A, B>::type cross(const A& a, const B& b) {
+  return wrap<typename Result<A, B>::type>(detail::cross(a.value(), b.value()));
+}
+
+template <AttribLike A, AttribLike B>
+  requires Compatible<A, B> && (A::width == 3) && (B::width == 3)
+typename Result<A, B>::type operator^(const A& a, const B& b) {
+  return cross(a, b);
+}
+
+}  // namespace sh

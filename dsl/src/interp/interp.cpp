@@ -1,0 +1,185 @@
+#include "interp.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "sh/error.hpp"
+#include "sh/ir/printer.hpp"
+#include "sh/table_index.hpp"
+
+namespace sh::interp {
+namespace {
+
+using Reg = std::array<double, 4>;
+enum class Flow { Next, Break, Continue };
+
+class Machine {
+ public:
+  Machine(const ir::Program& p, const Options& o, const RunArgs& a, RunStats& s)
+      : p_(p), o_(o), a_(a), stats_(s), regs_(p.vars.size()) {}
+
+  void element(std::size_t e) {
+    element_ = e;
+    for (std::size_t v = 0; v < p_.vars.size(); ++v) regs_[v] = p_.vars[v].kind == ir::VarKind::Const ? p_.vars[v].value : Reg{};
+    for (std::size_t u = 0; u < p_.uniforms.size(); ++u) regs_[p_.uniforms[u]] = held(p_.uniforms[u], a_.uniforms[u]);
+    for (std::size_t i = 0; i < p_.inputs.size(); ++i) load(p_.inputs[i], a_.inputs[i], e);
+    block(p_.body);
+    for (std::size_t o = 0; o < p_.outputs.size(); ++o) store(p_.outputs[o], a_.outputs[o], e);
+  }
+
+ private:
+  Reg held(ir::VarId id, Reg r) const {
+    ir::Scalar s = p_.type_of(id).scalar;
+    for (double& x : r) x = ir::hold(s, o_.precision, x);
+    return r;
+  }
+
+  void load(ir::VarId id, const BufferView& b, std::size_t e) {
+    Reg r{};
+    for (int c = 0; c < b.type.width; ++c) r[c] = read_component(b.type.scalar, b.data, e * b.type.width + c);
+    regs_[id] = held(id, r);
+  }
+
+  void store(ir::VarId id, const BufferView& b, std::size_t e) {
+    for (int c = 0; c < b.type.width; ++c) write_component(b.type.scalar, b.data, e * b.type.width + c, regs_[id][c]);
+  }
+
+  static double read_component(ir::Scalar s, const void* data, std::size_t k) {
+    switch (s) {
+      case ir::Scalar::F32: return static_cast<const float*>(data)[k];
+      case ir::Scalar::F64: return static_cast<const double*>(data)[k];
+      default: return static_cast<const std::int32_t*>(data)[k];
+    }
+  }
+
+  static void write_component(ir::Scalar s, void* data, std::size_t k, double v) {
+    switch (s) {
+      case ir::Scalar::F32: static_cast<float*>(data)[k] = static_cast<float>(v); break;
+      case ir::Scalar::F64: static_cast<double*>(data)[k] = v; break;
+      default: static_cast<std::int32_t*>(data)[k] = static_cast<std::int32_t>(v); break;
+    }
+  }
+
+  double arg(const ir::Operand& o, int i) const { return regs_[o.var][o.swizzle[o.width() == 1 ? 0 : i]]; }
+
+  Flow block(const ir::Block& b) {
+    for (const ir::Stmt& s : b) {
+      Flow f = stmt(s);
+      if (f != Flow::Next) return f;
+    }
+    return Flow::Next;
+  }
+
+  Flow stmt(const ir::Stmt& s) {
+    if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+      assign(*a, s);
+      return Flow::Next;
+    }
+    if (auto* i = std::get_if<ir::If>(&s.node)) return block(arg(i->cond, 0) > 0 ? i->then_body : i->else_body);
+    if (auto* l = std::get_if<ir::Loop>(&s.node)) return loop(*l, s);
+    return std::holds_alternative<ir::Break>(s.node) ? Flow::Break : Flow::Continue;
+  }
+
+  Flow loop(const ir::Loop& l, const ir::Stmt& s) {
+    auto keep_going = [&] {
+      block(l.header);
+      return arg(l.cond, 0) > 0;
+    };
+    for (std::uint64_t n = 0;; ++n) {
+      if (n >= o_.max_loop_iterations)
+        throw Error("program '" + p_.name + "': element " + std::to_string(element_) + " ran a loop more than " +
+                    std::to_string(o_.max_loop_iterations) + " iterations (`" + ir::print(p_, s) +
+                    "`); raise Options::max_loop_iterations if that is intended");
+      if (l.test_at_top && !keep_going()) break;
+      if (block(l.body) == Flow::Break) break;
+      block(l.update);
+      if (!l.test_at_top && !keep_going()) break;
+    }
+    return Flow::Next;
+  }
+
+  void assign(const ir::Assign& a, const ir::Stmt& s) {
+    Reg result{};
+    int n = a.mask.size;
+    if (ir::is_table_read(a.op)) {
+      result = table_read(a, s);
+    } else {
+      ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
+      for (int i = 0; i < n; ++i) {
+        double x[3] = {0, 0, 0};
+        for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = arg(a.args[k], i);
+        result[i] = ir::eval(a.op, from, to, o_.precision, x[0], x[1], x[2]);
+      }
+      if (o_.checked) check_nan(a, s, result);
+    }
+    for (int i = 0; i < n; ++i) regs_[a.dest][a.mask[i]] = result[i];
+  }
+
+  Reg table_read(const ir::Assign& a, const ir::Stmt& s) {
+    const TableView& t = a_.tables[a.table];
+    const ir::Operand& c = a.args[0];
+    TableIndex index = a.op == ir::Op::Fetch ? fetch_index(t, [&](int i) { return arg(c, i); })
+                                             : sample_index(t, [&](int i) { return arg(c, i); },
+                                                            p_.type_of(c.var).scalar, o_.precision);
+    if (o_.checked && index.clamped) note("first out-of-range table read", s);
+    Reg r{};
+    for (int k = 0; k < t.element.width; ++k)
+      r[k] = read_component(t.element.scalar, t.data, index.element * t.element.width + k);
+    return r;
+  }
+
+  void check_nan(const ir::Assign& a, const ir::Stmt& s, const Reg& result) {
+    if (!ir::is_float(p_.type_of(a.dest).scalar)) return;
+    for (const ir::Operand& o : a.args)
+      for (int i = 0; i < o.width(); ++i)
+        if (std::isnan(regs_[o.var][o.swizzle[i]])) return;  // carried in, not made here
+    for (int i = 0; i < a.mask.size; ++i)
+      if (std::isnan(result[i])) return note("first NaN", s);
+  }
+
+  void note(const std::string& what, const ir::Stmt& s) {
+    for (const std::string& d : stats_.diagnostics)
+      if (d.rfind(what + ":", 0) == 0) return;
+    stats_.diagnostics.push_back(what + ": element " + std::to_string(element_) + ", `" + ir::print(p_, s) + "`");
+  }
+
+  const ir::Program& p_;
+  const Options& o_;
+  const RunArgs& a_;
+  RunStats& stats_;
+  std::vector<Reg> regs_;
+  std::size_t element_ = 0;
+};
+
+class InterpKernel : public Kernel {
+ public:
+  InterpKernel(ir::Program p, Options o) : p_(std::move(p)), o_(std::move(o)) {}
+
+  void run(const RunArgs& args, RunStats& stats) override {
+    Machine m(p_, o_, args, stats);
+    for (std::size_t e = 0; e < args.count; ++e) m.element(e);
+  }
+
+  std::string listing() const override { return ir::print(p_); }
+
+ private:
+  ir::Program p_;
+  Options o_;
+};
+
+class InterpBackend : public Backend {
+ public:
+  std::string name() const override { return "interp"; }
+  std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+    return std::make_unique<InterpKernel>(p, o);
+  }
+  std::vector<std::string> describe() const override {
+    return {"interp: reference interpreter on the host (f32 and f64, checked mode)"};
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_backend() { return std::make_unique<InterpBackend>(); }
+
+}  // namespace sh::interp

@@ -1,0 +1,105 @@
+#include "sh/ir/verifier.hpp"
+
+#include "sh/error.hpp"
+#include "sh/ir/printer.hpp"
+
+namespace sh::ir {
+namespace {
+
+class Verifier {
+ public:
+  explicit Verifier(const Program& p) : p_(p) {}
+
+  void run() {
+    for (VarId id : p_.inputs) expect_kind(id, {VarKind::Input, VarKind::InOut}, "input list");
+    for (VarId id : p_.outputs) expect_kind(id, {VarKind::Output, VarKind::InOut}, "output list");
+    for (VarId id : p_.uniforms) expect_kind(id, {VarKind::Uniform}, "uniform list");
+    for (const Var& v : p_.vars)
+      if (v.type.width < 1 || v.type.width > 4) fail("a variable has width " + std::to_string(v.type.width));
+    block(p_.body, 0);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what, const Stmt* s = nullptr) const {
+    std::string msg = "program '" + p_.name + "': invalid IR: " + what;
+    if (s) msg += " in `" + print(p_, *s) + "`";
+    throw Error(msg);
+  }
+
+  void expect_kind(VarId id, std::initializer_list<VarKind> kinds, const char* where) {
+    if (id < 0 || id >= static_cast<VarId>(p_.vars.size())) fail(std::string("bad variable in ") + where);
+    for (VarKind k : kinds)
+      if (p_.var(id).kind == k) return;
+    fail(std::string("variable %") + std::to_string(id) + " has the wrong kind for the " + where);
+  }
+
+  void operand(const Operand& o, const Stmt& s) {
+    if (o.var < 0 || o.var >= static_cast<VarId>(p_.vars.size())) fail("operand names no variable", &s);
+    if (o.swizzle.size < 1 || o.swizzle.size > 4) fail("operand swizzle has no components", &s);
+    int width = p_.type_of(o.var).width;
+    for (int i = 0; i < o.swizzle.size; ++i)
+      if (o.swizzle[i] >= width) fail("swizzle reads a component the variable lacks", &s);
+  }
+
+  void condition(const Operand& o, const Stmt& s) {
+    operand(o, s);
+    if (o.width() != 1) fail("a condition must be one component", &s);
+  }
+
+  void assign(const Assign& a, const Stmt& s) {
+    if (a.dest < 0 || a.dest >= static_cast<VarId>(p_.vars.size())) fail("destination names no variable", &s);
+    const Var& dest = p_.var(a.dest);
+    if (dest.kind == VarKind::Input || dest.kind == VarKind::Const || dest.kind == VarKind::Uniform)
+      fail(std::string("writes a variable of kind ") + var_kind_name(dest.kind), &s);
+    if (a.mask.size < 1 || a.mask.has_repeats()) fail("bad write mask", &s);
+    for (int i = 0; i < a.mask.size; ++i)
+      if (a.mask[i] >= dest.type.width) fail("write mask names a component the destination lacks", &s);
+    if (static_cast<int>(a.args.size()) != op_arity(a.op)) fail("wrong number of operands", &s);
+    for (const Operand& o : a.args) operand(o, s);
+    if (is_table_read(a.op)) return table_read(a, s);
+    if (a.table >= 0) fail("only table reads name a table", &s);
+    for (const Operand& o : a.args) {
+      if (o.width() != 1 && o.width() != a.mask.size) fail("operand width differs from the result width", &s);
+      if (a.op != Op::Cast && p_.type_of(o.var).scalar != dest.type.scalar)
+        fail("operand type differs from the destination type", &s);
+    }
+  }
+
+  void table_read(const Assign& a, const Stmt& s) {
+    if (a.table < 0 || a.table >= static_cast<int>(p_.tables.size())) fail("reads an undeclared table", &s);
+    const TableDecl& t = p_.tables[a.table];
+    if (a.args[0].width() != t.rank) fail("table coordinates do not match the table's rank", &s);
+    Scalar coord = p_.type_of(a.args[0].var).scalar;
+    if (a.op == Op::Fetch && coord != Scalar::I32) fail("fetch coordinates must be i32", &s);
+    if (a.op == Op::Sample && !is_float(coord)) fail("sample coordinates must be floats", &s);
+    if (a.mask.size != t.element.width) fail("table read result width differs from the element width", &s);
+    if (p_.type_of(a.dest).scalar != t.element.scalar) fail("table read result type differs from the element type", &s);
+  }
+
+  void block(const Block& b, int loop_depth) {
+    for (const Stmt& s : b) {
+      if (auto* a = std::get_if<Assign>(&s.node)) {
+        assign(*a, s);
+      } else if (auto* i = std::get_if<If>(&s.node)) {
+        condition(i->cond, s);
+        block(i->then_body, loop_depth);
+        block(i->else_body, loop_depth);
+      } else if (auto* l = std::get_if<Loop>(&s.node)) {
+        block(l->header, loop_depth);
+        condition(l->cond, s);
+        block(l->body, loop_depth + 1);
+        block(l->update, loop_depth);
+      } else if (loop_depth == 0) {
+        fail("break or continue outside a loop body", &s);
+      }
+    }
+  }
+
+  const Program& p_;
+};
+
+}  // namespace
+
+void verify(const Program& p) { Verifier(p).run(); }
+
+}  // namespace sh::ir

@@ -1,0 +1,109 @@
+// Dead-code elimination: keeps what can reach an output.  A variable is
+// live if an output is it or a live assignment or a kept control construct
+// reads it; a loop is kept if it holds a live assignment, and with it the
+// conditions of the branches that leave or restart it.  Everything else,
+// including branches and loops left empty, goes.
+#include "sh/ir/visitor.hpp"
+#include "sh/passes.hpp"
+#include "uses.hpp"
+
+namespace sh::passes {
+namespace {
+
+class Liveness {
+ public:
+  explicit Liveness(const ir::Program& p) {
+    for (ir::VarId v : p.outputs) live_.insert(v);
+    while (grow(p.body)) {
+    }
+  }
+  bool live(ir::VarId v) const { return live_.count(v) > 0; }
+
+  // Does the block assign a live variable (at any depth)?
+  bool has_live_assign(const ir::Block& b) const {
+    struct Finder : ir::Visitor {
+      using ir::Visitor::visit;
+      const Liveness* l;
+      bool found = false;
+      void visit(const ir::Assign& a) override { found = found || l->live(a.dest); }
+    } f;
+    f.l = this;
+    f.visit(b);
+    return f.found;
+  }
+  bool has_live_assign(const ir::Loop& l) const {
+    return has_live_assign(l.header) || has_live_assign(l.body) || has_live_assign(l.update);
+  }
+
+ private:
+  bool mark(ir::VarId v) { return live_.insert(v).second; }
+
+  // One sweep; true if anything new became live.
+  bool grow(const ir::Block& b, bool in_live_loop = false) {
+    bool changed = false;
+    for (const ir::Stmt& s : b) {
+      if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+        if (live(a->dest))
+          for (const ir::Operand& o : a->args) changed |= mark(o.var);
+      } else if (auto* f = std::get_if<ir::If>(&s.node)) {
+        bool needed = has_live_assign(f->then_body) || has_live_assign(f->else_body) ||
+                      (in_live_loop && (has_jump(f->then_body) || has_jump(f->else_body)));
+        if (needed) changed |= mark(f->cond.var);
+        changed |= grow(f->then_body, in_live_loop);
+        changed |= grow(f->else_body, in_live_loop);
+      } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+        bool needed = has_live_assign(*l);
+        if (needed) changed |= mark(l->cond.var);
+        changed |= grow(l->header, false);
+        changed |= grow(l->body, needed);
+        changed |= grow(l->update, false);
+      }
+    }
+    return changed;
+  }
+
+  // A break or continue that belongs to the enclosing loop.
+  static bool has_jump(const ir::Block& b) {
+    for (const ir::Stmt& s : b) {
+      if (std::holds_alternative<ir::Break>(s.node) || std::holds_alternative<ir::Continue>(s.node)) return true;
+      if (auto* f = std::get_if<ir::If>(&s.node))
+        if (has_jump(f->then_body) || has_jump(f->else_body)) return true;
+    }
+    return false;
+  }
+
+  std::set<ir::VarId> live_;
+};
+
+class Sweeper : public ir::Mutator {
+ public:
+  explicit Sweeper(const Liveness& l) : l_(l) {}
+  using ir::Mutator::mutate;
+
+  void mutate(ir::Assign a, ir::Block& out) override {
+    if (l_.live(a.dest)) out.push_back(ir::Stmt{std::move(a)});
+  }
+  void mutate(ir::If s, ir::Block& out) override {
+    s.then_body = mutate(std::move(s.then_body));
+    s.else_body = mutate(std::move(s.else_body));
+    if (!s.then_body.empty() || !s.else_body.empty()) out.push_back(ir::Stmt{std::move(s)});
+  }
+  void mutate(ir::Loop s, ir::Block& out) override {
+    if (!l_.has_live_assign(s)) return;
+    ir::Mutator::mutate(std::move(s), out);
+  }
+
+ private:
+  const Liveness& l_;
+};
+
+}  // namespace
+
+ir::Program eliminate_dead_code(ir::Program p) {
+  Liveness live(p);
+  Sweeper sweep(live);
+  p.body = sweep.mutate(std::move(p.body));
+  return p;
+}
+
+}  // namespace sh::passes

@@ -1,0 +1,182 @@
+#include "sh/backend.hpp"
+
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+
+#include "../interp/interp.hpp"
+#include "sh/error.hpp"
+#include "sh/passes.hpp"
+
+namespace sh {
+namespace {
+
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string, BackendFactory> factories;
+  std::map<std::string, std::unique_ptr<Backend>> instances;
+  std::map<std::string, std::shared_ptr<Kernel>> kernels;
+  std::string chosen;  // use_backend()
+};
+
+Registry& registry() {
+  static Registry r;
+  static bool builtin = [] {
+    r.factories["interp"] = interp::make_backend;
+    return true;
+  }();
+  (void)builtin;
+  return r;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string resolve(const BackendChoice& choice) { return choice.name.empty() ? default_backend_name() : choice.name; }
+
+std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string& name, const Options& options,
+                                      RunStats& stats) {
+  Backend& b = find_backend(name);
+  std::string key = name + "|" + std::to_string(program.hash()) + "|" + options.key();
+  Registry& r = registry();
+  {
+    std::lock_guard<std::mutex> lock(r.mutex);
+    auto it = r.kernels.find(key);
+    if (it != r.kernels.end()) return it->second;
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  ir::Program ir = options.optimize ? optimize(program.ir(), options.precision) : program.ir();
+  std::shared_ptr<Kernel> kernel = b.compile(ir, options);
+  stats.compiled = true;
+  stats.compile_ms = ms_since(t0);
+  std::lock_guard<std::mutex> lock(r.mutex);
+  return r.kernels.emplace(key, std::move(kernel)).first->second;
+}
+
+std::string describe_slot(const ir::Program& p, const char* what, std::size_t k) {
+  return "program '" + p.name + "': " + what + " " + std::to_string(k);
+}
+
+BufferView view_of(detail::Buffer& b) { return BufferView{b.type(), b.size(), b.data()}; }
+
+RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+                       const std::vector<std::shared_ptr<detail::Buffer>>& outputs) {
+  const ir::Program& p = program.ir();
+  if (inputs.size() != p.inputs.size())
+    throw Error("program '" + p.name + "' takes " + std::to_string(p.inputs.size()) + " input channels; " +
+                std::to_string(inputs.size()) + " were given");
+  if (outputs.size() != p.outputs.size())
+    throw Error("program '" + p.name + "' gives " + std::to_string(p.outputs.size()) + " output channels; " +
+                std::to_string(outputs.size()) + " were given");
+  RunArgs args;
+  args.count = inputs.empty() ? (outputs.empty() || !outputs[0] ? 0 : outputs[0]->size()) : (inputs[0] ? inputs[0]->size() : 0);
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (!inputs[k]) throw Error(describe_slot(p, "input channel", k) + " is missing");
+    if (inputs[k]->type() != p.type_of(p.inputs[k]))
+      throw Error(describe_slot(p, "input", k) + " is " + ir::type_name(p.type_of(p.inputs[k])) + " but its channel holds " +
+                  ir::type_name(inputs[k]->type()));
+    if (inputs[k]->size() != args.count)
+      throw Error(describe_slot(p, "input channel", k) + " holds " + std::to_string(inputs[k]->size()) +
+                  " elements but input channel 0 holds " + std::to_string(args.count));
+    args.inputs.push_back(view_of(*inputs[k]));
+  }
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    if (!outputs[k]) throw Error(describe_slot(p, "output channel", k) + " is missing");
+    if (outputs[k]->type() != p.type_of(p.outputs[k]))
+      throw Error(describe_slot(p, "output", k) + " is " + ir::type_name(p.type_of(p.outputs[k])) +
+                  " but its channel holds " + ir::type_name(outputs[k]->type()));
+    if (outputs[k]->size() == 0) outputs[k]->resize(args.count);
+    if (outputs[k]->size() != args.count)
+      throw Error(describe_slot(p, "output channel", k) + " holds " + std::to_string(outputs[k]->size()) +
+                  " elements but the stream has " + std::to_string(args.count));
+    args.outputs.push_back(view_of(*outputs[k]));
+  }
+  for (const auto& u : program.uniforms()) args.uniforms.push_back(u->value);
+  for (std::size_t t = 0; t < program.tables().size(); ++t) {
+    const detail::TableStorage& s = *program.tables()[t];
+    if (!s.filled)
+      throw Error("program '" + p.name + "': table " + std::to_string(t) +
+                  (s.decl.name.empty() ? "" : " '" + s.decl.name + "'") + " was never filled");
+    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data()});
+  }
+  return args;
+}
+
+}  // namespace
+
+std::string Options::key() const {
+  return std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
+         ",t" + std::to_string(threads) + ",cap" + std::to_string(max_loop_iterations) + (checked ? ",checked" : "") +
+         (optimize ? "" : ",noopt") + ",dev=" + device;
+}
+
+void register_backend(const std::string& name, BackendFactory factory) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  r.factories[name] = std::move(factory);
+}
+
+std::vector<std::string> backend_names() {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  std::vector<std::string> names;
+  for (const auto& [name, f] : r.factories) names.push_back(name);
+  return names;
+}
+
+Backend& find_backend(const std::string& name) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  auto inst = r.instances.find(name);
+  if (inst != r.instances.end()) return *inst->second;
+  auto f = r.factories.find(name);
+  if (f == r.factories.end()) {
+    std::string known;
+    for (const auto& [n, ignored] : r.factories) known += (known.empty() ? "" : ", ") + n;
+    throw Error("unknown backend '" + name + "' (built: " + known + ")");
+  }
+  return *r.instances.emplace(name, f->second()).first->second;
+}
+
+std::string default_backend_name() {
+  Registry& r = registry();
+  {
+    std::lock_guard<std::mutex> lock(r.mutex);
+    if (!r.chosen.empty()) return r.chosen;
+  }
+  if (const char* env = std::getenv("SH_BACKEND"); env && *env) return env;
+  std::lock_guard<std::mutex> lock(r.mutex);
+  return r.factories.count("cpu") ? "cpu" : "interp";
+}
+
+void use_backend(const std::string& name) {
+  find_backend(name);  // fails now, not at the next run
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  r.chosen = name;
+}
+
+BackendChoice backend(const std::string& name, Options options) { return BackendChoice{name, std::move(options)}; }
+
+std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& choice) {
+  RunStats ignored;
+  return cached_kernel(program, resolve(choice), choice.options, ignored);
+}
+
+RunStats run(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+             const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice) {
+  RunStats stats;
+  stats.backend = resolve(choice);
+  RunArgs args = bind_arguments(program, inputs, outputs);
+  std::shared_ptr<Kernel> kernel = cached_kernel(program, stats.backend, choice.options, stats);
+  stats.elements = args.count;
+  if (args.count == 0) return stats;
+  auto t0 = std::chrono::steady_clock::now();
+  kernel->run(args, stats);
+  stats.run_ms = ms_since(t0);
+  return stats;
+}
+
+}  // namespace sh
