@@ -31,7 +31,9 @@ class ValueHolder {
  protected:
   ValueHolder() = default;
   explicit ValueHolder(Value v) : value_(std::move(v)) {}
+  bool is_view() const { return view_; }
   Value value_;
+  bool view_ = false;  // a swizzle of another variable (SwizzleRef)
 };
 struct FromValue {};  // tag: wrap an existing Value
 
@@ -74,8 +76,14 @@ class Attrib : public detail::ValueHolder {
 
   // A copy is a new variable holding the value, as in Sh.
   Attrib(const Attrib& other) : Attrib() { detail::assign(value_, other.value()); }
-  // A temporary result is adopted rather than copied.
-  Attrib(Attrib&& other) noexcept : ValueHolder(std::move(other.value_)) {}
+  // A temporary result is adopted rather than copied; a swizzle view is
+  // copied, so that a parameter taken by value never aliases its argument.
+  Attrib(Attrib&& other) : ValueHolder(other.is_view() ? detail::Value{} : std::move(other.value_)) {
+    if (other.is_view()) {
+      value_ = detail::declare(ir_type(), detail::Declared::Temp);
+      detail::assign(value_, other.value());
+    }
+  }
   template <Semantic S2>
   Attrib(const Attrib<N, T, S2>& other) : Attrib() {
     detail::assign(value_, other.value());
@@ -137,8 +145,8 @@ class Attrib : public detail::ValueHolder {
 template <int N, class T, Semantic S>
 class SwizzleRef : public Attrib<N, T, S> {
  public:
-  SwizzleRef(detail::Value v) : Attrib<N, T, S>(detail::FromValue{}, std::move(v)) {}
-  SwizzleRef(const SwizzleRef&) = default;
+  SwizzleRef(detail::Value v) : Attrib<N, T, S>(detail::FromValue{}, std::move(v)) { this->view_ = true; }
+  SwizzleRef(const SwizzleRef& other) : SwizzleRef(other.value()) {}
   using Attrib<N, T, S>::operator=;
   SwizzleRef& operator=(const SwizzleRef& other) {
     detail::assign(this->value_, other.value());

@@ -132,8 +132,10 @@ std::string format_number(double v, Scalar s) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   char buf[64];
-  auto r = s == Scalar::F32 ? std::to_chars(buf, buf + sizeof buf, static_cast<float>(v))
-                            : std::to_chars(buf, buf + sizeof buf, v);
+  // A float register holds a double in f64 precision: print it exactly.
+  bool as_float = s == Scalar::F32 && static_cast<double>(static_cast<float>(v)) == v;
+  auto r = as_float ? std::to_chars(buf, buf + sizeof buf, static_cast<float>(v))
+                    : std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, r.ptr);
 }
 

@@ -18,7 +18,9 @@ struct Available {
 
 bool same_operand(const ir::Operand& a, const ir::Operand& b) { return a.var == b.var && a.swizzle == b.swizzle; }
 
-bool same_expression(const ir::Assign& a, const ir::Assign& b) {
+bool same_expression(const ir::Program& p, const ir::Assign& a, const ir::Assign& b) {
+  // The destination's type matters: a cast's result depends on it.
+  if (p.type_of(a.dest) != p.type_of(b.dest)) return false;
   if (a.op != b.op || a.table != b.table || a.mask.size != b.mask.size || a.args.size() != b.args.size()) return false;
   for (std::size_t i = 0; i < a.args.size(); ++i)
     if (!same_operand(a.args[i], b.args[i])) return false;
@@ -56,7 +58,7 @@ class Cse {
   void assign(ir::Assign& a, std::vector<Available>& avail) {
     if (a.op != ir::Op::Mov) {
       for (const Available& e : avail) {
-        if (!same_expression(*e.expr, a)) continue;
+        if (!same_expression(p_, *e.expr, a)) continue;
         a.op = ir::Op::Mov;
         a.table = -1;
         a.args = {ir::Operand{e.expr->dest, ir::Swizzle::identity(a.mask.size)}};

@@ -39,7 +39,13 @@ struct Swizzle {
   Swizzle after(const Swizzle& inner) const;
   bool has_repeats() const;
 
-  friend bool operator==(const Swizzle&, const Swizzle&) = default;
+  // Only the first `size` indices mean anything.
+  friend bool operator==(const Swizzle& a, const Swizzle& b) {
+    if (a.size != b.size) return false;
+    for (int i = 0; i < a.size; ++i)
+      if (a.index[i] != b.index[i]) return false;
+    return true;
+  }
 };
 
 }  // namespace sh::ir

@@ -1,0 +1,192 @@
+// Recorded control flow with data-dependent conditions and trip counts, on
+// every backend (Sh's own suite never tested this).
+#include "harness.hpp"
+
+namespace conformance {
+namespace {
+
+using sh::Attrib1f;
+using sh::Attrib1i;
+
+std::vector<float> counts() { return {0, 1, 2, 3, 7, 10, 31, -4, 0.5f, 16}; }
+
+TEST_P(Conformance, NestedIfElse) {
+  sh::Program p = SH_BEGIN_PROGRAM("nested_if") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1f> r;
+    r = 0.0f;
+    SH_IF(x > 2.0f) {
+      SH_IF(x > 8.0f) { r = 3.0f; } SH_ELSE { r = 2.0f; } SH_ENDIF;
+    } SH_ELSE {
+      SH_IF(x < 0.0f) { r = -1.0f; } SH_ENDIF;
+      r += x;
+    } SH_ENDIF;
+  } SH_END;
+  std::vector<float> xs = counts();
+  sh::Channel<Attrib1f> in(xs), out;
+  run(p, {in}, {out});
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    float x = xs[k];
+    float want = x > 2 ? (x > 8 ? 3.f : 2.f) : (x < 0 ? -1.f : 0.f) + x;
+    EXPECT_EQ(out[k], want) << "x = " << x;
+  }
+}
+
+TEST_P(Conformance, WhileDoForWithDataDependentTripCounts) {
+  sh::Program p = SH_BEGIN_PROGRAM("loops") {
+    sh::Input<Attrib1f> n;
+    sh::Output<Attrib1f> w, d, f;
+    Attrib1f i = 0.0f;
+    w = 0.0f;
+    SH_WHILE(i < n) {
+      w += i;
+      i += 1.0f;
+    } SH_ENDWHILE;
+    Attrib1f j = 0.0f;
+    d = 0.0f;
+    SH_DO {
+      d += 2.0f;
+      j += 1.0f;
+    } SH_UNTIL(j >= n);
+    f = 1.0f;
+    SH_FOR(Attrib1f k = 0.0f, k < n, k += 1.0f) {
+      f *= 2.0f;
+    } SH_ENDFOR;
+  } SH_END;
+  std::vector<float> ns = counts();
+  sh::Channel<Attrib1f> in(ns), w, d, f;
+  run(p, {in}, {w, d, f});
+  for (std::size_t k = 0; k < ns.size(); ++k) {
+    float n = ns[k], ws = 0, ds = 0, fs = 1;
+    for (float i = 0; i < n; i += 1) ws += i;
+    float j = 0;
+    do {
+      ds += 2;
+      j += 1;
+    } while (!(j >= n));
+    for (float i = 0; i < n; i += 1) fs *= 2;
+    EXPECT_EQ(w[k], ws) << "while, n = " << n;
+    EXPECT_EQ(d[k], ds) << "do/until, n = " << n;
+    EXPECT_EQ(f[k], fs) << "for, n = " << n;
+  }
+}
+
+TEST_P(Conformance, BreakAndContinueInEveryLoopForm) {
+  sh::Program p = SH_BEGIN_PROGRAM("jumps") {
+    sh::Input<Attrib1f> n;
+    sh::Output<Attrib1f> w, d, f, nested;
+    // while: sum odd i below n, stop once the sum passes 20.
+    Attrib1f i = 0.0f;
+    w = 0.0f;
+    SH_WHILE(i < n) {
+      i += 1.0f;
+      SH_CONTINUE(i % 2.0f == 0.0f);
+      w += i;
+      SH_BREAK(w > 20.0f);
+    } SH_ENDWHILE;
+    // do/until: continue goes to the test.
+    Attrib1f j = 0.0f;
+    d = 0.0f;
+    SH_DO {
+      j += 1.0f;
+      SH_CONTINUE(j < 3.0f);
+      d += j;
+    } SH_UNTIL(j >= n);
+    // for: continue runs the update.
+    f = 0.0f;
+    SH_FOR(Attrib1f k = 0.0f, k < n, k += 1.0f) {
+      SH_IF(k == 2.0f) { SH_CONTINUE(); } SH_ENDIF;
+      SH_BREAK(k > 12.0f);
+      f += k;
+    } SH_ENDFOR;
+    // A break leaves only the inner loop.
+    nested = 0.0f;
+    SH_FOR(Attrib1f a = 0.0f, a < n, a += 1.0f) {
+      SH_FOR(Attrib1f b = 0.0f, b < 100.0f, b += 1.0f) {
+        SH_BREAK(b >= a);
+        nested += 1.0f;
+      } SH_ENDFOR;
+    } SH_ENDFOR;
+  } SH_END;
+  std::vector<float> ns = counts();
+  sh::Channel<Attrib1f> in(ns), w, d, f, nested;
+  run(p, {in}, {w, d, f, nested});
+  for (std::size_t k = 0; k < ns.size(); ++k) {
+    float n = ns[k];
+    float ws = 0, ds = 0, fs = 0, ns_ = 0;
+    for (float i = 0; i < n;) {
+      i += 1;
+      if (std::fmod(i, 2.f) == 0) continue;
+      ws += i;
+      if (ws > 20) break;
+    }
+    float j = 0;
+    do {
+      j += 1;
+      if (j < 3) continue;
+      ds += j;
+    } while (!(j >= n));
+    for (float c = 0; c < n; c += 1) {
+      if (c == 2) continue;
+      if (c > 12) break;
+      fs += c;
+    }
+    for (float a = 0; a < n; a += 1)
+      for (float b = 0; b < 100; b += 1) {
+        if (b >= a) break;
+        ns_ += 1;
+      }
+    EXPECT_EQ(w[k], ws) << "while, n = " << n;
+    EXPECT_EQ(d[k], ds) << "do/until, n = " << n;
+    EXPECT_EQ(f[k], fs) << "for, n = " << n;
+    EXPECT_EQ(nested[k], ns_) << "nested, n = " << n;
+  }
+}
+
+TEST_P(Conformance, IntegerLoopCounters) {
+  sh::Program p = SH_BEGIN_PROGRAM("collatz") {
+    sh::Input<Attrib1i> start;
+    sh::Output<Attrib1i> steps;
+    Attrib1i x = start;
+    steps = 0;
+    SH_WHILE(x > 1) {
+      SH_IF(x % 2 == 0) { x = x / 2; } SH_ELSE { x = 3 * x + 1; } SH_ENDIF;
+      steps += 1;
+    } SH_ENDWHILE;
+  } SH_END;
+  std::vector<std::int32_t> starts = {1, 2, 3, 6, 7, 27, 97, 871, 0, -5};
+  sh::Channel<Attrib1i> in(starts), out;
+  run(p, {in}, {out});
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    std::int64_t x = starts[k];
+    int steps = 0;
+    while (x > 1) {
+      x = x % 2 == 0 ? x / 2 : 3 * x + 1;
+      ++steps;
+    }
+    EXPECT_EQ(out[k], steps) << "start " << starts[k];
+  }
+}
+
+TEST_P(Conformance, LoopIterationCapTurnsEndlessLoopIntoError) {
+  sh::Program p = SH_BEGIN_PROGRAM("endless") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1f> r;
+    r = x;
+    SH_WHILE(r > 0.0f) { r += 1.0f; } SH_ENDWHILE;  // never ends for x > 0
+  } SH_END;
+  sh::Channel<Attrib1f> in(std::vector<float>{-1, 1}), out;
+  sh::Options o;
+  o.max_loop_iterations = 1000;
+  sh::BackendChoice c = choice(o);
+  try {
+    sh::run(p, {in}, {out}, c);
+    FAIL() << "an endless loop must be an error";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("endless"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1000"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace conformance

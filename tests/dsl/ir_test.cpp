@@ -1,0 +1,153 @@
+// The IR's printer, verifier and hash.
+#include <gtest/gtest.h>
+
+#include <sh/sh.hpp>
+
+namespace {
+
+using namespace sh;
+
+Program saxpy_like(Attrib1f& scale) {
+  return SH_BEGIN_PROGRAM("saxpy") {
+    Input<Attrib1f> x;
+    Input<Attrib1f> y;
+    Output<Attrib1f> r;
+    r = scale * x + y;
+  } SH_END;
+}
+
+TEST(Printer, StableTextForm) {
+  Attrib1f scale = 2.0f;
+  scale.name("scale");
+  Program p = saxpy_like(scale);
+  EXPECT_EQ(print(p),
+            "program saxpy\n"
+            "  input %0: f32\n"
+            "  input %1: f32\n"
+            "  output %2: f32\n"
+            "  uniform %3 scale: f32\n"
+            "body\n"
+            "  %4 = mul %3, %0\n"
+            "  %5 = add %4, %1\n"
+            "  %2 = mov %5\n");
+}
+
+TEST(Printer, ControlFlowSwizzlesTablesAndCasts) {
+  Table1D<Attrib2f> t(4);
+  t.name("t");
+  Program p = SH_BEGIN_PROGRAM("shapes") {
+    Input<Attrib3f> v;
+    Output<Attrib2f> r;
+    r = t[v(0)];
+    SH_DO { r(1, 0) = r(0, 1); } SH_UNTIL(r(0) > 1.0f);
+  } SH_END;
+  EXPECT_EQ(print(p),
+            "program shapes\n"
+            "  input %0: f32x3\n"
+            "  output %1: f32x2\n"
+            "  table #0 t: f32x2 rank 1\n"
+            "body\n"
+            "  %2 = cast i32 %0.x\n"
+            "  %3 = fetch #0 %2\n"
+            "  %1 = mov %3\n"
+            "  loop test-last while %6 {\n"
+            "  header:\n"
+            "    %5 = gt %1.x, 1\n"
+            "    %6 = not %5\n"
+            "  body:\n"
+            "    %1.yx = mov %1\n"
+            "  }\n");
+}
+
+TEST(Verifier, AcceptsRecordedProgramsAndRejectsBrokenOnes) {
+  Attrib1f scale = 1.0f;
+  ir::Program p = saxpy_like(scale).ir();
+  EXPECT_NO_THROW(ir::verify(p));
+
+  ir::Program bad_width = p;
+  std::get<ir::Assign>(bad_width.body[0].node).args[1].swizzle = ir::Swizzle::identity(1);
+  std::get<ir::Assign>(bad_width.body[0].node).args[1].swizzle.index[0] = 2;
+  EXPECT_THROW(ir::verify(bad_width), Error);
+
+  ir::Program writes_input = p;
+  std::get<ir::Assign>(writes_input.body[0].node).dest = 0;
+  try {
+    ir::verify(writes_input);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("writes a variable of kind input"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("saxpy"), std::string::npos);
+  }
+
+  ir::Program stray_break = p;
+  stray_break.body.push_back(ir::Stmt{ir::Break{}});
+  EXPECT_THROW(ir::verify(stray_break), Error);
+
+  ir::Program bad_type = p;
+  bad_type.vars[4].type.scalar = ir::Scalar::I32;
+  EXPECT_THROW(ir::verify(bad_type), Error);
+}
+
+TEST(Hash, IgnoresNamesAndUniformValuesButNotStructure) {
+  Attrib1f a = 1.0f, b = 7.0f;
+  Program p = saxpy_like(a), q = saxpy_like(b);
+  EXPECT_EQ(p.hash(), q.hash());
+  a = 100.0f;
+  a.name("renamed");
+  EXPECT_EQ(saxpy_like(a).hash(), p.hash());
+  Program different = SH_BEGIN_PROGRAM("saxpy") {
+    Input<Attrib1f> x;
+    Input<Attrib1f> y;
+    Output<Attrib1f> r;
+    r = a * x - y;
+  } SH_END;
+  EXPECT_NE(different.hash(), p.hash());
+}
+
+TEST(Recording, CppFunctionsInlineIntoTheKernel) {
+  auto smoothstep = [](const Attrib1f& e0, const Attrib1f& e1, const Attrib1f& x) {
+    Attrib1f t = sat((x - e0) / (e1 - e0));
+    return t * t * (3.0f - 2.0f * t);
+  };
+  Program p = SH_BEGIN_PROGRAM("inline") {
+    Input<Attrib1f> x;
+    Output<Attrib1f> r;
+    r = smoothstep(ConstAttrib1f(0.0f), ConstAttrib1f(1.0f), x);
+  } SH_END;
+  std::string text = print(p);
+  EXPECT_NE(text.find("min"), std::string::npos);  // sat inlined
+  Channel<Attrib1f> in(std::vector<float>{-1, 0.5f, 2}), out;
+  run(p, {in}, {out}, backend("interp"));
+  EXPECT_EQ(out[0], 0.f);
+  EXPECT_EQ(out[1], 0.5f);
+  EXPECT_EQ(out[2], 1.f);
+}
+
+TEST(Recording, SwizzleParameterIsACopy) {
+  auto bump = [](Attrib1f v) {
+    v += 1.0f;
+    return v;
+  };
+  Program p = SH_BEGIN_PROGRAM("copy") {
+    Input<Attrib2f> x;
+    Output<Attrib2f> r;
+    Attrib2f a = x;
+    Attrib1f b = bump(a(0));
+    r = join(a(0), b);
+  } SH_END;
+  Channel<Attrib2f> in(std::vector<float>{5, 0}), out;
+  run(p, {in}, {out}, backend("interp"));
+  EXPECT_EQ(out[0], 5.f);
+  EXPECT_EQ(out[1], 6.f);
+}
+
+TEST(HostUniforms, ArithmeticOutsideProgramsComputesOnTheHost) {
+  Attrib3f a(1.f, 2.f, 3.f);
+  Attrib3f b = a * 2.0f + 1.0f;
+  EXPECT_EQ(b.get(0), 3.f);
+  EXPECT_EQ(b.get(2), 7.f);
+  Attrib1f d = dot(a, b);
+  EXPECT_EQ(d.get(), 1 * 3.f + 2 * 5.f + 3 * 7.f);
+}
+
+}  // namespace

@@ -1,0 +1,143 @@
+// Every recording error throws sh::Error naming the program and the fault.
+#include <gtest/gtest.h>
+
+#include <sh/sh.hpp>
+
+namespace {
+
+using namespace sh;
+
+// Runs `record`, expects an sh::Error whose message holds each fragment.
+template <class F>
+void expect_error(F record, std::initializer_list<const char*> fragments) {
+  try {
+    record();
+    FAIL() << "expected sh::Error";
+  } catch (const Error& e) {
+    for (const char* f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+  }
+}
+
+TEST(RecordingErrors, ElseWithoutIf) {
+  expect_error([] { SH_BEGIN_PROGRAM("p1") { SH_ELSE; } SH_END; }, {"p1", "SH_ELSE without SH_IF"});
+}
+
+TEST(RecordingErrors, EndifWithoutIf) {
+  expect_error([] { SH_BEGIN_PROGRAM("p2") { SH_ENDIF; } SH_END; }, {"p2", "SH_ENDIF without SH_IF"});
+}
+
+TEST(RecordingErrors, MacroLeftOpen) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("open_if") {
+          Attrib1f x = 1.0f;
+          SH_IF(x > 0.0f) { x = 2.0f; }
+        } SH_END;
+      },
+      {"open_if", "SH_IF", "left open"});
+  expect_error([] { SH_BEGIN_PROGRAM("open_do") { SH_DO {} } SH_END; }, {"open_do", "SH_DO"});
+}
+
+TEST(RecordingErrors, MismatchedLoopEnds) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("mixed") {
+          Attrib1f x = 1.0f;
+          SH_WHILE(x > 0.0f) { x -= 1.0f; } SH_ENDIF;
+        } SH_END;
+      },
+      {"mixed", "SH_ENDIF without SH_IF", "SH_WHILE"});
+  expect_error([] { SH_BEGIN_PROGRAM("until") { SH_UNTIL(Attrib1f(1.0f)); } SH_END; }, {"until", "SH_UNTIL without SH_DO"});
+}
+
+TEST(RecordingErrors, BreakOutsideLoop) {
+  expect_error([] { SH_BEGIN_PROGRAM("brk") { SH_BREAK(); } SH_END; }, {"brk", "SH_BREAK outside a loop"});
+  expect_error([] { SH_BEGIN_PROGRAM("cnt") { SH_CONTINUE(Attrib1f(1.0f)); } SH_END; }, {"cnt", "SH_CONTINUE"});
+}
+
+TEST(RecordingErrors, WritingAnInput) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("write_input") {
+          Input<Attrib1f> x;
+          x = 2.0f;
+        } SH_END;
+      },
+      {"write_input", "writes input", "read-only"});
+}
+
+TEST(RecordingErrors, ReadingAnOutputNeverWritten) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("read_output") {
+          Output<Attrib1f> r;
+          Attrib1f t = r + 1.0f;
+        } SH_END;
+      },
+      {"read_output", "reads output", "before anything was written"});
+}
+
+TEST(RecordingErrors, SwizzleIndexOutOfRange) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("swz") {
+          Attrib3f v(1, 2, 3);
+          Attrib1f c = v(3);
+        } SH_END;
+      },
+      {"swz", "swizzle index 3", "3-component"});
+}
+
+TEST(RecordingErrors, TypeMismatchInAlgebraAndConditions) {
+  Program two = SH_BEGIN_PROGRAM("two") {
+    Input<Attrib2f> a;
+    Output<Attrib2f> b;
+    b = a;
+  } SH_END;
+  Program three = SH_BEGIN_PROGRAM("three") {
+    Input<Attrib3f> a;
+    Output<Attrib3f> b;
+    b = a;
+  } SH_END;
+  expect_error([&] { (void)(three << two); }, {"three<<two", "cannot connect f32x2 to f32x3"});
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("wide_cond") {
+          Attrib3f v(1, 2, 3);
+          SH_IF(v) {} SH_ENDIF;
+        } SH_END;
+      },
+      {"wide_cond", "SH_IF condition has 3 components"});
+}
+
+TEST(RecordingErrors, UniformWrittenInsideProgram) {
+  Attrib1f u = 1.0f;
+  expect_error([&] { SH_BEGIN_PROGRAM("set_uniform") { u = 2.0f; } SH_END; }, {"set_uniform", "uniforms are set on the host"});
+}
+
+TEST(RecordingErrors, VariableOfAnotherProgram) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("outer") {
+          Attrib1f inner_value = 1.0f;
+          Program inner = SH_BEGIN_PROGRAM("inner") {
+            Output<Attrib1f> r;
+            r = inner_value;
+          } SH_END;
+        } SH_END;
+      },
+      {"inner", "another program"});
+}
+
+TEST(RecordingErrors, ControlFlowOutsideProgram) {
+  expect_error([] { SH_IF(Attrib1f(1.0f)); }, {"SH_IF", "outside"});
+}
+
+TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {
+  EXPECT_THROW(SH_BEGIN_PROGRAM("bad") { SH_ELSE; } SH_END, Error);
+  // Outside any recording again: a variable is a uniform.
+  Attrib1f u = 5.0f;
+  EXPECT_EQ(u.get(), 5.0f);
+}
+
+}  // namespace
