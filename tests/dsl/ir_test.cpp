@@ -141,6 +141,19 @@ TEST(Recording, SwizzleParameterIsACopy) {
   EXPECT_EQ(out[1], 6.f);
 }
 
+TEST(Recording, VariableInitialisedFromAConstantIsWritable) {
+  Program p = SH_BEGIN_PROGRAM("from_const") {
+    Output<Attrib2f> r;
+    Attrib2f z = ConstAttrib2f(1.0f, 2.0f);
+    z(0) = 5.0f;
+    r = z;
+  } SH_END;
+  Channel<Attrib2f> out(1);
+  run(p, {}, {out}, backend("interp"));
+  EXPECT_EQ(out[0], 5.f);
+  EXPECT_EQ(out[1], 2.f);
+}
+
 TEST(HostUniforms, ArithmeticOutsideProgramsComputesOnTheHost) {
   Attrib3f a(1.f, 2.f, 3.f);
   Attrib3f b = a * 2.0f + 1.0f;

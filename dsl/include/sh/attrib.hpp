@@ -31,9 +31,9 @@ class ValueHolder {
  protected:
   ValueHolder() = default;
   explicit ValueHolder(Value v) : value_(std::move(v)) {}
-  bool is_view() const { return view_; }
+  bool copies_on_move() const { return copy_on_move_; }
   Value value_;
-  bool view_ = false;  // a swizzle of another variable (SwizzleRef)
+  bool copy_on_move_ = false;  // a swizzle of another variable, or a constant
 };
 struct FromValue {};  // tag: wrap an existing Value
 
@@ -76,10 +76,11 @@ class Attrib : public detail::ValueHolder {
 
   // A copy is a new variable holding the value, as in Sh.
   Attrib(const Attrib& other) : Attrib() { detail::assign(value_, other.value()); }
-  // A temporary result is adopted rather than copied; a swizzle view is
-  // copied, so that a parameter taken by value never aliases its argument.
-  Attrib(Attrib&& other) : ValueHolder(other.is_view() ? detail::Value{} : std::move(other.value_)) {
-    if (other.is_view()) {
+  // A temporary result is adopted rather than copied; a swizzle view or a
+  // constant is copied, so that a variable taken by value never aliases
+  // another (a parameter never writes through to its argument).
+  Attrib(Attrib&& other) : ValueHolder(other.copies_on_move() ? detail::Value{} : std::move(other.value_)) {
+    if (other.copies_on_move()) {
       value_ = detail::declare(ir_type(), detail::Declared::Temp);
       detail::assign(value_, other.value());
     }
@@ -145,7 +146,7 @@ class Attrib : public detail::ValueHolder {
 template <int N, class T, Semantic S>
 class SwizzleRef : public Attrib<N, T, S> {
  public:
-  SwizzleRef(detail::Value v) : Attrib<N, T, S>(detail::FromValue{}, std::move(v)) { this->view_ = true; }
+  SwizzleRef(detail::Value v) : Attrib<N, T, S>(detail::FromValue{}, std::move(v)) { this->copy_on_move_ = true; }
   SwizzleRef(const SwizzleRef& other) : SwizzleRef(other.value()) {}
   using Attrib<N, T, S>::operator=;
   SwizzleRef& operator=(const SwizzleRef& other) {
@@ -190,10 +191,28 @@ class ConstAttrib : public Attrib<N, T, S> {
     requires(sizeof...(U) == N || sizeof...(U) == 1)
   ConstAttrib(U... components)
       : Attrib<N, T, S>(detail::FromValue{},
-                        detail::constant(Attrib<N, T, S>::ir_type(), detail::components(components...))) {}
+                        detail::constant(Attrib<N, T, S>::ir_type(), detail::components(components...))) {
+    this->copy_on_move_ = true;
+  }
 };
 
 // ---- aliases ---------------------------------------------------------------
+
+#define SH_INTERFACE_ALIASES(Name)                      \
+  using Input##Name = Input<Name>;                      \
+  using Output##Name = Output<Name>;                    \
+  using InOut##Name = InOut<Name>;
+#define SH_INTERFACE_FAMILY(Name) \
+  SH_INTERFACE_ALIASES(Name##1f)  \
+  SH_INTERFACE_ALIASES(Name##2f)  \
+  SH_INTERFACE_ALIASES(Name##3f)  \
+  SH_INTERFACE_ALIASES(Name##4f)  \
+  SH_INTERFACE_ALIASES(Name##1i)  \
+  SH_INTERFACE_ALIASES(Name##2i)  \
+  SH_INTERFACE_ALIASES(Name##3i)  \
+  SH_INTERFACE_ALIASES(Name##4i)  \
+  SH_INTERFACE_ALIASES(Name##1d)  \
+  SH_INTERFACE_ALIASES(Name##3d)
 
 #define SH_ATTRIB_ALIASES(Name, Sem)                          \
   using Name##1f = Attrib<1, float, Semantic::Sem>;          \
@@ -229,5 +248,14 @@ SH_ATTRIB_ALIASES(Color, Color)
 SH_ATTRIB_ALIASES(TexCoord, TexCoord)
 SH_ATTRIB_ALIASES(Position, Position)
 #undef SH_ATTRIB_ALIASES
+SH_INTERFACE_FAMILY(Attrib)
+SH_INTERFACE_FAMILY(Point)
+SH_INTERFACE_FAMILY(Vector)
+SH_INTERFACE_FAMILY(Normal)
+SH_INTERFACE_FAMILY(Color)
+SH_INTERFACE_FAMILY(TexCoord)
+SH_INTERFACE_FAMILY(Position)
+#undef SH_INTERFACE_FAMILY
+#undef SH_INTERFACE_ALIASES
 
 }  // namespace sh
