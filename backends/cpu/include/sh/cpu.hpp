@@ -1,0 +1,20 @@
+#pragma once
+// The CPU backend: the optimised IR is lowered to LLVM IR, compiled by
+// LLVM 15's ORC LLJIT for the host CPU, and run over the stream in oneTBB
+// parallel loops.  Including this header registers it as "cpu".
+//
+// Options it honours: precision (f32 without FMA contraction, IEEE divide
+// and sqrt; f64 computes every float as double), math (fast: LLVM fast-math
+// flags), threads (a oneTBB arena; 0 = every core), max_loop_iterations.
+// kernel_for(p, backend("cpu"))->listing() gives the optimised LLVM IR.
+#include "sh/backend.hpp"
+
+namespace sh::cpu {
+
+void register_backend();
+
+namespace detail {
+inline const bool registered = (register_backend(), true);
+}  // namespace detail
+
+}  // namespace sh::cpu

@@ -1,0 +1,85 @@
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include "jit.hpp"
+#include "sh/cpu.hpp"
+#include "sh/error.hpp"
+#include "sh/ir/printer.hpp"
+
+namespace sh::cpu {
+namespace {
+
+class CpuKernel : public Kernel {
+ public:
+  CpuKernel(const ir::Program& p, const Options& o)
+      : program_(p), options_(o), jitted_(program_, options_),
+        arena_(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
+
+  void run(const RunArgs& args, RunStats&) override {
+    std::vector<void*> inputs, outputs;
+    for (const BufferView& b : args.inputs) inputs.push_back(b.data);
+    for (const BufferView& b : args.outputs) outputs.push_back(b.data);
+    std::vector<double> uniforms;
+    for (const auto& u : args.uniforms) uniforms.insert(uniforms.end(), u.begin(), u.end());
+    std::vector<const void*> tables;
+    std::vector<std::int32_t> dims;
+    for (const TableView& t : args.tables) {
+      tables.push_back(t.data);
+      dims.insert(dims.end(), t.dims.begin(), t.dims.end());
+    }
+    alignas(16) std::int64_t status[2] = {0, 0};
+    KernelFn fn = jitted_.entry();
+    auto n = static_cast<std::int64_t>(args.count);
+    arena_.execute([&] {
+      // Many more chunks than threads, so divergent elements balance out.
+      std::int64_t threads = arena_.max_concurrency();
+      std::int64_t grain = std::clamp<std::int64_t>(n / (threads * 16), 16, 4096);
+      tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, grain), [&](const tbb::blocked_range<std::int64_t>& r) {
+        fn(r.begin(), r.end(), inputs.data(), outputs.data(), uniforms.data(), tables.data(), dims.data(), status);
+      });
+    });
+    if (status[0] != 0) {
+      const ir::Stmt* loop = jitted_.loops().at(static_cast<std::size_t>(status[0] - 1));
+      throw Error("program '" + program_.name + "': element " + std::to_string(status[1]) + " ran a loop more than " +
+                  std::to_string(options_.max_loop_iterations) + " iterations (`" + ir::print(program_, *loop) +
+                  "`); raise Options::max_loop_iterations if that is intended");
+    }
+  }
+
+  std::string listing() const override { return jitted_.llvm_ir(); }
+
+ private:
+  ir::Program program_;  // the loops in error messages point into it
+  Options options_;
+  Jitted jitted_;
+  tbb::task_arena arena_;
+};
+
+class CpuBackend : public Backend {
+ public:
+  std::string name() const override { return "cpu"; }
+  std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+    return std::make_unique<CpuKernel>(p, o);
+  }
+  std::vector<std::string> describe() const override {
+    return {"cpu: LLVM 15 ORC JIT for the host CPU, oneTBB with " + std::to_string(tbb::this_task_arena::max_concurrency()) +
+            " threads"};
+  }
+};
+
+}  // namespace
+
+void register_backend() {
+  static const bool done = [] {
+    sh::register_backend("cpu", [] { return std::make_unique<CpuBackend>(); });
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace sh::cpu

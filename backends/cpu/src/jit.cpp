@@ -1,0 +1,95 @@
+#include "jit.hpp"
+
+#include <mutex>
+
+#include <llvm/Analysis/CGSCCPassManager.h>
+#include <llvm/Analysis/LoopAnalysisManager.h>
+#include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
+#include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
+#include <llvm/ExecutionEngine/Orc/LLJIT.h>
+#include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/IR/PassManager.h>
+#include <llvm/IR/Verifier.h>
+#include <llvm/Passes/PassBuilder.h>
+#include <llvm/Support/TargetSelect.h>
+#include <llvm/Support/raw_ostream.h>
+#include <llvm/Target/TargetMachine.h>
+
+#include "sh/error.hpp"
+
+namespace sh::cpu {
+namespace {
+
+void initialise_llvm() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    llvm::InitializeNativeTarget();
+    llvm::InitializeNativeTargetAsmPrinter();
+  });
+}
+
+template <class T>
+T unwrap(llvm::Expected<T> value, const ir::Program& p, const char* stage) {
+  if (!value) throw Error("program '" + p.name + "': cpu backend: " + stage + ": " + llvm::toString(value.takeError()));
+  return std::move(*value);
+}
+
+void check(llvm::Error err, const ir::Program& p, const char* stage) {
+  if (err) throw Error("program '" + p.name + "': cpu backend: " + stage + ": " + llvm::toString(std::move(err)));
+}
+
+void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
+  llvm::LoopAnalysisManager lam;
+  llvm::FunctionAnalysisManager fam;
+  llvm::CGSCCAnalysisManager cgam;
+  llvm::ModuleAnalysisManager mam;
+  llvm::PassBuilder pb(&tm);
+  pb.registerModuleAnalyses(mam);
+  pb.registerCGSCCAnalyses(cgam);
+  pb.registerFunctionAnalyses(fam);
+  pb.registerLoopAnalyses(lam);
+  pb.crossRegisterProxies(lam, fam, cgam, mam);
+  pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3).run(m, mam);
+}
+
+}  // namespace
+
+Jitted::Jitted(const ir::Program& program, const Options& options) {
+  initialise_llvm();
+  auto context = std::make_unique<llvm::LLVMContext>();
+  Lowered lowered = lower(program, options, *context);
+  loops_ = std::move(lowered.loops);
+  llvm::Module& m = *lowered.module;
+
+  std::string problems;
+  llvm::raw_string_ostream os(problems);
+  if (llvm::verifyModule(m, &os))
+    throw Error("program '" + program.name + "': cpu backend produced invalid LLVM IR: " + os.str());
+
+  auto builder = unwrap(llvm::orc::JITTargetMachineBuilder::detectHost(), program, "detecting the host CPU");
+  builder.setCodeGenOptLevel(llvm::CodeGenOpt::Aggressive);
+  // f32 precise: no contraction into FMA, so a*b+c rounds twice as written.
+  builder.getOptions().AllowFPOpFusion =
+      options.math == MathMode::Fast ? llvm::FPOpFusion::Fast : llvm::FPOpFusion::Strict;
+  auto machine = unwrap(builder.createTargetMachine(), program, "creating the target machine");
+  m.setDataLayout(machine->createDataLayout());
+  m.setTargetTriple(machine->getTargetTriple().str());
+  optimise(m, *machine);
+  llvm::raw_string_ostream ir(llvm_ir_);
+  m.print(ir, nullptr);
+
+  jit_ = unwrap(llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(builder).create(), program, "creating the JIT");
+  // Kernels call the C math library (sinf, atan2, ...) of this process.
+  auto libm = unwrap(llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(
+                         jit_->getDataLayout().getGlobalPrefix()),
+                     program, "opening the process symbols");
+  jit_->getMainJITDylib().addGenerator(std::move(libm));
+  check(jit_->addIRModule(llvm::orc::ThreadSafeModule(std::move(lowered.module), std::move(context))), program,
+        "adding the module");
+  auto address = unwrap(jit_->lookup(kKernelSymbol), program, "compiling");
+  entry_ = address.toPtr<KernelFn>();
+}
+
+Jitted::~Jitted() = default;
+
+}  // namespace sh::cpu

@@ -1,0 +1,31 @@
+#pragma once
+// Compiles a lowered module for the host CPU: the O3 pipeline with the
+// host's features, then ORC LLJIT.  The result owns the machine code.
+#include <memory>
+#include <string>
+
+#include "lower.hpp"
+#include "signature.hpp"
+
+namespace llvm::orc {
+class LLJIT;
+}
+
+namespace sh::cpu {
+
+class Jitted {
+ public:
+  Jitted(const ir::Program& program, const Options& options);
+  ~Jitted();
+  KernelFn entry() const { return entry_; }
+  const std::string& llvm_ir() const { return llvm_ir_; }  // after optimisation
+  const std::vector<const ir::Stmt*>& loops() const { return loops_; }
+
+ private:
+  std::unique_ptr<llvm::orc::LLJIT> jit_;
+  KernelFn entry_ = nullptr;
+  std::string llvm_ir_;
+  std::vector<const ir::Stmt*> loops_;
+};
+
+}  // namespace sh::cpu
