@@ -66,6 +66,17 @@ class Lowering {
     b_.SetInsertPoint(entry);
     element_ = b_.CreateAlloca(i64, nullptr, "element");
     b_.CreateStore(begin, element_);
+    // The buffers do not move during a call: their addresses are loaded
+    // once, so stores to outputs cannot make the loop reload them.
+    for (std::size_t i = 0; i < p_.inputs.size(); ++i) input_base_.push_back(pointer_at(inputs_, i));
+    for (std::size_t o = 0; o < p_.outputs.size(); ++o) output_base_.push_back(pointer_at(outputs_, o));
+    for (std::size_t t = 0; t < p_.tables.size(); ++t) {
+      table_base_.push_back(pointer_at(tables_, t));
+      std::array<Value*, 3> dims{};
+      for (int d = 0; d < 3; ++d)
+        dims[d] = b_.CreateLoad(b_.getInt32Ty(), b_.CreateConstInBoundsGEP1_64(b_.getInt32Ty(), dims_, 3 * t + d));
+      table_dims_.push_back(dims);
+    }
     allocate_registers();
     b_.CreateBr(head);
 
@@ -130,7 +141,7 @@ class Lowering {
           b_.CreateStore(llvm::Constant::getNullValue(reg_type(static_cast<ir::VarId>(v))), slots_[v][c]);
     for (std::size_t i = 0; i < p_.inputs.size(); ++i) {
       ir::VarId v = p_.inputs[i];
-      Value* base = stream_pointer(inputs_, i);
+      Value* base = input_base_[i];
       for (int c = 0; c < p_.type_of(v).width; ++c) {
         Value* x = b_.CreateLoad(storage_type(p_.type_of(v).scalar), component_ptr(base, v, e, c));
         b_.CreateStore(from_storage(x, p_.type_of(v).scalar), slots_[v][c]);
@@ -141,7 +152,7 @@ class Lowering {
   void finish_element(Value* e) {
     for (std::size_t o = 0; o < p_.outputs.size(); ++o) {
       ir::VarId v = p_.outputs[o];
-      Value* base = stream_pointer(outputs_, o);
+      Value* base = output_base_[o];
       for (int c = 0; c < p_.type_of(v).width; ++c) {
         Value* x = b_.CreateLoad(reg_type(v), slots_[v][c]);
         b_.CreateStore(to_storage(x, p_.type_of(v).scalar), component_ptr(base, v, e, c));
@@ -149,7 +160,7 @@ class Lowering {
     }
   }
 
-  Value* stream_pointer(Value* array, std::size_t k) {
+  Value* pointer_at(Value* array, std::size_t k) {
     return b_.CreateLoad(b_.getPtrTy(), b_.CreateConstInBoundsGEP1_64(b_.getPtrTy(), array, k));
   }
   Value* component_ptr(Value* base, ir::VarId v, Value* e, int c) {
@@ -416,7 +427,7 @@ class Lowering {
     Value* flat = b_.getInt64(0);
     Value* stride = b_.getInt64(1);
     for (int d = 0; d < t.rank; ++d) {
-      Value* dim = b_.CreateLoad(b_.getInt32Ty(), b_.CreateConstInBoundsGEP1_64(b_.getInt32Ty(), dims_, 3 * a.table + d));
+      Value* dim = table_dims_[a.table][d];
       Value* i = read(coord, d);
       if (a.op == ir::Op::Sample) {
         Value* scaled = b_.CreateFMul(i, b_.CreateSIToFP(dim, i->getType()));
@@ -427,7 +438,7 @@ class Lowering {
       flat = b_.CreateAdd(flat, b_.CreateMul(b_.CreateZExt(clamped, i64), stride));
       stride = b_.CreateMul(stride, b_.CreateZExt(dim, i64));
     }
-    Value* base = stream_pointer(tables_, static_cast<std::size_t>(a.table));
+    Value* base = table_base_[a.table];
     llvm::Type* st = storage_type(t.element.scalar);
     for (int c = 0; c < t.element.width; ++c) {
       Value* index = b_.CreateAdd(b_.CreateMul(flat, b_.getInt64(t.element.width)), b_.getInt64(c));
@@ -448,6 +459,8 @@ class Lowering {
   llvm::Function* fn_ = nullptr;
   Value *inputs_ = nullptr, *outputs_ = nullptr, *uniforms_ = nullptr, *tables_ = nullptr, *dims_ = nullptr,
         *status_ = nullptr, *element_ = nullptr;
+  std::vector<Value*> input_base_, output_base_, table_base_;
+  std::vector<std::array<Value*, 3>> table_dims_;
   std::vector<std::array<Value*, 4>> slots_;
   std::vector<bool> ssa_;
   std::vector<Targets> targets_;

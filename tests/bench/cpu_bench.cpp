@@ -1,0 +1,126 @@
+// DSL kernels on the cpu backend against the same kernels hand-written in
+// C++ (built -O3 -march=native), on one thread and on all, and the JIT's
+// compile latency.  Ratios go in BENCHMARKS.md.
+#include <benchmark/benchmark.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "kernels.hpp"
+
+namespace {
+
+using namespace sh;
+
+constexpr std::size_t kSaxpyN = 1 << 22;
+constexpr int kMandelbrotSize = 512;
+constexpr std::size_t kRays = 1 << 16;
+
+Options with_threads(int threads) {
+  Options o;
+  o.threads = threads;
+  return o;
+}
+
+// Runs body(begin, end) over n elements on `threads` threads (0 = all).
+template <class F>
+void hand_parallel(int threads, std::size_t n, F body) {
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  });
+}
+
+void BM_saxpy_dsl(benchmark::State& state) {
+  Attrib1f a = 2.5f;
+  Program p = bench::saxpy_program(a);
+  Channel<Attrib1f> x(std::vector<float>(kSaxpyN, 1.0f)), y(std::vector<float>(kSaxpyN, 2.0f)), r(kSaxpyN);
+  BackendChoice cpu = backend("cpu", with_threads(static_cast<int>(state.range(0))));
+  run(p, {x, y}, {r}, cpu);
+  for (auto _ : state) run(p, {x, y}, {r}, cpu);
+  state.SetItemsProcessed(state.iterations() * kSaxpyN);
+}
+
+void BM_saxpy_cpp(benchmark::State& state) {
+  std::vector<float> x(kSaxpyN, 1.0f), y(kSaxpyN, 2.0f), r(kSaxpyN);
+  for (auto _ : state) {
+    hand_parallel(static_cast<int>(state.range(0)), kSaxpyN,
+                  [&](std::size_t b, std::size_t e) { bench::saxpy_cpp(2.5f, x.data(), y.data(), r.data(), b, e); });
+    benchmark::DoNotOptimize(r.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kSaxpyN);
+}
+
+void BM_mandelbrot_dsl(benchmark::State& state) {
+  Program p = bench::mandelbrot_program();
+  Channel<Attrib2f> c(bench::mandelbrot_coordinates(kMandelbrotSize));
+  Channel<Attrib1f> shade;
+  BackendChoice cpu = backend("cpu", with_threads(static_cast<int>(state.range(0))));
+  run(p, {c}, {shade}, cpu);
+  for (auto _ : state) run(p, {c}, {shade}, cpu);
+  state.SetItemsProcessed(state.iterations() * kMandelbrotSize * kMandelbrotSize);
+}
+
+void BM_mandelbrot_cpp(benchmark::State& state) {
+  std::vector<float> c = bench::mandelbrot_coordinates(kMandelbrotSize), shade(c.size() / 2);
+  for (auto _ : state) {
+    hand_parallel(static_cast<int>(state.range(0)), shade.size(),
+                  [&](std::size_t b, std::size_t e) { bench::mandelbrot_cpp(c.data(), shade.data(), b, e); });
+    benchmark::DoNotOptimize(shade.data());
+  }
+  state.SetItemsProcessed(state.iterations() * shade.size());
+}
+
+void BM_triangles_dsl(benchmark::State& state) {
+  bench::TriangleScene s = bench::triangle_scene(kRays);
+  Table1D<Attrib3f> vertices(bench::kTriangles * 3);
+  vertices.assign(s.vertices);
+  Program p = bench::triangles_program(vertices);
+  Channel<Point3f> o(s.origins);
+  Channel<Vector3f> d(s.directions);
+  Channel<Attrib1f> t;
+  BackendChoice cpu = backend("cpu", with_threads(static_cast<int>(state.range(0))));
+  run(p, {o, d}, {t}, cpu);
+  for (auto _ : state) run(p, {o, d}, {t}, cpu);
+  state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
+}
+
+void BM_triangles_cpp(benchmark::State& state) {
+  bench::TriangleScene s = bench::triangle_scene(kRays);
+  std::vector<float> t(kRays);
+  for (auto _ : state) {
+    hand_parallel(static_cast<int>(state.range(0)), kRays,
+                  [&](std::size_t b, std::size_t e) { bench::triangles_cpp(s, t.data(), b, e); });
+    benchmark::DoNotOptimize(t.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
+}
+
+// Optimisation passes + lowering + LLVM O3 + machine code, uncached.
+void compile_latency(benchmark::State& state, const Program& p) {
+  Backend& cpu = find_backend("cpu");
+  for (auto _ : state) benchmark::DoNotOptimize(cpu.compile(optimize(p.ir()), Options{}));
+}
+
+void BM_compile_saxpy(benchmark::State& state) {
+  Attrib1f a = 2.0f;
+  compile_latency(state, bench::saxpy_program(a));
+}
+void BM_compile_mandelbrot(benchmark::State& state) { compile_latency(state, bench::mandelbrot_program()); }
+void BM_compile_triangles(benchmark::State& state) {
+  Table1D<Attrib3f> vertices(bench::kTriangles * 3);
+  compile_latency(state, bench::triangles_program(vertices));
+}
+
+}  // namespace
+
+BENCHMARK(BM_saxpy_dsl)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_saxpy_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_mandelbrot_dsl)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_mandelbrot_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_triangles_dsl)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_triangles_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_compile_saxpy)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_compile_mandelbrot)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_compile_triangles)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

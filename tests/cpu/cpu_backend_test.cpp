@@ -1,0 +1,111 @@
+// What the CPU backend adds beyond the conformance suite: its LLVM listing,
+// the kernel cache, thread counts, and errors.
+#include <gtest/gtest.h>
+
+#include <sh/sh.hpp>
+
+namespace {
+
+using namespace sh;
+
+Program polynomial() {
+  return SH_BEGIN_PROGRAM("poly") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = (x * 3.0f + 2.0f) * x + 1.0f;
+  } SH_END;
+}
+
+TEST(CpuBackend, ListingIsTheOptimisedLlvmIr) {
+  std::string ir = kernel_for(polynomial(), backend("cpu"))->listing();
+  EXPECT_NE(ir.find("define void @sh_kernel"), std::string::npos) << ir;
+  EXPECT_NE(ir.find("fmul"), std::string::npos) << ir;
+  // Precise f32: no fused multiply-add, no fast-math flags.
+  EXPECT_EQ(ir.find("fmuladd"), std::string::npos) << ir;
+  EXPECT_EQ(ir.find("fast"), std::string::npos) << ir;
+  Options fast;
+  fast.math = MathMode::Fast;
+  EXPECT_NE(kernel_for(polynomial(), backend("cpu", fast))->listing().find("fast"), std::string::npos);
+  Options f64;
+  f64.precision = Precision::F64;
+  EXPECT_NE(kernel_for(polynomial(), backend("cpu", f64))->listing().find("fmul double"), std::string::npos);
+}
+
+TEST(CpuBackend, CompilesOncePerProgramAndOptions) {
+  Program p = polynomial();
+  Channel<Attrib1f> x(std::vector<float>{1, 2}), y;
+  Options o;
+  o.threads = 1;
+  RunStats first = run(p, {x}, {y}, backend("cpu", o));
+  RunStats again = run(polynomial(), {x}, {y}, backend("cpu", o));  // same IR, recorded again
+  EXPECT_FALSE(again.compiled);
+  o.threads = 2;
+  RunStats other = run(p, {x}, {y}, backend("cpu", o));
+  EXPECT_TRUE(other.compiled) << "options are part of the key";
+  EXPECT_GE(first.compile_ms, 0.0);
+  EXPECT_EQ(y[1], 17.f);
+}
+
+TEST(CpuBackend, EveryThreadCountGivesTheSameResult) {
+  Program p = SH_BEGIN_PROGRAM("divergent") {
+    InputAttrib1f n;
+    OutputAttrib1f r;
+    r = 0.0f;
+    SH_FOR(Attrib1f i = 0.0f, i < n, i += 1.0f) { r += sin(i); } SH_ENDFOR;
+  } SH_END;
+  std::vector<float> ns;
+  for (int i = 0; i < 20000; ++i) ns.push_back(static_cast<float>(i % 97));
+  Channel<Attrib1f> in(ns), one, two, all;
+  Options o;
+  o.threads = 1;
+  run(p, {in}, {one}, backend("cpu", o));
+  o.threads = 2;
+  run(p, {in}, {two}, backend("cpu", o));
+  run(p, {in}, {all}, backend("cpu"));
+  EXPECT_EQ(one.values(), two.values());
+  EXPECT_EQ(one.values(), all.values());
+}
+
+TEST(CpuBackend, RunawayLoopNamesTheElementAndLoop) {
+  Program p = SH_BEGIN_PROGRAM("runaway") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x;
+    SH_WHILE(r > 0.0f) { r = r + 1.0f; } SH_ENDWHILE;
+  } SH_END;
+  std::vector<float> xs(1000, -1.0f);
+  xs[737] = 1.0f;
+  Channel<Attrib1f> in(xs), out;
+  Options o;
+  o.max_loop_iterations = 5000;
+  try {
+    run(p, {in}, {out}, backend("cpu", o));
+    FAIL();
+  } catch (const Error& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("runaway"), std::string::npos) << m;
+    EXPECT_NE(m.find("element 737"), std::string::npos) << m;
+    EXPECT_NE(m.find("loop test-first"), std::string::npos) << m;
+  }
+}
+
+TEST(CpuBackend, TableReadsStayInsideTheBufferForAnyIndex) {
+  Table1D<Attrib1i> t(3);
+  t.assign({10, 20, 30});
+  Program p = SH_BEGIN_PROGRAM("reads") {
+    InputAttrib1f u;
+    OutputAttrib1i a;
+    OutputAttrib1i b;
+    a = t[u];
+    b = t(u);
+  } SH_END;
+  std::vector<float> us = {-1e30f, -1.f, 0.f, 0.5f, 1.f, 2.f, 3.f, 1e30f, std::numeric_limits<float>::quiet_NaN()};
+  Channel<Attrib1f> in(us);
+  Channel<Attrib1i> a, b, ra, rb;
+  run(p, {in}, {a, b}, backend("cpu"));
+  run(p, {in}, {ra, rb}, backend("interp"));
+  EXPECT_EQ(a.values(), ra.values());
+  EXPECT_EQ(b.values(), rb.values());
+}
+
+}  // namespace
