@@ -1,0 +1,189 @@
+#include <cstring>
+#include <mutex>
+
+#include "codegen.hpp"
+#include "runtime.hpp"
+#include "sh/error.hpp"
+#include "sh/ir/printer.hpp"
+#include "sh/opencl.hpp"
+
+namespace sh::opencl {
+namespace {
+
+// Releases an OpenCL buffer when it goes out of scope.
+struct Buffer {
+  cl_mem mem = nullptr;
+  Buffer() = default;
+  Buffer(const Buffer&) = delete;
+  Buffer(Buffer&& o) noexcept : mem(o.mem) { o.mem = nullptr; }
+  ~Buffer() {
+    if (mem) clReleaseMemObject(mem);
+  }
+};
+
+std::string build_options(const Options& o) {
+  if (o.math == MathMode::Fast) return "-cl-fast-relaxed-math";
+  return "-cl-fp32-correctly-rounded-divide-sqrt";
+}
+
+class OpenClKernel : public Kernel {
+ public:
+  OpenClKernel(const ir::Program& p, const Options& o) : program_(p), options_(o), device_(open_device(o.device)) {
+    Source source = generate(p, o);
+    source_ = std::move(source.text);
+    if (source.needs_fp64 && !device_->fp64)
+      throw Error("program '" + p.name + "': needs double precision (f64), which OpenCL device '" + device_->name +
+                  "' lacks (no cl_khr_fp64); use precision f32 and float values, or another device");
+    cl_program_ = build(*device_, p.name, source_, build_options(o));
+    cl_int err = CL_SUCCESS;
+    kernel_ = clCreateKernel(cl_program_, kKernelName, &err);
+    check(err, "program '" + p.name + "': creating the OpenCL kernel");
+  }
+
+  ~OpenClKernel() override {
+    if (kernel_) clReleaseKernel(kernel_);
+    if (cl_program_) clReleaseProgram(cl_program_);
+  }
+
+  void run(const RunArgs& args, RunStats&) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<Buffer> buffers;
+    buffers.reserve(args.inputs.size() + args.outputs.size() + args.tables.size() + 1);
+    cl_uint arg = 0;
+    cl_long count = static_cast<cl_long>(args.count);
+    set(arg++, sizeof count, &count);
+    for (const BufferView& b : args.inputs)
+      set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, b.data, "an input"));
+    std::size_t first_output = buffers.size();
+    for (const BufferView& b : args.outputs)
+      set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_WRITE_ONLY, nullptr, "an output"));
+    for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
+    for (const TableView& t : args.tables) {
+      std::size_t n = static_cast<std::size_t>(t.dims[0]) * t.dims[1] * t.dims[2];
+      set_buffer(arg++, buffers,
+                 make(bytes(t.element, n), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table"));
+      for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
+    }
+    cl_long status[2] = {0, 0};
+    set_buffer(arg++, buffers, make(sizeof status, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, status, "the status"));
+
+    std::size_t global = args.count;
+    check(clEnqueueNDRangeKernel(device_->queue, kernel_, 1, nullptr, &global, nullptr, 0, nullptr, nullptr),
+          where("launching the kernel"));
+    for (std::size_t o = 0; o < args.outputs.size(); ++o)
+      check(clEnqueueReadBuffer(device_->queue, buffers[first_output + o].mem, CL_FALSE, 0,
+                                bytes(args.outputs[o].type, args.outputs[o].count), args.outputs[o].data, 0, nullptr, nullptr),
+            where("reading an output"));
+    check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
+          where("finishing the run"));
+    if (status[0] != 0) throw Error(runaway(status[0], status[1]));
+  }
+
+  std::string listing() const override { return source_; }
+
+ private:
+  std::string where(const std::string& what) const {
+    return "program '" + program_.name + "' on OpenCL device '" + device_->name + "': " + what;
+  }
+
+  static std::size_t bytes(ir::Type t, std::size_t count) { return count * t.width * ir::storage_bytes(t.scalar); }
+
+  Buffer make(std::size_t size, cl_mem_flags flags, void* host, const char* what) {
+    if (size > device_->max_alloc)
+      throw Error(where(std::string(what) + " needs " + std::to_string(size) + " bytes, more than the device's largest buffer (" +
+                        std::to_string(device_->max_alloc) + " bytes); split the stream"));
+    Buffer b;
+    cl_int err = CL_SUCCESS;
+    // OpenCL has no empty buffers: an empty one is a byte that is never read.
+    if (size == 0) flags &= ~static_cast<cl_mem_flags>(CL_MEM_COPY_HOST_PTR);
+    b.mem = clCreateBuffer(device_->context, flags, size == 0 ? 1 : size, size == 0 ? nullptr : host, &err);
+    check(err, where(std::string("allocating ") + what + " of " + std::to_string(size) + " bytes"));
+    return b;
+  }
+
+  void set(cl_uint index, std::size_t size, const void* value) {
+    check(clSetKernelArg(kernel_, index, size, value), where("setting argument " + std::to_string(index)));
+  }
+
+  void set_buffer(cl_uint index, std::vector<Buffer>& keep, Buffer b) {
+    set(index, sizeof(cl_mem), &b.mem);
+    keep.push_back(std::move(b));
+  }
+
+  // Uniform components are scalar arguments in the register type.
+  void set_uniform(cl_uint& arg, ir::VarId var, const std::array<double, 4>& value) {
+    ir::Type t = program_.type_of(var);
+    for (int c = 0; c < t.width; ++c) {
+      if (t.scalar == ir::Scalar::I32 || t.scalar == ir::Scalar::Bool) {
+        cl_int v = static_cast<cl_int>(value[c]);
+        set(arg++, sizeof v, &v);
+      } else if (t.scalar == ir::Scalar::F64 || options_.precision == Precision::F64) {
+        cl_double v = value[c];
+        set(arg++, sizeof v, &v);
+      } else {
+        cl_float v = static_cast<cl_float>(value[c]);
+        set(arg++, sizeof v, &v);
+      }
+    }
+  }
+
+  std::string runaway(cl_long loop, cl_long element) const {
+    std::string which;
+    int n = 0;
+    find_loop(program_.body, loop, n, which);
+    return "program '" + program_.name + "': element " + std::to_string(element) + " ran a loop more than " +
+           std::to_string(options_.max_loop_iterations) + " iterations (`" + which +
+           "`); raise Options::max_loop_iterations if that is intended";
+  }
+
+  // Loops are numbered in the order the generator meets them.
+  void find_loop(const ir::Block& b, cl_long wanted, int& n, std::string& out) const {
+    for (const ir::Stmt& s : b) {
+      if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+        if (++n == wanted) out = ir::print(program_, s);
+        find_loop(l->header, wanted, n, out);
+        find_loop(l->body, wanted, n, out);
+        find_loop(l->update, wanted, n, out);
+      } else if (auto* i = std::get_if<ir::If>(&s.node)) {
+        find_loop(i->then_body, wanted, n, out);
+        find_loop(i->else_body, wanted, n, out);
+      }
+    }
+  }
+
+  ir::Program program_;
+  Options options_;
+  std::shared_ptr<Device> device_;
+  std::string source_;
+  cl_program cl_program_ = nullptr;
+  cl_kernel kernel_ = nullptr;
+  std::mutex mutex_;
+};
+
+class OpenClBackend : public Backend {
+ public:
+  std::string name() const override { return "opencl"; }
+  std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+    return std::make_unique<OpenClKernel>(p, o);
+  }
+  std::vector<std::string> describe() const override {
+    std::vector<std::string> lines;
+    for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);
+    if (lines.empty()) lines.push_back("opencl: no platform or device found (install pocl-opencl-icd)");
+    return lines;
+  }
+};
+
+}  // namespace
+
+std::vector<std::string> devices() { return list_devices(); }
+
+void register_backend() {
+  static const bool done = [] {
+    sh::register_backend("opencl", [] { return std::make_unique<OpenClBackend>(); });
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace sh::opencl

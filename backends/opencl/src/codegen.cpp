@@ -1,0 +1,350 @@
+#include "codegen.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "sh/ir/printer.hpp"
+
+namespace sh::opencl {
+namespace {
+
+const char kComponent[] = "xyzw";
+
+class Generator {
+ public:
+  Generator(const ir::Program& p, const Options& o) : p_(p), o_(o) {}
+
+  Source run() {
+    needs_fp64_ = o_.precision == Precision::F64;
+    for (const ir::Var& v : p_.vars) needs_fp64_ = needs_fp64_ || v.type.scalar == ir::Scalar::F64;
+    for (const ir::TableDecl& t : p_.tables) needs_fp64_ = needs_fp64_ || t.element.scalar == ir::Scalar::F64;
+    std::ostringstream head;
+    head << "// program " << p_.name << ", generated from its optimised IR\n";
+    if (needs_fp64_) head << "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n";
+    if (o_.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
+    head << "\n__kernel void " << kKernelName << "(\n    const long count";
+    signature(head);
+    head << ")\n{\n  const long e = get_global_id(0);\n  if (e >= count) return;\n";
+    registers();
+    load_inputs();
+    block(p_.body, 1);
+    store_outputs();
+    body_ << "}\n";
+    return Source{head.str() + body_.str(), needs_fp64_};
+  }
+
+ private:
+  // ---- types and names -------------------------------------------------------
+
+  const char* reg_type(ir::Scalar s) const {
+    switch (s) {
+      case ir::Scalar::F32: return o_.precision == Precision::F32 ? "float" : "double";
+      case ir::Scalar::F64: return "double";
+      default: return "int";
+    }
+  }
+  static const char* storage_type(ir::Scalar s) {
+    switch (s) {
+      case ir::Scalar::F32: return "float";
+      case ir::Scalar::F64: return "double";
+      default: return "int";
+    }
+  }
+  const char* reg_type(ir::VarId v) const { return reg_type(p_.type_of(v).scalar); }
+
+  std::string reg(ir::VarId v, int c) const { return "v" + std::to_string(v) + "_" + kComponent[c]; }
+
+  std::string number(ir::Scalar s, double v) const {
+    const char* t = reg_type(s);
+    bool is_double = std::string(t) == "double";
+    if (s == ir::Scalar::I32 || s == ir::Scalar::Bool) {
+      auto i = static_cast<long long>(v);
+      return i == -2147483648LL ? "(-2147483647 - 1)" : std::to_string(i);
+    }
+    if (std::isnan(v)) return is_double ? "(double)NAN" : "NAN";
+    if (std::isinf(v)) return std::string(v < 0 ? "-" : "") + (is_double ? "(double)INFINITY" : "INFINITY");
+    char buf[64];
+    auto r = is_double ? std::to_chars(buf, buf + sizeof buf, v) : std::to_chars(buf, buf + sizeof buf, static_cast<float>(v));
+    std::string text(buf, r.ptr);
+    if (text.find_first_of(".e") == std::string::npos) text += ".0";
+    return is_double ? text : text + "f";
+  }
+
+  std::string read(const ir::Operand& o, int i) const {
+    int c = o.swizzle[o.width() == 1 ? 0 : i];
+    const ir::Var& v = p_.var(o.var);
+    if (v.kind == ir::VarKind::Const) return number(v.type.scalar, v.value[c]);
+    return reg(o.var, c);
+  }
+
+  void line(int depth, const std::string& text) { body_ << std::string(2 * depth, ' ') << text << "\n"; }
+
+  // ---- signature, registers, inputs, outputs -----------------------------------
+
+  void signature(std::ostringstream& out) {
+    for (std::size_t i = 0; i < p_.inputs.size(); ++i)
+      out << ",\n    __global const " << storage_type(p_.type_of(p_.inputs[i]).scalar) << "* in" << i;
+    for (std::size_t o = 0; o < p_.outputs.size(); ++o)
+      out << ",\n    __global " << storage_type(p_.type_of(p_.outputs[o]).scalar) << "* out" << o;
+    for (ir::VarId u : p_.uniforms)
+      for (int c = 0; c < p_.type_of(u).width; ++c) out << ",\n    const " << reg_type(u) << " " << reg(u, c);
+    for (std::size_t t = 0; t < p_.tables.size(); ++t)
+      out << ",\n    __global const " << storage_type(p_.tables[t].element.scalar) << "* table" << t << ", const int table"
+          << t << "_x, const int table" << t << "_y, const int table" << t << "_z";
+    out << ",\n    __global long* status";
+  }
+
+  void registers() {
+    for (std::size_t v = 0; v < p_.vars.size(); ++v) {
+      const ir::Var& var = p_.vars[v];
+      if (var.kind == ir::VarKind::Const || var.kind == ir::VarKind::Uniform) continue;
+      std::string decl = std::string("  ") + reg_type(var.type.scalar);
+      for (int c = 0; c < var.type.width; ++c) decl += (c ? ", " : " ") + reg(static_cast<ir::VarId>(v), c) + " = 0";
+      body_ << decl << ";";
+      if (!var.name.empty()) body_ << "  // " << var.name;
+      body_ << "\n";
+    }
+  }
+
+  void load_inputs() {
+    for (std::size_t i = 0; i < p_.inputs.size(); ++i) {
+      ir::VarId v = p_.inputs[i];
+      int w = p_.type_of(v).width;
+      for (int c = 0; c < w; ++c)
+        line(1, reg(v, c) + " = in" + std::to_string(i) + "[e * " + std::to_string(w) + " + " + std::to_string(c) + "];");
+    }
+  }
+
+  void store_outputs() {
+    for (std::size_t o = 0; o < p_.outputs.size(); ++o) {
+      ir::VarId v = p_.outputs[o];
+      ir::Type t = p_.type_of(v);
+      for (int c = 0; c < t.width; ++c)
+        line(1, "out" + std::to_string(o) + "[e * " + std::to_string(t.width) + " + " + std::to_string(c) + "] = (" +
+                    storage_type(t.scalar) + ")" + reg(v, c) + ";");
+    }
+  }
+
+  // ---- statements -----------------------------------------------------------------
+
+  void block(const ir::Block& b, int depth) {
+    for (const ir::Stmt& s : b) {
+      if (auto* a = std::get_if<ir::Assign>(&s.node)) assign(*a, depth);
+      else if (auto* i = std::get_if<ir::If>(&s.node)) branch(*i, depth);
+      else if (auto* l = std::get_if<ir::Loop>(&s.node)) loop(*l, s, depth);
+      else if (std::holds_alternative<ir::Break>(s.node)) line(depth, jumps_.back().wrapped ? "{ " + jumps_.back().flag + " = 1; break; }" : "break;");
+      else line(depth, "continue;");
+    }
+  }
+
+  std::string truthy(const ir::Operand& o) const { return "(" + read(o, 0) + " > 0)"; }
+
+  void branch(const ir::If& s, int depth) {
+    line(depth, "if " + truthy(s.cond) + " {");
+    block(s.then_body, depth + 1);
+    if (!s.else_body.empty()) {
+      line(depth, "} else {");
+      block(s.else_body, depth + 1);
+    }
+    line(depth, "}");
+  }
+
+  static bool has_continue(const ir::Block& b) {
+    for (const ir::Stmt& s : b) {
+      if (std::holds_alternative<ir::Continue>(s.node)) return true;
+      if (auto* i = std::get_if<ir::If>(&s.node))
+        if (has_continue(i->then_body) || has_continue(i->else_body)) return true;
+    }
+    return false;
+  }
+
+  // for (;;) { count; [header; test]; body; update; [header; test] }.  A
+  // body with `continue` runs inside do { } while (0), where `continue`
+  // reaches the update and `break` needs a flag to leave the loop.
+  void loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
+    int number = loops_++;
+    std::string n = std::to_string(number), counter = "iterations" + n, flag = "leave" + n;
+    bool wrapped = has_continue(l.body);
+    line(depth, "// " + ir::print(p_, s));
+    line(depth, "long " + counter + " = 0;");
+    if (wrapped) line(depth, "int " + flag + " = 0;");
+    line(depth, "for (;;) {");
+    line(depth + 1, "if (++" + counter + " > " + std::to_string(o_.max_loop_iterations) + "L) { if (status[0] == 0) { status[0] = " +
+                        std::to_string(number + 1) + "; status[1] = e; } return; }");
+    auto test = [&] {
+      block(l.header, depth + 1);
+      line(depth + 1, "if (!" + truthy(l.cond) + ") break;");
+    };
+    if (l.test_at_top) test();
+    jumps_.push_back({wrapped, flag});
+    if (wrapped) {
+      line(depth + 1, "do {");
+      block(l.body, depth + 2);
+      line(depth + 1, "} while (0);");
+      line(depth + 1, "if (" + flag + ") break;");
+    } else {
+      block(l.body, depth + 1);
+    }
+    jumps_.pop_back();
+    block(l.update, depth + 1);
+    if (!l.test_at_top) test();
+    line(depth, "}");
+  }
+
+  // ---- assignments -------------------------------------------------------------------
+
+  void assign(const ir::Assign& a, int depth) {
+    std::string results[4];
+    if (ir::is_table_read(a.op)) {
+      table_read(a, results);
+    } else {
+      ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
+      for (int i = 0; i < a.mask.size; ++i) {
+        std::string x[3];
+        for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = read(a.args[k], i);
+        results[i] = operation(a.op, from, to, x[0], x[1], x[2]);
+      }
+    }
+    // All components are computed before any is written (v.xy = v.yx).
+    if (a.mask.size == 1) {
+      line(depth, reg(a.dest, a.mask[0]) + " = " + results[0] + ";");
+      return;
+    }
+    std::string t = reg_type(a.dest);
+    line(depth, "{");
+    for (int i = 0; i < a.mask.size; ++i) line(depth + 1, t + " r" + std::to_string(i) + " = " + results[i] + ";");
+    for (int i = 0; i < a.mask.size; ++i) line(depth + 1, reg(a.dest, a.mask[i]) + " = r" + std::to_string(i) + ";");
+    line(depth, "}");
+  }
+
+  std::string one(ir::Scalar s) const { return number(s, 1.0); }
+
+  std::string operation(ir::Op op, ir::Scalar from, ir::Scalar to, const std::string& a, const std::string& b,
+                        const std::string& c) const {
+    using ir::Op;
+    std::string t = reg_type(from);
+    auto mask = [&](const std::string& bit) { return "(" + t + ")(" + bit + ")"; };
+    auto pos = [&](const std::string& x) { return "(" + x + " > 0)"; };
+    switch (op) {
+      case Op::Mov: return a;
+      case Op::Cast: return cast(a, from, to);
+      case Op::Lt: return mask(a + " < " + b);
+      case Op::Le: return mask(a + " <= " + b);
+      case Op::Gt: return mask(a + " > " + b);
+      case Op::Ge: return mask(a + " >= " + b);
+      case Op::Eq: return mask(a + " == " + b);
+      case Op::Ne: return mask(a + " != " + b);
+      case Op::And: return mask(pos(a) + " && " + pos(b));
+      case Op::Or: return mask(pos(a) + " || " + pos(b));
+      case Op::Not: return mask("!" + pos(a));
+      case Op::Cond: return pos(a) + " ? " + b + " : " + c;
+      default: break;
+    }
+    return ir::is_float(from) ? float_op(op, from, a, b) : int_op(op, a, b);
+  }
+
+  std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const {
+    if (to == ir::Scalar::Bool) return "(int)(" + a + " > 0)";
+    if (to == ir::Scalar::I32) return ir::is_float(from) ? "convert_int_sat(" + a + ")" : a;
+    return std::string("(") + reg_type(to) + ")(" + a + ")";
+  }
+
+  std::string float_op(ir::Op op, ir::Scalar s, const std::string& a, const std::string& b) const {
+    using ir::Op;
+    auto call = [](const char* f, const std::string& x) { return std::string(f) + "(" + x + ")"; };
+    auto call2 = [](const char* f, const std::string& x, const std::string& y) {
+      return std::string(f) + "(" + x + ", " + y + ")";
+    };
+    switch (op) {
+      case Op::Add: return a + " + " + b;
+      case Op::Sub: return a + " - " + b;
+      case Op::Mul: return a + " * " + b;
+      case Op::Div: return a + " / " + b;
+      case Op::Mod: return call2("fmod", a, b);
+      case Op::Neg: return "-" + a;
+      case Op::Min: return call2("fmin", a, b);
+      case Op::Max: return call2("fmax", a, b);
+      case Op::Abs: return call("fabs", a);
+      case Op::Sign: return "(" + a + " > 0 ? " + one(s) + " : (" + a + " < 0 ? -" + one(s) + " : " + a + "))";
+      case Op::Floor: return call("floor", a);
+      case Op::Ceil: return call("ceil", a);
+      case Op::Round: return call("round", a);
+      case Op::Sqrt: return call("sqrt", a);
+      case Op::Rsqrt: return one(s) + " / sqrt(" + a + ")";
+      case Op::Rcp: return one(s) + " / " + a;
+      case Op::Pow: return call2("pow", a, b);
+      case Op::Exp: return call("exp", a);
+      case Op::Exp2: return call("exp2", a);
+      case Op::Log: return call("log", a);
+      case Op::Log2: return call("log2", a);
+      case Op::Sin: return call("sin", a);
+      case Op::Cos: return call("cos", a);
+      case Op::Tan: return call("tan", a);
+      case Op::Asin: return call("asin", a);
+      case Op::Acos: return call("acos", a);
+      case Op::Atan: return call("atan", a);
+      case Op::Atan2: return call2("atan2", a, b);
+      default: return "0";
+    }
+  }
+
+  // Signed overflow is undefined in OpenCL C: wrapping arithmetic goes
+  // through uint; division by zero gives 0 and INT_MIN / -1 wraps.
+  static std::string int_op(ir::Op op, const std::string& a, const std::string& b) {
+    using ir::Op;
+    auto wrap = [&](const char* sym) { return "(int)((uint)" + a + " " + sym + " (uint)" + b + ")"; };
+    std::string overflow = "(" + a + " == (-2147483647 - 1) && " + b + " == -1)";
+    switch (op) {
+      case Op::Add: return wrap("+");
+      case Op::Sub: return wrap("-");
+      case Op::Mul: return wrap("*");
+      case Op::Div: return "(" + b + " == 0 ? 0 : " + overflow + " ? " + a + " : " + a + " / " + b + ")";
+      case Op::Mod: return "(" + b + " == 0 || " + overflow + " ? 0 : " + a + " % " + b + ")";
+      case Op::Neg: return "(int)(0u - (uint)" + a + ")";
+      case Op::Abs: return "(int)abs(" + a + ")";
+      case Op::Sign: return "(" + a + " > 0 ? 1 : (" + a + " < 0 ? -1 : 0))";
+      case Op::Min: return "min(" + a + ", " + b + ")";
+      case Op::Max: return "max(" + a + ", " + b + ")";
+      case Op::Floor: case Op::Ceil: case Op::Round: return a;
+      default: return "0";
+    }
+  }
+
+  // Clamps exactly as sh::fetch_index / sample_index do.
+  void table_read(const ir::Assign& a, std::string* results) {
+    const ir::TableDecl& t = p_.tables[a.table];
+    std::string name = "table" + std::to_string(a.table);
+    ir::Scalar coord = p_.type_of(a.args[0].var).scalar;
+    std::string index, stride = "1";
+    for (int d = 0; d < t.rank; ++d) {
+      std::string dim = name + "_" + kComponent[d];
+      std::string i = read(a.args[0], d);
+      if (a.op == ir::Op::Sample) i = "convert_int_sat(floor(" + i + " * (" + reg_type(coord) + ")" + dim + "))";
+      std::string clamped = "(long)clamp(" + i + ", 0, " + dim + " - 1)";
+      index += (d ? " + " : "") + clamped + (d ? " * " + stride : "");
+      stride = d ? stride + " * " + dim : "(long)" + dim;
+    }
+    std::string at = "(" + index + ") * " + std::to_string(t.element.width);
+    for (int c = 0; c < t.element.width; ++c)
+      results[c] = std::string("(") + reg_type(t.element.scalar) + ")" + name + "[" + at + " + " + std::to_string(c) + "]";
+  }
+
+  struct Jump {
+    bool wrapped;
+    std::string flag;
+  };
+
+  const ir::Program& p_;
+  const Options& o_;
+  std::ostringstream body_;
+  bool needs_fp64_ = false;
+  int loops_ = 0;
+  std::vector<Jump> jumps_;
+};
+
+}  // namespace
+
+Source generate(const ir::Program& program, const Options& options) { return Generator(program, options).run(); }
+
+}  // namespace sh::opencl

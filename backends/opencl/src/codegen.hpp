@@ -1,0 +1,21 @@
+#pragma once
+// IR -> OpenCL C 1.2 source: one kernel, one work-item per element.
+#include <string>
+
+#include "sh/backend.hpp"
+
+namespace sh::opencl {
+
+inline constexpr const char* kKernelName = "sh_kernel";
+
+struct Source {
+  std::string text;
+  bool needs_fp64 = false;
+};
+
+// The kernel's arguments, in order: long count; one __global buffer per
+// input, then per output; one scalar per uniform component; per table a
+// __global buffer and three int dimensions; __global long* status.
+Source generate(const ir::Program& program, const Options& options);
+
+}  // namespace sh::opencl

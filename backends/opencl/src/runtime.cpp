@@ -1,0 +1,167 @@
+#include "runtime.hpp"
+
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "sh/error.hpp"
+
+namespace sh::opencl {
+namespace {
+
+const char kInstallHint[] =
+    "no OpenCL platform or device was found; install PoCL for the CPU (apt-get install pocl-opencl-icd) "
+    "or your GPU's OpenCL driver";
+
+std::string info_string(cl_device_id d, cl_device_info what) {
+  std::size_t size = 0;
+  clGetDeviceInfo(d, what, 0, nullptr, &size);
+  std::string s(size, '\0');
+  clGetDeviceInfo(d, what, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+std::string platform_name(cl_platform_id p) {
+  std::size_t size = 0;
+  clGetPlatformInfo(p, CL_PLATFORM_NAME, 0, nullptr, &size);
+  std::string s(size, '\0');
+  clGetPlatformInfo(p, CL_PLATFORM_NAME, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+struct Found {
+  cl_platform_id platform;
+  cl_device_id device;
+  int p, d;
+};
+
+std::vector<Found> all_devices() {
+  cl_uint np = 0;
+  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
+  std::vector<cl_platform_id> platforms(np);
+  clGetPlatformIDs(np, platforms.data(), nullptr);
+  std::vector<Found> out;
+  for (cl_uint p = 0; p < np; ++p) {
+    cl_uint nd = 0;
+    if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, nullptr, &nd) != CL_SUCCESS) continue;
+    std::vector<cl_device_id> ids(nd);
+    clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, nd, ids.data(), nullptr);
+    for (cl_uint d = 0; d < nd; ++d) out.push_back({platforms[p], ids[d], static_cast<int>(p), static_cast<int>(d)});
+  }
+  return out;
+}
+
+Found choose(const std::vector<Found>& found, std::string choice) {
+  if (found.empty()) throw Error(kInstallHint);
+  if (choice.empty())
+    if (const char* env = std::getenv("SH_OPENCL_DEVICE")) choice = env;
+  if (choice.empty()) return found.front();
+  std::smatch m;
+  if (std::regex_match(choice, m, std::regex(R"((\d+):(\d+))"))) {
+    for (const Found& f : found)
+      if (f.p == std::stoi(m[1]) && f.d == std::stoi(m[2])) return f;
+  } else {
+    for (const Found& f : found)
+      if (info_string(f.device, CL_DEVICE_NAME).find(choice) != std::string::npos) return f;
+  }
+  std::string known;
+  for (const std::string& line : list_devices()) known += "\n  " + line;
+  throw Error("no OpenCL device matches '" + choice + "'; found:" + known);
+}
+
+}  // namespace
+
+const char* error_name(cl_int err) {
+  switch (err) {
+    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
+    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
+    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_ARG_SIZE: return "CL_INVALID_ARG_SIZE";
+    case CL_INVALID_ARG_VALUE: return "CL_INVALID_ARG_VALUE";
+    default: return "OpenCL error";
+  }
+}
+
+void check(cl_int err, const std::string& what) {
+  if (err == CL_SUCCESS) return;
+  std::string hint;
+  if (err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES || err == CL_OUT_OF_HOST_MEMORY)
+    hint = " (the device is out of memory: use a smaller stream, or a device with more memory)";
+  throw Error(what + ": " + error_name(err) + " (" + std::to_string(err) + ")" + hint);
+}
+
+std::vector<std::string> list_devices() {
+  std::vector<std::string> lines;
+  for (const Found& f : all_devices())
+    lines.push_back(std::to_string(f.p) + ":" + std::to_string(f.d) + " " + info_string(f.device, CL_DEVICE_NAME) + " (" +
+                    platform_name(f.platform) + ", " + info_string(f.device, CL_DEVICE_VERSION) + ")");
+  return lines;
+}
+
+std::shared_ptr<Device> open_device(const std::string& choice) {
+  static std::mutex mutex;
+  static std::map<cl_device_id, std::shared_ptr<Device>> open;
+  std::lock_guard<std::mutex> lock(mutex);
+  Found f = choose(all_devices(), choice);
+  auto it = open.find(f.device);
+  if (it != open.end()) return it->second;
+  auto d = std::make_shared<Device>();
+  d->platform = f.platform;
+  d->id = f.device;
+  d->name = info_string(f.device, CL_DEVICE_NAME);
+  d->platform_name = platform_name(f.platform);
+  cl_device_fp_config fp64 = 0;
+  clGetDeviceInfo(f.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
+  d->fp64 = fp64 != 0;
+  clGetDeviceInfo(f.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof d->max_alloc, &d->max_alloc, nullptr);
+  cl_int err = CL_SUCCESS;
+  d->context = clCreateContext(nullptr, 1, &f.device, nullptr, nullptr, &err);
+  check(err, "creating an OpenCL context on " + d->name);
+  d->queue = clCreateCommandQueue(d->context, f.device, 0, &err);
+  check(err, "creating an OpenCL queue on " + d->name);
+  open.emplace(f.device, d);
+  return d;
+}
+
+cl_program build(const Device& device, const std::string& program_name, const std::string& source,
+                 const std::string& options) {
+  const char* text = source.c_str();
+  std::size_t length = source.size();
+  cl_int err = CL_SUCCESS;
+  cl_program program = clCreateProgramWithSource(device.context, 1, &text, &length, &err);
+  check(err, "program '" + program_name + "': creating the OpenCL program");
+  err = clBuildProgram(program, 1, &device.id, options.c_str(), nullptr, nullptr);
+  if (err == CL_SUCCESS) return program;
+
+  std::size_t size = 0;
+  clGetProgramBuildInfo(program, device.id, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
+  std::string log(size, '\0');
+  clGetProgramBuildInfo(program, device.id, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
+  clReleaseProgram(program);
+  // Compilers name lines as "<source>:12:5:" or "input.cl:12:"; quote them.
+  std::vector<std::string> lines;
+  std::istringstream in(source);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::set<int> cited;
+  std::regex where(R"(:(\d+):\d+:)");
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), where); it != std::sregex_iterator(); ++it)
+    cited.insert(std::stoi((*it)[1]));
+  std::string quoted;
+  for (int n : cited)
+    if (n >= 1 && n <= static_cast<int>(lines.size())) quoted += "\n  line " + std::to_string(n) + ": " + lines[n - 1];
+  throw Error("program '" + program_name + "': OpenCL build failed on " + device.name + " (" + error_name(err) +
+              ")\nbuild log:\n" + log + (quoted.empty() ? "" : "\nsource:" + quoted));
+}
+
+}  // namespace sh::opencl

@@ -1,0 +1,38 @@
+#pragma once
+// The OpenCL host side: finding platforms and devices, one context and
+// queue per device, building programs (with the build log and the source
+// lines it complains about in every error), and checked calls.
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sh::opencl {
+
+// Throws sh::Error naming `what` and OpenCL's error code when err != CL_SUCCESS.
+void check(cl_int err, const std::string& what);
+const char* error_name(cl_int err);
+
+struct Device {
+  cl_platform_id platform = nullptr;
+  cl_device_id id = nullptr;
+  std::string name, platform_name;
+  bool fp64 = false;
+  cl_ulong max_alloc = 0;
+  cl_context context = nullptr;
+  cl_command_queue queue = nullptr;
+};
+
+// The device `choice` names ("P:D", a piece of a name, or empty for
+// SH_OPENCL_DEVICE or else the first device), with its context and queue.
+std::shared_ptr<Device> open_device(const std::string& choice);
+std::vector<std::string> list_devices();
+
+// Builds `source` for the device; a failure throws sh::Error with the
+// program name, the build log and the source lines the log points at.
+cl_program build(const Device& device, const std::string& program_name, const std::string& source,
+                 const std::string& options);
+
+}  // namespace sh::opencl
