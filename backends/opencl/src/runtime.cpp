@@ -1,6 +1,7 @@
 #include "runtime.hpp"
 
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -149,6 +150,7 @@ cl_program build(const Device& device, const std::string& program_name, const st
   std::string log(size, '\0');
   clGetProgramBuildInfo(program, device.id, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
   clReleaseProgram(program);
+  log.resize(std::strlen(log.c_str()));  // the log ends in a NUL that would cut the message
   // Compilers name lines as "<source>:12:5:" or "input.cl:12:"; quote them.
   std::vector<std::string> lines;
   std::istringstream in(source);

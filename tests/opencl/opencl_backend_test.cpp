@@ -1,0 +1,98 @@
+// What the OpenCL backend adds beyond the conformance suite: readable
+// source, build errors with log and line, devices, the kernel cache.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <sh/sh.hpp>
+
+#include "../../backends/opencl/src/runtime.hpp"
+
+namespace {
+
+using namespace sh;
+
+Program shader() {
+  return SH_BEGIN_PROGRAM("shader") {
+    InputAttrib3f n;
+    OutputAttrib1f r;
+    Attrib1f d = dot(n, n);
+    SH_IF(d > 1.0f) { r = sqrt(d); } SH_ELSE { r = d; } SH_ENDIF;
+  } SH_END;
+}
+
+TEST(OpenClBackend, ListingIsReadableOpenClC) {
+  std::string src = kernel_for(shader(), backend("opencl"))->listing();
+  EXPECT_NE(src.find("__kernel void sh_kernel("), std::string::npos) << src;
+  EXPECT_NE(src.find("get_global_id(0)"), std::string::npos) << src;
+  EXPECT_NE(src.find("if ("), std::string::npos) << src;
+  EXPECT_NE(src.find("sqrt("), std::string::npos) << src;
+  EXPECT_NE(src.find("#pragma OPENCL FP_CONTRACT OFF"), std::string::npos) << src;
+  Options f64;
+  f64.precision = Precision::F64;
+  EXPECT_NE(kernel_for(shader(), backend("opencl", f64))->listing().find("cl_khr_fp64"), std::string::npos);
+}
+
+TEST(OpenClBackend, BuildErrorCarriesLogAndSourceLine) {
+  auto device = opencl::open_device("");
+  std::string source = "__kernel void broken(__global float* x) {\n  x[0] = 1.0f;\n  x[1] = undefined_name;\n}\n";
+  try {
+    opencl::build(*device, "broken_program", source, "");
+    FAIL() << "the build must fail";
+  } catch (const Error& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("broken_program"), std::string::npos) << m;
+    EXPECT_NE(m.find("build log"), std::string::npos) << m;
+    EXPECT_NE(m.find("undefined_name"), std::string::npos) << m;
+    EXPECT_NE(m.find("line 3:   x[1] = undefined_name;"), std::string::npos) << m;
+  }
+}
+
+TEST(OpenClBackend, DevicesAreListedAndChosenByIndexOrName) {
+  std::vector<std::string> devices = opencl::devices();
+  ASSERT_FALSE(devices.empty());
+  EXPECT_EQ(devices[0].rfind("0:0 ", 0), 0u) << devices[0];
+  Channel<Attrib3f> n(std::vector<float>{1, 1, 1});
+  Channel<Attrib1f> r;
+  Options o;
+  o.device = "0:0";
+  run(shader(), {n}, {r}, backend("opencl", o));
+  EXPECT_FLOAT_EQ(r[0], std::sqrt(3.f));
+  o.device = "no such device";
+  try {
+    run(shader(), {n}, {r}, backend("opencl", o));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no OpenCL device matches 'no such device'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(OpenClBackend, BuildsOncePerProgramAndOptions) {
+  Channel<Attrib3f> n(std::vector<float>{1, 2, 3});
+  Channel<Attrib1f> r;
+  run(shader(), {n}, {r}, backend("opencl"));
+  RunStats again = run(shader(), {n}, {r}, backend("opencl"));
+  EXPECT_FALSE(again.compiled);
+  EXPECT_FLOAT_EQ(r[0], std::sqrt(14.f));
+}
+
+TEST(OpenClBackend, AgreesWithInterpOnTableClampingAndIntegers) {
+  Table2D<Attrib2i> t(3, 2);
+  t.assign({1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
+  Program p = SH_BEGIN_PROGRAM("clamp") {
+    InputAttrib2f uv;
+    InputAttrib2i ij;
+    OutputAttrib2i a;
+    OutputAttrib2i b;
+    a = t(uv);
+    b = t[ij] / (ij + 1) + t[ij] % ij;
+  } SH_END;
+  Channel<Attrib2f> uv(std::vector<float>{-1, 0.5f, 0.99f, 7, 0.4f, std::numeric_limits<float>::quiet_NaN()});
+  Channel<Attrib2i> ij(std::vector<std::int32_t>{-5, 1, 2, 0, 1, -1}), a, b, ra, rb;
+  run(p, {uv, ij}, {a, b}, backend("opencl"));
+  run(p, {uv, ij}, {ra, rb}, backend("interp"));
+  EXPECT_EQ(a.values(), ra.values());
+  EXPECT_EQ(b.values(), rb.values());
+}
+
+}  // namespace
