@@ -1,0 +1,172 @@
+// shtrace: render a scene on any backend, compare backends, list devices.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include <sh/raytracer.hpp>
+#include <sh/sh.hpp>
+
+namespace {
+
+using namespace sh;
+using namespace sh::rt;
+
+struct Common {
+  std::string scene = "spheres";
+  std::string size = "640x480";
+  int reflections = 3;
+  std::size_t triangles = 100000;
+  std::string precision = "f32", math = "precise";
+  int threads = 0;
+};
+
+void add_common(CLI::App* app, Common& c) {
+  app->add_option("--scene", c.scene, "scene file (.json), model file, or built-in: cornell, spheres, procedural")
+      ->capture_default_str();
+  app->add_option("--size", c.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  app->add_option("--reflections", c.reflections, "reflection bounces")->capture_default_str()->check(CLI::Range(0, 64));
+  app->add_option("--triangles", c.triangles, "triangles of the procedural scene")->capture_default_str();
+  app->add_option("--precision", c.precision, "f32 or f64")->check(CLI::IsMember({"f32", "f64"}))->capture_default_str();
+  app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
+  app->add_option("--threads", c.threads, "CPU threads (0: all)")->capture_default_str();
+}
+
+std::pair<int, int> parse_size(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0;
+  std::istringstream in(s);
+  if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1) throw Error("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+  return {w, h};
+}
+
+Vec3 parse_vec3(const std::string& option, const std::string& s) {
+  Vec3 v;
+  char c1 = 0, c2 = 0;
+  std::istringstream in(s);
+  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',')
+    throw Error(option + ": expected x,y,z, got '" + s + "'");
+  return v;
+}
+
+Scene scene_for(const Common& c) {
+  return c.scene == "procedural" ? builtin_scene("procedural", c.triangles) : load_scene(c.scene);
+}
+
+RenderSettings settings_for(const Common& c, const std::string& backend_name) {
+  RenderSettings s;
+  std::tie(s.width, s.height) = parse_size(c.size);
+  s.reflections = c.reflections;
+  s.backend = backend_name;
+  s.options.precision = c.precision == "f64" ? Precision::F64 : Precision::F32;
+  s.options.math = c.math == "fast" ? MathMode::Fast : MathMode::Precise;
+  s.options.threads = c.threads;
+  return s;
+}
+
+int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
+                   const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
+                   bool general) {
+  Scene scene = scene_for(c);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
+  if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
+  if (!up.empty()) scene.camera.up = parse_vec3("--up", up);
+  if (fov > 0) scene.camera.fov_degrees = fov;
+  RenderSettings s = settings_for(c, backend_name);
+  s.specialise = !general;
+  s.progress = true;
+  Renderer r(std::move(scene), s);
+  std::printf("scene %s: %zu triangles, grid %dx%dx%d (%.1f ms, %.1f MiB); kernel leaves out: %s\n", r.scene().name.c_str(),
+              r.scene().mesh.triangles(), r.grid().dims[0], r.grid().dims[1], r.grid().dims[2], r.grid().build_ms,
+              r.grid().bytes() / 1048576.0, r.features().left_out().c_str());
+  if (dump_ir) std::printf("%s\n-- after the passes --\n%s", print(r.program()).c_str(), print_optimized(r.program()).c_str());
+  RenderReport report;
+  Image image = r.render(&report);
+  std::filesystem::path out(output);
+  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  write_png(output, image);
+  if (!aov.empty()) {
+    write_pfm(aov + "_distance.pfm", image.width, image.height, image.distance);
+    std::vector<float> ids(image.triangle.begin(), image.triangle.end());
+    write_pfm(aov + "_triangle.pfm", image.width, image.height, ids);
+  }
+  std::printf("rendered %dx%d on %s: compile %.1f ms, render %.1f ms (%.2f Mrays/s primary)\nimage: %s\n", image.width,
+              image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
+              report.rays / (report.render_ms * 1e3), std::filesystem::absolute(output).c_str());
+  if (!aov.empty()) std::printf("aov: %s_distance.pfm, %s_triangle.pfm\n", aov.c_str(), aov.c_str());
+  return 0;
+}
+
+int bench_command(const Common& c, std::vector<std::string> backends) {
+  if (backends.empty()) backends = backend_names();
+  Scene scene = scene_for(c);
+  RenderSettings ref_settings = settings_for(c, "interp");
+  ref_settings.options.precision = Precision::F64;
+  Renderer reference(scene, ref_settings);
+  std::printf("scene %s, %s, %zu triangles; reference: interp f64\n", scene.name.c_str(), c.size.c_str(), scene.mesh.triangles());
+  Image ref = reference.render();
+  std::printf("%-8s %12s %12s %10s %12s %10s\n", "backend", "compile ms", "render ms", "Mrays/s", "max error", "PSNR dB");
+  for (const std::string& b : backends) {
+    if (b == "mpi") continue;
+    Renderer r(scene, settings_for(c, b));
+    RenderReport first, second;
+    r.render(&first);
+    Image img = r.render(&second);  // warm: the kernel is cached
+    float max_error = 0;
+    for (std::size_t i = 0; i < img.rgb.size(); ++i)
+      max_error = std::max(max_error, std::fabs(std::clamp(img.rgb[i], 0.f, 1.f) - std::clamp(ref.rgb[i], 0.f, 1.f)));
+    std::printf("%-8s %12.1f %12.1f %10.2f %12.5f %10.1f\n", b.c_str(), first.compile_ms, second.render_ms,
+                second.rays / (second.render_ms * 1e3), max_error, psnr(ref, img));
+  }
+  return 0;
+}
+
+int info_command() {
+  std::printf("backends (default: %s):\n", default_backend_name().c_str());
+  for (const std::string& b : backend_names())
+    for (const std::string& line : find_backend(b).describe()) std::printf("  %s\n", line.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"shtrace: the stream ray tracer of the sh language"};
+  app.require_subcommand(1);
+  Common common;
+  std::string backend_name, output = "out/render.png", aov, eye, look_at, up;
+  float fov = 0;
+  bool dump_ir = false, general = false;
+  std::vector<std::string> bench_backends;
+
+  CLI::App* render = app.add_subcommand("render", "render a scene to PNG");
+  add_common(render, common);
+  render->add_option("--backend", backend_name, "interp, cpu, opencl (default: SH_BACKEND, else cpu)");
+  render->add_option("--output,-o", output, "PNG to write")->capture_default_str();
+  render->add_option("--aov", aov, "also write PREFIX_distance.pfm and PREFIX_triangle.pfm");
+  render->add_option("--eye", eye, "camera position x,y,z");
+  render->add_option("--look-at", look_at, "point looked at x,y,z");
+  render->add_option("--up", up, "up vector x,y,z");
+  render->add_option("--fov", fov, "vertical field of view, degrees");
+  render->add_flag("--dump-ir", dump_ir, "print the kernel's IR before and after the passes");
+  render->add_flag("--general", general, "use the general kernel, not one specialised to the scene");
+
+  CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
+  add_common(bench, common);
+  bench->add_option("--backends", bench_backends, "backends to run (default: all built)");
+
+  app.add_subcommand("info", "backends and OpenCL devices found");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (render->parsed())
+      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general);
+    if (bench->parsed()) return bench_command(common, bench_backends);
+    return info_command();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "shtrace: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,33 @@
+#pragma once
+// The uniform grid of the seed: built on the host, handed to the kernels as
+// tables.  Each cell lists the triangles that overlap it (an exact
+// triangle-box test, on a box widened by a hair so that rounding at a cell
+// face never loses a triangle), each list ended by -1.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "sh/raytracer/scene.hpp"
+
+namespace sh::rt {
+
+struct Grid {
+  Vec3 lo, hi, cell;          // bounds and cell size
+  std::array<int, 3> dims{1, 1, 1};
+  std::vector<std::int32_t> cell_start;  // per cell, x fastest: index into cell_triangles, or -1
+  std::vector<std::int32_t> cell_triangles;
+  double build_ms = 0;
+
+  std::size_t cells() const { return static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]; }
+  std::size_t bytes() const { return (cell_start.size() + cell_triangles.size()) * sizeof(std::int32_t); }
+};
+
+// Resolution: about `cells_per_triangle` cells per triangle, cells as cubic
+// as the bounds allow, at most 512 along an axis.
+Grid build_grid(const Scene& scene, double cells_per_triangle = 2.0);
+
+// Does the triangle overlap the axis-aligned box?  (Separating axes: the
+// box's three, the triangle's normal, and the nine edge cross products.)
+bool triangle_overlaps_box(Vec3 a, Vec3 b, Vec3 c, Vec3 box_lo, Vec3 box_hi);
+
+}  // namespace sh::rt

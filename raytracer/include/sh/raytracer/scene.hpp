@@ -1,0 +1,112 @@
+#pragma once
+// What a scene is: camera, lights, materials and triangles.  How it is
+// traced lives elsewhere (grid.hpp, render.hpp).
+//
+// Conventions that let any other tracer check ours ray by ray: the camera
+// is a pinhole; the primary ray of pixel (x, y) goes through the pixel's
+// centre (x + 0.5, y + 0.5), row 0 at the top.  Triangles are numbered in
+// the order the scene lists meshes and each file lists faces (polygons
+// fanned in order).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sh/raytracer/vec.hpp"
+
+namespace sh::rt {
+
+struct Camera {
+  Vec3 eye{0, 0, 5};
+  Vec3 look_at{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  float fov_degrees = 45;  // vertical
+};
+
+struct PointLight {
+  Vec3 position;
+  Vec3 color{1, 1, 1};
+};
+
+struct Material {
+  std::string name;
+  Vec3 diffuse{0.8f, 0.8f, 0.8f};
+  float specular = 0;
+  float shininess = 32;
+  float reflectivity = 0;
+  float transparency = 0;  // read from scene files; traced by a later issue
+  float ior = 1;
+};
+
+// Triangle soup, three vertices per triangle.
+struct Mesh {
+  std::vector<Vec3> positions;  // 3 per triangle
+  std::vector<Vec3> normals;    // 3 per triangle (face normal where a file has none)
+  std::vector<Vec3> colors;     // 3 per triangle, or empty
+  std::vector<std::int32_t> material;  // 1 per triangle
+
+  std::size_t triangles() const { return positions.size() / 3; }
+};
+
+struct Scene {
+  std::string name;
+  Camera camera;
+  std::vector<PointLight> lights;
+  std::vector<Material> materials;
+  Mesh mesh;
+  Vec3 background{0.05f, 0.05f, 0.08f};
+  float ambient = 0.1f;
+  std::vector<std::string> warnings;  // e.g. degenerate triangles dropped
+
+  bool has_vertex_colors() const { return !mesh.colors.empty(); }
+  bool has_reflections() const;
+  Vec3 bounds_min() const;
+  Vec3 bounds_max() const;
+};
+
+// Appends one triangle; a zero-area one is counted, not added (a warning).
+class MeshBuilder {
+ public:
+  MeshBuilder(Scene& scene, int material) : scene_(scene), material_(material) {}
+  void triangle(Vec3 a, Vec3 b, Vec3 c);
+  void triangle(Vec3 a, Vec3 b, Vec3 c, Vec3 na, Vec3 nb, Vec3 nc);
+  void colored(Vec3 a, Vec3 b, Vec3 c, Vec3 na, Vec3 nb, Vec3 nc, Vec3 ca, Vec3 cb, Vec3 cc);
+  std::size_t degenerate() const { return degenerate_; }
+
+ private:
+  Scene& scene_;
+  int material_;
+  std::size_t degenerate_ = 0;
+};
+
+// Built-in shapes, tessellated into the scene with a material.
+void add_sphere(Scene& s, Vec3 centre, float radius, int material, int segments = 24);
+void add_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int material);
+void add_box(Scene& s, Vec3 lo, Vec3 hi, int material);
+
+// Built-in scenes: "cornell", "spheres" (the flagship) and "procedural"
+// (about `triangles` triangles).  Unknown names throw sh::Error.
+Scene builtin_scene(const std::string& name, std::size_t triangles = 100000);
+std::vector<std::string> builtin_scene_names();
+
+// A JSON scene file, a bare model file (framed by a default camera and
+// light) or a built-in name.  Errors name the file and the field or line.
+Scene load_scene(const std::string& what);
+Scene load_scene_file(const std::string& path);
+Scene load_model_as_scene(const std::string& path);
+
+// Loads a model file into the scene with transform and material; throws
+// sh::Error naming the file when the loader fails.
+struct Transform {
+  Vec3 translate{0, 0, 0};
+  Vec3 scale{1, 1, 1};
+  Vec3 rotate_degrees{0, 0, 0};  // about x, then y, then z
+  Vec3 apply(Vec3 p) const;
+  Vec3 apply_normal(Vec3 n) const;
+};
+void load_model(Scene& scene, const std::string& path, const Transform& t, int material);
+
+// Throws sh::Error if the scene cannot be traced (no triangles, NaN or
+// infinite coordinates), naming `where`.
+void validate(const Scene& s, const std::string& where);
+
+}  // namespace sh::rt

@@ -1,0 +1,98 @@
+// Built-in scenes that show every feature of the tracer.
+#include <cmath>
+
+#include "sh/error.hpp"
+#include "sh/raytracer/scene.hpp"
+
+namespace sh::rt {
+namespace {
+
+int material(Scene& s, const char* name, Vec3 diffuse, float specular = 0, float shininess = 32, float reflectivity = 0) {
+  Material m;
+  m.name = name;
+  m.diffuse = diffuse;
+  m.specular = specular;
+  m.shininess = shininess;
+  m.reflectivity = reflectivity;
+  s.materials.push_back(m);
+  return static_cast<int>(s.materials.size() - 1);
+}
+
+// A Cornell-style box: red and green side walls, a mirror sphere, a box.
+Scene cornell() {
+  Scene s;
+  s.name = "cornell";
+  int white = material(s, "white", {0.75f, 0.75f, 0.75f});
+  int red = material(s, "red", {0.75f, 0.15f, 0.15f});
+  int green = material(s, "green", {0.15f, 0.75f, 0.15f});
+  int mirror = material(s, "mirror", {0.1f, 0.1f, 0.1f}, 0.9f, 200, 0.85f);
+  add_quad(s, {-1, -1, -1}, {2, 0, 0}, {0, 0, 2}, white);   // floor
+  add_quad(s, {-1, 1, -1}, {0, 0, 2}, {2, 0, 0}, white);    // ceiling
+  add_quad(s, {-1, -1, -1}, {0, 2, 0}, {2, 0, 0}, white);   // back
+  add_quad(s, {-1, -1, -1}, {0, 0, 2}, {0, 2, 0}, red);     // left
+  add_quad(s, {1, -1, -1}, {0, 2, 0}, {0, 0, 2}, green);    // right
+  add_sphere(s, {0.4f, -0.55f, -0.2f}, 0.42f, mirror, 32);
+  add_box(s, {-0.8f, -1.0f, -0.6f}, {-0.2f, -0.1f, 0.0f}, white);
+  s.lights.push_back({{0, 0.9f, 0.2f}, {1, 1, 1}});
+  s.camera = {{0, 0, 3.4f}, {0, 0, 0}, {0, 1, 0}, 40};
+  s.background = {0, 0, 0};
+  return s;
+}
+
+// The flagship: reflective spheres on a chequered plane, two lights.
+Scene spheres() {
+  Scene s;
+  s.name = "spheres";
+  int light_tile = material(s, "tile light", {0.85f, 0.85f, 0.8f}, 0.1f, 16, 0.15f);
+  int dark_tile = material(s, "tile dark", {0.25f, 0.25f, 0.3f}, 0.1f, 16, 0.15f);
+  int chrome = material(s, "chrome", {0.2f, 0.2f, 0.2f}, 0.9f, 120, 0.8f);
+  int gold = material(s, "gold", {0.8f, 0.6f, 0.2f}, 0.6f, 60, 0.35f);
+  int blue = material(s, "blue", {0.2f, 0.3f, 0.9f}, 0.4f, 40, 0.1f);
+  for (int i = -4; i < 4; ++i)
+    for (int j = -4; j < 4; ++j)
+      add_quad(s, {1.0f * i, 0, 1.0f * j}, {0, 0, 1}, {1, 0, 0}, (i + j) % 2 == 0 ? light_tile : dark_tile);
+  add_sphere(s, {0, 0.8f, 0}, 0.8f, chrome, 48);
+  add_sphere(s, {-1.7f, 0.5f, 0.6f}, 0.5f, gold, 32);
+  add_sphere(s, {1.5f, 0.45f, 0.9f}, 0.45f, blue, 32);
+  s.lights.push_back({{-3, 5, 4}, {0.8f, 0.8f, 0.75f}});
+  s.lights.push_back({{4, 3, 2}, {0.45f, 0.45f, 0.55f}});
+  s.camera = {{0, 2.2f, 5.5f}, {0, 0.5f, 0}, {0, 1, 0}, 45};
+  s.background = {0.55f, 0.7f, 0.9f};
+  return s;
+}
+
+// Spheres on a grid, tessellated finely enough to reach about `triangles`.
+Scene procedural(std::size_t triangles) {
+  if (triangles < 100 || triangles > 50'000'000)
+    throw Error("procedural scene: triangle count must be 100 .. 50000000, got " + std::to_string(triangles));
+  Scene s;
+  s.name = "procedural";
+  int floor = material(s, "floor", {0.6f, 0.6f, 0.6f}, 0, 32, 0.2f);
+  int shiny = material(s, "shiny", {0.7f, 0.3f, 0.3f}, 0.5f, 50, 0.3f);
+  add_quad(s, {-12, 0, -12}, {0, 0, 24}, {24, 0, 0}, floor);
+  auto n = static_cast<int>(std::ceil(std::sqrt(triangles / 800.0)));
+  // A sphere of s segments has about s * s triangles.
+  int segments = std::max(6, static_cast<int>(std::lround(std::sqrt(static_cast<double>(triangles) / (n * n)))) / 2 * 2);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      float x = -10 + 20.0f * (i + 0.5f) / n, z = -10 + 20.0f * (j + 0.5f) / n;
+      add_sphere(s, {x, 0.4f, z}, 8.0f / n, shiny, segments);
+    }
+  s.lights.push_back({{0, 20, 10}, {1, 1, 1}});
+  s.camera = {{0, 14, 22}, {0, 0, 0}, {0, 1, 0}, 45};
+  s.background = {0.3f, 0.3f, 0.35f};
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_scene_names() { return {"cornell", "spheres", "procedural"}; }
+
+Scene builtin_scene(const std::string& name, std::size_t triangles) {
+  if (name == "cornell") return cornell();
+  if (name == "spheres") return spheres();
+  if (name == "procedural") return procedural(triangles);
+  throw Error("unknown built-in scene '" + name + "' (built in: cornell, spheres, procedural)");
+}
+
+}  // namespace sh::rt

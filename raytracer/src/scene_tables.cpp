@@ -1,0 +1,97 @@
+#include <cmath>
+#include <numbers>
+
+#include "sh/raytracer/kernels.hpp"
+
+namespace sh::rt {
+namespace {
+
+std::vector<float> flatten(const std::vector<Vec3>& v) {
+  std::vector<float> out;
+  out.reserve(v.size() * 3);
+  for (const Vec3& p : v) out.insert(out.end(), {p.x, p.y, p.z});
+  return out;
+}
+
+int at_least_one(std::size_t n) { return static_cast<int>(std::max<std::size_t>(n, 1)); }
+
+}  // namespace
+
+Features Features::of(const Scene& s, int reflection_depth) {
+  return {!s.lights.empty(), s.has_reflections() && reflection_depth > 0, s.has_vertex_colors()};
+}
+
+std::string Features::left_out() const {
+  std::string out;
+  auto add = [&](bool present, const char* what) {
+    if (!present) out += (out.empty() ? "" : ", ") + std::string(what);
+  };
+  add(shadows, "shadow rays (no lights)");
+  add(reflections, "reflection loop (no reflective material, or depth 0)");
+  add(vertex_colors, "vertex colours (none in the scene)");
+  return out.empty() ? "nothing" : out;
+}
+
+SceneTables::SceneTables(const Scene& scene, const Grid& grid)
+    : cell_start(grid.dims[0], grid.dims[1], grid.dims[2]),
+      cell_triangles(at_least_one(grid.cell_triangles.size())),
+      v0(at_least_one(scene.mesh.triangles())),
+      e1(at_least_one(scene.mesh.triangles())),
+      e2(at_least_one(scene.mesh.triangles())),
+      normals(at_least_one(scene.mesh.normals.size())),
+      colors(at_least_one(scene.mesh.colors.size())),
+      material(at_least_one(scene.mesh.triangles())),
+      materials(at_least_one(2 * scene.materials.size())),
+      lights(at_least_one(2 * scene.lights.size())) {
+  cell_start.name("cell_start").assign(grid.cell_start);
+  cell_triangles.name("cell_triangles").assign(grid.cell_triangles);
+  grid_lo = Attrib3f(grid.lo.x, grid.lo.y, grid.lo.z);
+  grid_cell = Attrib3f(grid.cell.x, grid.cell.y, grid.cell.z);
+  grid_dims = Attrib3f(static_cast<float>(grid.dims[0]), static_cast<float>(grid.dims[1]), static_cast<float>(grid.dims[2]));
+
+  const Mesh& m = scene.mesh;
+  std::vector<Vec3> first(m.triangles()), edge1(m.triangles()), edge2(m.triangles());
+  for (std::size_t t = 0; t < m.triangles(); ++t) {
+    first[t] = m.positions[3 * t];
+    edge1[t] = m.positions[3 * t + 1] - m.positions[3 * t];
+    edge2[t] = m.positions[3 * t + 2] - m.positions[3 * t];
+  }
+  v0.name("v0").assign(flatten(first));
+  e1.name("e1").assign(flatten(edge1));
+  e2.name("e2").assign(flatten(edge2));
+  normals.name("normals").assign(flatten(m.normals));
+  colors.name("colors").assign(m.colors.empty() ? std::vector<float>{1, 1, 1} : flatten(m.colors));
+  material.name("material").assign(m.material);
+
+  std::vector<float> mats;
+  for (const Material& mt : scene.materials)
+    mats.insert(mats.end(), {mt.diffuse.x, mt.diffuse.y, mt.diffuse.z, mt.specular, mt.shininess, mt.reflectivity,
+                             mt.transparency, mt.ior});
+  materials.name("materials").assign(mats);
+  std::vector<Vec3> ls;
+  for (const PointLight& l : scene.lights) {
+    ls.push_back(l.position);
+    ls.push_back(l.color);
+  }
+  lights.name("lights").assign(ls.empty() ? std::vector<float>{0, 0, 0} : flatten(ls));
+  light_count = static_cast<std::int32_t>(scene.lights.size());
+  ambient = scene.ambient;
+  background = Attrib3f(scene.background.x, scene.background.y, scene.background.z);
+  // Secondary rays leave a surface this far along its normal (and at least
+  // a few ulps of the hit point's coordinates, see the tracer).
+  surface_offset = std::max(length(grid.hi - grid.lo) * 1e-5f, std::numeric_limits<float>::min());
+  max_bounces = 0.0f;
+  set_camera(scene.camera, 1, 1);
+}
+
+void SceneTables::set_camera(const Camera& c, int width, int height) {
+  Vec3 f = normalize(c.look_at - c.eye), r = normalize(cross(f, c.up)), u = cross(r, f);
+  eye = Attrib3f(c.eye.x, c.eye.y, c.eye.z);
+  forward = Attrib3f(f.x, f.y, f.z);
+  right = Attrib3f(r.x, r.y, r.z);
+  up = Attrib3f(u.x, u.y, u.z);
+  image_size = Attrib2f(static_cast<float>(width), static_cast<float>(height));
+  tan_half_fov = std::tan(c.fov_degrees * std::numbers::pi_v<float> / 360.0f);
+}
+
+}  // namespace sh::rt

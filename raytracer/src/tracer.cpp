@@ -1,0 +1,131 @@
+// Ray generation and the tracer, after the seed: primary rays from a
+// pinhole camera; at each hit, shadow rays to every light (a recorded loop
+// over the lights table), Phong shading with barycentric normals and
+// colours, and a recorded loop of reflections to a set depth.
+#include "sh/raytracer/kernels.hpp"
+
+namespace sh::rt {
+namespace {
+
+struct Surface {
+  Point3f p;
+  Normal3f n;        // faces the incoming ray
+  Color3f diffuse;   // material times vertex colour
+  Attrib1f specular, shininess, reflectivity;
+};
+
+Surface surface_at(const SceneTables& s, const Point3f& o, const Vector3f& d, const Attrib1f& t,
+                   const Attrib1i& tri, const Attrib2f& uv, const Features& f) {
+  Surface out;
+  out.p = o + d * t;
+  Attrib1f w = 1.0f - uv(0) - uv(1);
+  Attrib3f n = w * s.normals[3 * tri] + uv(0) * s.normals[3 * tri + 1] + uv(1) * s.normals[3 * tri + 2];
+  out.n = faceforward(normalize(n), -d);
+  Attrib1i m = 2 * s.material[tri];
+  Attrib4f a = s.materials[m], b = s.materials[m + 1];
+  out.diffuse = a(0, 1, 2);
+  if (f.vertex_colors)
+    out.diffuse *= w * s.colors[3 * tri] + uv(0) * s.colors[3 * tri + 1] + uv(1) * s.colors[3 * tri + 2];
+  out.specular = a(3);
+  out.shininess = b(0);
+  out.reflectivity = b(1);
+  return out;
+}
+
+// Where rays leave a surface: pushed along the normal, by at least a few
+// ulps of the point's coordinates so that scenes far from the origin do
+// not shadow themselves.
+Point3f lift(const SceneTables& s, const Surface& x) {
+  Attrib1f offset = max(s.surface_offset, max_component(abs(x.p)) * 1e-6f);
+  return x.p + x.n * offset;
+}
+
+// Direct light from every light the point sees: Phong, shadowed.
+Color3f direct(const SceneTables& s, const Surface& x, const Vector3f& view) {
+  Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
+  Point3f from = lift(s, x);
+  SH_FOR(Attrib1i l = 0, l < s.light_count, l += 1) {
+    Attrib3f light_pos = s.lights[2 * l], light_color = s.lights[2 * l + 1];
+    Vector3f to_light = light_pos - from;
+    Attrib1f dist = length(to_light);
+    Vector3f dir = to_light / dist;
+    Attrib1f facing = dot(x.n, dir);
+    SH_IF(facing > 0.0f) {
+      Attrib1f t;
+      Attrib1i blocker;
+      Attrib2f uv;
+      Attrib1f shadowed = intersect(s, from, dir, dist, t, blocker, uv);
+      Attrib1f specular = x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
+      sum += (1.0f - shadowed) * (x.diffuse * facing + specular) * light_color;
+    } SH_ENDIF;
+  } SH_ENDFOR;
+  return sum;
+}
+
+}  // namespace
+
+Program raygen_program(const SceneTables& s) {
+  return SH_BEGIN_PROGRAM("raygen") {
+    InputAttrib2f pixel;  // the pixel's centre, (x + 0.5, y + 0.5), row 0 at the top
+    OutputPoint3f origin;
+    OutputVector3f direction;
+    Attrib1f aspect = s.image_size(0) / s.image_size(1);
+    Attrib2f ndc = 2.0f * pixel / s.image_size - 1.0f;
+    Attrib1f x = ndc(0) * s.tan_half_fov * aspect, y = -ndc(1) * s.tan_half_fov;
+    origin = s.eye;
+    direction = normalize(s.forward + x * s.right + y * s.up);
+  } SH_END;
+}
+
+Program tracer_program(const SceneTables& s, Features f) {
+  return SH_BEGIN_PROGRAM("tracer") {
+    InputPoint3f origin;
+    InputVector3f direction;
+    OutputColor3f color;
+    OutputAttrib1f distance;   // of the primary hit, -1 where none
+    OutputAttrib1i triangle;   // of the primary hit, -1 where none
+    Point3f o = origin;
+    Vector3f d = direction;
+    color = ConstColor3f(0.0f, 0.0f, 0.0f);
+    distance = -1.0f;
+    triangle = -1;
+    Color3f weight = ConstColor3f(1.0f, 1.0f, 1.0f);
+    Attrib1f first = 1.0f;
+
+    // One bounce: shade the hit, or add the background and stop.
+    auto bounce = [&](bool in_loop) {
+      Attrib1f t;
+      Attrib1i tri;
+      Attrib2f uv;
+      Attrib1f hit = intersect(s, o, d, ConstAttrib1f(1e30f), t, tri, uv);
+      distance = cond(first && hit, t, distance);
+      triangle = cond(first && hit, tri, triangle);
+      first = 0.0f;
+      SH_IF(!hit) {
+        color += weight * s.background;
+        if (in_loop) SH_BREAK();
+      } SH_ELSE {
+        Surface x = surface_at(s, o, d, t, tri, uv, f);
+        Color3f local = s.ambient * x.diffuse;
+        if (f.shadows) local += direct(s, x, -d);
+        if (f.reflections) {
+          color += weight * (1.0f - x.reflectivity) * local;
+          weight *= x.reflectivity;
+          d = reflect(-d, x.n);
+          o = lift(s, x);
+        } else {
+          color += weight * local;
+        }
+      } SH_ENDIF;
+      if (in_loop) SH_BREAK(max_component(weight) <= 0.0f);
+    };
+
+    if (f.reflections) {
+      SH_FOR(Attrib1f b = 0.0f, b <= s.max_bounces, b += 1.0f) { bounce(true); } SH_ENDFOR;
+    } else {
+      bounce(false);
+    }
+  } SH_END;
+}
+
+}  // namespace sh::rt
