@@ -75,6 +75,7 @@ SceneTables::SceneTables(const Scene& scene, const Grid& grid)
   }
   lights.name("lights").assign(ls.empty() ? std::vector<float>{0, 0, 0} : flatten(ls));
   light_count = static_cast<std::int32_t>(scene.lights.size());
+  use_vertex_colors = scene.has_vertex_colors() ? 1.0f : 0.0f;
   ambient = scene.ambient;
   background = Attrib3f(scene.background.x, scene.background.y, scene.background.z);
   // Secondary rays leave a surface this far along its normal (and at least

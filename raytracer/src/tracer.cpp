@@ -24,8 +24,10 @@ Surface surface_at(const SceneTables& s, const Point3f& o, const Vector3f& d, co
   Attrib1i m = 2 * s.material[tri];
   Attrib4f a = s.materials[m], b = s.materials[m + 1];
   out.diffuse = a(0, 1, 2);
-  if (f.vertex_colors)
-    out.diffuse *= w * s.colors[3 * tri] + uv(0) * s.colors[3 * tri + 1] + uv(1) * s.colors[3 * tri + 2];
+  if (f.vertex_colors) {
+    Color3f c = w * s.colors[3 * tri] + uv(0) * s.colors[3 * tri + 1] + uv(1) * s.colors[3 * tri + 2];
+    out.diffuse = cond(s.use_vertex_colors, out.diffuse * c, out.diffuse);
+  }
   out.specular = a(3);
   out.shininess = b(0);
   out.reflectivity = b(1);

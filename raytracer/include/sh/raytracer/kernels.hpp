@@ -49,6 +49,7 @@ class SceneTables {
   Table1D<Attrib4f> materials;
   Table1D<Attrib3f> lights;
   Attrib1i light_count;
+  Attrib1f use_vertex_colors;  // 0 or 1: the general kernel's switch
   Attrib1f max_bounces, ambient, surface_offset;
   Attrib3f background;
   // Camera.

@@ -1,0 +1,188 @@
+// Numerical extremes of the tracer, each checked against Embree or a
+// closed-form answer: axis-parallel rays, rays along cell faces, edges and
+// corners of the grid, rays through a closed mesh's edges and vertices,
+// grazing rays, rays leaving a surface, scenes far from the origin and very
+// small or large, degenerate triangles, the camera inside and outside the
+// grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "helpers.hpp"
+
+namespace {
+
+using sh::rt::Vec3;
+
+sh::rt::Scene closed_box_scene() {
+  sh::rt::Scene s;
+  s.name = "closed box";
+  s.materials.push_back({});
+  sh::rt::add_box(s, {-1, -1, -1}, {1, 1, 1}, 0);
+  sh::rt::add_sphere(s, {3, 0, 0}, 1, 0, 16);
+  s.lights.push_back({{0, 5, 5}, {1, 1, 1}});
+  return s;
+}
+
+rt_test::Agreement check(const sh::rt::Scene& s, const rt_test::Rays& rays) {
+  rt_test::Hits hits = rt_test::trace(s, rays);
+  rt_test::Agreement a = rt_test::compare_with_embree(s, rays, hits);
+  std::string detail;
+  for (const std::string& d : a.disagreements) detail += "\n  " + d;
+  EXPECT_EQ(a.rays - a.agree - a.ties - a.edge_grazes, 0u) << s.name << detail;
+  return a;
+}
+
+TEST(Extremes, AxisParallelRays) {
+  sh::rt::Scene s = closed_box_scene();
+  rt_test::Rays rays;
+  for (float y = -1.5f; y <= 1.5f; y += 0.125f)
+    for (float z = -1.5f; z <= 1.5f; z += 0.125f) {
+      rays.add({-5, y, z}, {1, 0, 0});
+      rays.add({y, 5, z}, {0, -1, 0});
+      rays.add({y, z, 5}, {0, 0, -1});
+      rays.add({y, z, -5}, {0, 0, 1});
+    }
+  check(s, rays);
+  rt_test::Hits hits = rt_test::trace(s, rays);
+  for (float t : hits.t) EXPECT_FALSE(std::isnan(t));
+}
+
+TEST(Extremes, RaysAlongCellFacesEdgesAndCorners) {
+  sh::rt::Scene s = closed_box_scene();
+  sh::rt::Grid g = sh::rt::build_grid(s);
+  rt_test::Rays rays;
+  // Rays lying in cell faces, along cell edges, and through cell corners.
+  for (int i = 0; i <= g.dims[0]; ++i)
+    for (int j = 0; j <= g.dims[1]; j += 2) {
+      float x = g.lo.x + i * g.cell.x, y = g.lo.y + j * g.cell.y;
+      rays.add({x, y, -10}, {0, 0, 1});
+      rays.add({x, -10, g.lo.z + j * g.cell.z}, {0, 1, 0});
+      rays.add({g.lo.x - 1, g.lo.y - 1, g.lo.z - 1} , sh::rt::normalize(Vec3{x, y, g.lo.z + i * g.cell.z} - Vec3{g.lo.x - 1, g.lo.y - 1, g.lo.z - 1}));
+    }
+  check(s, rays);
+}
+
+TEST(Extremes, ClosedMeshIsWatertightAtEdgesAndVertices) {
+  // Rays aimed exactly at every vertex and edge midpoint of a closed
+  // sphere mesh, from outside: none may pass through.
+  sh::rt::Scene s;
+  s.name = "closed sphere";
+  s.materials.push_back({});
+  sh::rt::add_sphere(s, {0.3f, -0.2f, 0.1f}, 1.3f, 0, 20);
+  rt_test::Rays rays;
+  Vec3 centre{0.3f, -0.2f, 0.1f};
+  for (std::size_t t = 0; t < s.mesh.triangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      Vec3 a = s.mesh.positions[3 * t + k], b = s.mesh.positions[3 * t + (k + 1) % 3];
+      for (Vec3 target : {a, (a + b) * 0.5f}) {
+        Vec3 from = centre + sh::rt::normalize(target - centre) * 5.0f + Vec3{0.01f, 0.02f, -0.015f};
+        rays.add(from, sh::rt::normalize(target - from));
+      }
+    }
+  rt_test::Hits hits = rt_test::trace(s, rays);
+  std::size_t leaks = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) leaks += hits.t[i] < 0;
+  EXPECT_EQ(leaks, 0u) << "rays passed through the closed mesh";
+  // And from inside, towards the same points: every one hits the shell.
+  rt_test::Rays inside;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    Vec3 target = rays.origin(i) + rays.direction(i) * 5.0f;
+    inside.add(centre, sh::rt::normalize(target - centre));
+  }
+  rt_test::Hits in_hits = rt_test::trace(s, inside);
+  for (std::size_t i = 0; i < inside.size(); ++i) EXPECT_GE(in_hits.t[i], 0.f) << "inside ray " << i << " escaped";
+}
+
+TEST(Extremes, GrazingRays) {
+  sh::rt::Scene s = closed_box_scene();
+  rt_test::Rays rays;
+  for (int i = 0; i < 2000; ++i) {
+    float angle = 1e-6f * static_cast<float>(i + 1);  // nearly parallel to the top face y = 1
+    rays.add({-3, 1 + 1e-4f * (i % 7), -0.5f + 0.0005f * i}, sh::rt::normalize({1, -angle * (i % 3), 0}));
+  }
+  check(s, rays);
+}
+
+TEST(Extremes, ScenesFarAwaySmallAndLarge) {
+  for (auto [scale, offset] : {std::pair{1.0f, 1e5f}, std::pair{1e-4f, 0.0f}, std::pair{1e4f, 0.0f}}) {
+    sh::rt::Scene s = sh::rt::builtin_scene("spheres");
+    for (Vec3& p : s.mesh.positions) p = p * scale + Vec3{offset, offset, offset};
+    s.name = "spheres x" + std::to_string(scale) + " +" + std::to_string(offset);
+    rt_test::Rays rays = rt_test::random_rays(s, 20000, 11);
+    rt_test::Agreement a = check(s, rays);
+    EXPECT_GT(a.agree, 2000u) << s.name;
+  }
+}
+
+TEST(Extremes, RaysLeavingASurfaceDoNotShadowThemselves) {
+  // A lit floor with nothing above it: every floor pixel must be lit the
+  // same, far from the origin too (no acne).
+  for (float offset : {0.0f, 1e5f}) {
+    sh::rt::Scene s;
+    s.name = "floor";
+    s.materials.push_back({});
+    Vec3 o{offset, offset, offset};
+    sh::rt::add_quad(s, o + Vec3{-5, 0, -5}, {0, 0, 10}, {10, 0, 0}, 0);
+    s.lights.push_back({o + Vec3{0, 1000, 0}, {1, 1, 1}});
+    s.camera = {o + Vec3{0, 3, 6}, o, {0, 1, 0}, 40};
+    s.ambient = 0;
+    sh::rt::RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    settings.backend = "cpu";
+    sh::rt::Image img = sh::rt::Renderer(s, settings).render();
+    std::size_t floor_pixels = 0, dark = 0;
+    for (std::size_t p = 0; p < img.triangle.size(); ++p)
+      if (img.triangle[p] >= 0) {
+        ++floor_pixels;
+        dark += img.rgb[3 * p] < 0.5f;
+      }
+    EXPECT_GT(floor_pixels, 1000u);
+    EXPECT_EQ(dark, 0u) << "self-shadowed floor pixels at offset " << offset;
+  }
+}
+
+TEST(Extremes, DegenerateTrianglesWarnAndLeaveTheImageAlone) {
+  sh::rt::Scene clean = closed_box_scene();
+  sh::rt::Scene dirty = clean;
+  sh::rt::MeshBuilder b(dirty, 0);
+  b.triangle({0, 0, 0}, {0, 0, 0}, {1, 1, 1});      // two equal vertices
+  b.triangle({0, 0, 0}, {1, 1, 1}, {2, 2, 2});      // collinear
+  EXPECT_EQ(b.degenerate(), 2u);
+  EXPECT_EQ(dirty.mesh.triangles(), clean.mesh.triangles());
+  sh::rt::RenderSettings settings;
+  settings.width = 32;
+  settings.height = 24;
+  settings.backend = "cpu";
+  sh::rt::Image a = sh::rt::Renderer(clean, settings).render(), c = sh::rt::Renderer(dirty, settings).render();
+  EXPECT_EQ(a.rgb, c.rgb);
+}
+
+TEST(Extremes, CameraInsideAndOutsideTheGrid) {
+  sh::rt::Scene s = sh::rt::builtin_scene("cornell");
+  sh::rt::RenderSettings settings;
+  settings.width = 48;
+  settings.height = 36;
+  settings.backend = "cpu";
+  for (Vec3 eye : {Vec3{0, 0, 0.9f}, Vec3{0, 0, 3.4f}}) {
+    s.camera.eye = eye;
+    s.camera.look_at = {0, 0, -1};
+    sh::rt::Image img = sh::rt::Renderer(s, settings).render();
+    // Primary hit distances agree with Embree for every pixel.
+    oracle::Embree embree(s);
+    std::vector<float> centres = sh::rt::pixel_centres(settings.width, settings.height);
+    std::size_t agree = 0;
+    for (std::size_t p = 0; p < img.distance.size(); ++p) {
+      Vec3 f = sh::rt::normalize(s.camera.look_at - s.camera.eye), right = sh::rt::normalize(sh::rt::cross(f, s.camera.up));
+      Vec3 up = sh::rt::cross(right, f);
+      float th = std::tan(s.camera.fov_degrees * 3.14159265f / 360), aspect = 48.0f / 36.0f;
+      float x = (2 * centres[2 * p] / 48 - 1) * th * aspect, y = -(2 * centres[2 * p + 1] / 36 - 1) * th;
+      oracle::Hit e = embree.intersect(s.camera.eye, sh::rt::normalize(f + right * x + up * y));
+      agree += std::fabs(e.t - img.distance[p]) <= 1e-3f * std::max(1.0f, e.t);
+    }
+    EXPECT_GE(agree, img.distance.size() * 999 / 1000) << "eye at z = " << eye.z;
+  }
+}
+
+}  // namespace

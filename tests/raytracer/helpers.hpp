@@ -1,0 +1,46 @@
+#pragma once
+// Shared by the ray tracer's tests: running the intersector kernel on a
+// batch of rays, and comparing its hits with Embree's.
+#include <random>
+#include <string>
+#include <vector>
+
+#include <sh/raytracer.hpp>
+#include <sh/sh.hpp>
+
+#include "embree_oracle.hpp"
+
+namespace rt_test {
+
+struct Rays {
+  std::vector<float> origins, directions;  // 3 floats each
+  std::size_t size() const { return origins.size() / 3; }
+  void add(sh::rt::Vec3 o, sh::rt::Vec3 d) {
+    origins.insert(origins.end(), {o.x, o.y, o.z});
+    directions.insert(directions.end(), {d.x, d.y, d.z});
+  }
+  sh::rt::Vec3 origin(std::size_t i) const { return {origins[3 * i], origins[3 * i + 1], origins[3 * i + 2]}; }
+  sh::rt::Vec3 direction(std::size_t i) const { return {directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]}; }
+};
+
+struct Hits {
+  std::vector<float> t;
+  std::vector<std::int32_t> triangle;
+};
+
+// Random rays from around the scene's bounds towards random points inside.
+Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);
+
+Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend = "cpu");
+
+struct Agreement {
+  std::size_t rays = 0, agree = 0, ties = 0, edge_grazes = 0;
+  std::vector<std::string> disagreements;  // the first few, described
+};
+
+// Our hits against Embree's: the same triangle and t within 1e-4 relative,
+// or a tie (another triangle at the same t), or a ray grazing an edge
+// within the intersector's tolerance.
+Agreement compare_with_embree(const sh::rt::Scene& scene, const Rays& rays, const Hits& ours);
+
+}  // namespace rt_test

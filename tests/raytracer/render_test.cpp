@@ -1,0 +1,103 @@
+// Images: every backend agrees with the interpreter on every built-in
+// scene; kernels specialised to a scene are smaller and give the image the
+// general kernel gives with those features switched off.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <sh/raytracer.hpp>
+#include <sh/sh.hpp>
+
+namespace {
+
+sh::rt::Image render(const sh::rt::Scene& s, const std::string& backend, int w, int h, bool specialise = true,
+                     sh::Precision precision = sh::Precision::F32) {
+  sh::rt::RenderSettings settings;
+  settings.width = w;
+  settings.height = h;
+  settings.backend = backend;
+  settings.specialise = specialise;
+  settings.options.precision = precision;
+  return sh::rt::Renderer(s, settings).render();
+}
+
+class EveryBackend : public testing::TestWithParam<std::string> {};
+
+TEST_P(EveryBackend, AgreesWithInterpOnEveryBuiltinScene) {
+  for (const std::string& name : sh::rt::builtin_scene_names()) {
+    sh::rt::Scene s = sh::rt::builtin_scene(name, 3000);
+    sh::rt::Image reference = render(s, "interp", 64, 48);
+    sh::rt::Image image = render(s, GetParam(), 64, 48);
+    double share = sh::rt::share_within(reference, image, 1.0f / 255);
+    EXPECT_GE(share, 0.999) << name << " on " << GetParam() << ": " << share * 100 << "% of pixels within 1/255";
+    EXPECT_EQ(reference.triangle, image.triangle) << name << " on " << GetParam();
+  }
+}
+
+std::vector<std::string> image_backends() {
+  std::vector<std::string> out;
+  for (const std::string& b : sh::backend_names())
+    if (b != "mpi") out.push_back(b);
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend, testing::ValuesIn(image_backends()),
+                         [](const testing::TestParamInfo<std::string>& i) { return i.param; });
+
+std::size_t statements(const sh::Program& p) {
+  std::string text = sh::print_optimized(p);
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(Specialisation, SceneWithoutLightsOrMirrorsGetsASmallerKernelAndTheSameImage) {
+  sh::rt::Scene s = sh::rt::builtin_scene("cornell");
+  s.lights.clear();
+  for (sh::rt::Material& m : s.materials) m.reflectivity = 0;
+  sh::rt::RenderSettings settings;
+  settings.width = 48;
+  settings.height = 36;
+  settings.backend = "cpu";
+  sh::rt::Renderer special(s, settings);
+  settings.specialise = false;
+  sh::rt::Renderer general(s, settings);
+  EXPECT_EQ(special.features().left_out(),
+            "shadow rays (no lights), reflection loop (no reflective material, or depth 0), vertex colours (none in the scene)");
+  EXPECT_EQ(general.features().left_out(), "nothing");
+  std::size_t small = statements(special.program()), big = statements(general.program());
+  EXPECT_LT(small * 3, big * 2) << "specialised " << small << " vs general " << big << " IR lines";
+  // The general kernel with no lights (light_count 0) and no reflective
+  // material computes the same picture.
+  sh::rt::Image a = special.render(), b = general.render();
+  EXPECT_EQ(sh::rt::share_within(a, b, 0.0f), 1.0);
+}
+
+TEST(Specialisation, ReflectionDepthIsAUniform) {
+  sh::rt::Scene s = sh::rt::builtin_scene("spheres");
+  sh::rt::RenderSettings settings;
+  settings.width = 32;
+  settings.height = 24;
+  settings.backend = "cpu";
+  settings.reflections = 1;
+  sh::rt::Renderer one(s, settings);
+  settings.reflections = 4;
+  sh::rt::Renderer four(s, settings);
+  EXPECT_EQ(one.program().hash(), four.program().hash()) << "a new depth must not need a new kernel";
+  EXPECT_LT(sh::rt::share_within(one.render(), four.render(), 0.0f), 1.0);
+}
+
+TEST(Images, PngAndPfmAreWrittenWhole) {
+  sh::rt::Image img = render(sh::rt::builtin_scene("cornell"), "cpu", 20, 10);
+  std::string dir = testing::TempDir();
+  sh::rt::write_png(dir + "/out.png", img);
+  sh::rt::write_pfm(dir + "/out.pfm", img.width, img.height, img.distance);
+  std::ifstream png(dir + "/out.png", std::ios::binary);
+  char magic[8];
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_EQ(std::filesystem::file_size(dir + "/out.pfm"), std::string("Pf\n20 10\n-1.0\n").size() + 200 * 4);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.png.tmp"));
+  EXPECT_THROW(sh::rt::write_png("/nonexistent-dir/x.png", img), sh::Error);
+}
+
+}  // namespace
