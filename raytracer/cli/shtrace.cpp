@@ -9,6 +9,8 @@
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
 
+#include "embree_anchor.hpp"
+
 namespace {
 
 using namespace sh;
@@ -100,15 +102,45 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   return 0;
 }
 
+// Primary rays of the scene's camera, made by the raygen kernel.
+std::pair<std::vector<float>, std::vector<float>> primary_rays(sh::rt::Renderer& r, int w, int h) {
+  Program raygen = raygen_program(r.tables());
+  Channel<Attrib2f> pixels(pixel_centres(w, h));
+  Channel<Point3f> o;
+  Channel<Vector3f> d;
+  run(raygen, {pixels}, {o, d}, backend("cpu"));
+  return {o.values(), d.values()};
+}
+
+// Mrays/s of the intersector kernel alone on the given rays (warm).
+double intersect_rate(sh::rt::Renderer& r, const std::string& b, const std::vector<float>& origins,
+                      const std::vector<float>& directions, int repeats) {
+  Program p = intersector_program(r.tables());
+  Channel<Point3f> o(origins);
+  Channel<Vector3f> d(directions);
+  Channel<Attrib1f> t;
+  Channel<Attrib1i> tri;
+  run(p, {o, d}, {t, tri}, backend(b));
+  double ms = 0;
+  for (int i = 0; i < repeats; ++i) ms += run(p, {o, d}, {t, tri}, backend(b)).run_ms;
+  return origins.size() / 3.0 * repeats / (ms * 1e3);
+}
+
 int bench_command(const Common& c, std::vector<std::string> backends) {
   if (backends.empty()) backends = backend_names();
   Scene scene = scene_for(c);
+  auto [w, h] = parse_size(c.size);
   RenderSettings ref_settings = settings_for(c, "interp");
   ref_settings.options.precision = Precision::F64;
   Renderer reference(scene, ref_settings);
-  std::printf("scene %s, %s, %zu triangles; reference: interp f64\n", scene.name.c_str(), c.size.c_str(), scene.mesh.triangles());
+  std::printf("scene %s, %s, %zu triangles, grid %dx%dx%d built in %.1f ms (%.2f MiB); reference: interp f64\n",
+              scene.name.c_str(), c.size.c_str(), scene.mesh.triangles(), reference.grid().dims[0], reference.grid().dims[1],
+              reference.grid().dims[2], reference.grid().build_ms, reference.grid().bytes() / 1048576.0);
   Image ref = reference.render();
-  std::printf("%-8s %12s %12s %10s %12s %10s\n", "backend", "compile ms", "render ms", "Mrays/s", "max error", "PSNR dB");
+  auto [origins, directions] = primary_rays(reference, w, h);
+  std::printf("%-8s %11s %11s %13s %15s %11s %9s\n", "backend", "compile ms", "render ms", "render Mrays/s",
+              "intersect Mrays/s", "max error", "PSNR dB");
+  double cpu_intersect = 0;
   for (const std::string& b : backends) {
     if (b == "mpi") continue;
     Renderer r(scene, settings_for(c, b));
@@ -118,9 +150,16 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
     float max_error = 0;
     for (std::size_t i = 0; i < img.rgb.size(); ++i)
       max_error = std::max(max_error, std::fabs(std::clamp(img.rgb[i], 0.f, 1.f) - std::clamp(ref.rgb[i], 0.f, 1.f)));
-    std::printf("%-8s %12.1f %12.1f %10.2f %12.5f %10.1f\n", b.c_str(), first.compile_ms, second.render_ms,
-                second.rays / (second.render_ms * 1e3), max_error, psnr(ref, img));
+    double rate = intersect_rate(r, b, origins, directions, b == "interp" ? 1 : 5);
+    if (b == "cpu") cpu_intersect = rate;
+    std::printf("%-8s %11.1f %11.1f %13.2f %15.2f %11.5f %9.1f\n", b.c_str(), first.compile_ms, second.render_ms,
+                second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img));
   }
+  shtrace::AnchorResult embree = shtrace::embree_primary_rays(scene, origins, directions, 5);
+  std::printf("%-8s %11s %11s %13s %15.2f\n", "embree", "-", "-", "-", embree.mrays_per_s);
+  if (cpu_intersect > 0)
+    std::printf("cpu intersector / Embree rtcIntersect1 on the same %zu primary rays: %.3fx\n", origins.size() / 3,
+                cpu_intersect / embree.mrays_per_s);
   return 0;
 }
 
