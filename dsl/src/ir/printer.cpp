@@ -61,7 +61,8 @@ class Printer {
  private:
   void declare(VarId id) {
     const Var& v = p_.var(id);
-    bool listed = v.kind != VarKind::Temp && v.kind != VarKind::Const;
+    bool named_temp = v.kind == VarKind::Temp && o_.names && !v.name.empty();
+    bool listed = (v.kind != VarKind::Temp && v.kind != VarKind::Const) || named_temp;
     if (!listed && !o_.declare_temps) return;
     out_ << "  " << var_kind_name(v.kind) << " %" << id;
     if (o_.names && !v.name.empty()) out_ << " " << v.name;

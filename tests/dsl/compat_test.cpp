@@ -1,0 +1,47 @@
+// Sh-era code compiles with cosmetic edits only: the seed's style of
+// intersector (a C++ function with Sh types, output parameters by
+// reference, SH_DECL, ShArray tables) records and runs.
+#include <gtest/gtest.h>
+
+#include <sh/compat.hpp>
+
+namespace {
+
+ShAttrib1f gain = 2.0f;
+
+// After the seed: writes its results through reference parameters.
+ShAttrib1f nearest_root(ShAttrib1f a, ShAttrib1f b, ShAttrib1f c, ShAttrib1f& root, ShAttrib1f& count) {
+  ShAttrib1f disc = b * b - 4.0f * a * c;
+  ShAttrib1f SH_DECL(hit) = disc >= 0.0f;
+  count = 0.0f;
+  SH_IF(hit) {
+    root = (-b - sqrt(disc)) / (2.0f * a);
+    count = cond(disc > 0.0f, ShConstAttrib1f(2.0f), ShConstAttrib1f(1.0f));
+  } SH_ENDIF;
+  return hit;
+}
+
+TEST(Compat, SeedStyleCodeRecordsAndRuns) {
+  ShArray1D<ShAttrib3f> coefficients(2);
+  coefficients.assign({1, -3, 2, 1, 2, 5});
+  ShProgram p = SH_BEGIN_PROGRAM("roots") {
+    ShInputAttrib1f which;
+    ShOutputAttrib3f out;
+    ShAttrib3f k = coefficients[which];
+    ShAttrib1f root, count;
+    ShAttrib1f hit = nearest_root(k(0), k(1), k(2), root, count);
+    out = join(hit * gain, join(root, count));
+  } SH_END;
+  EXPECT_NE(sh::print(p).find("hit"), std::string::npos) << "SH_DECL names the variable";
+  shUseBackend("interp");
+  ShChannel<ShAttrib1f> which(std::vector<float>{0, 1});
+  ShChannel<ShAttrib3f> out;
+  out = p << which;
+  EXPECT_EQ(out[0], 2.f);
+  EXPECT_EQ(out[1], 1.f);
+  EXPECT_EQ(out[2], 2.f);
+  EXPECT_EQ(out[3], 0.f);
+  EXPECT_EQ(out[5], 0.f);
+}
+
+}  // namespace
