@@ -75,6 +75,11 @@ ir::VarId Recorder::write_target(const Value& v) {
   return id;
 }
 
+void Recorder::rename(const VarNode* node, const std::string& name) {
+  auto it = ids_.find(node);
+  if (it != ids_.end()) prog_.vars[static_cast<std::size_t>(it->second)].name = name;
+}
+
 ir::VarId Recorder::new_temp(ir::Type t) {
   ir::Var v;
   v.type = t;

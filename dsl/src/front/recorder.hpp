@@ -24,6 +24,7 @@ class Recorder {
   ir::Operand read(const Value& v);
   ir::VarId write_target(const Value& v);
   ir::VarId new_temp(ir::Type t);
+  void rename(const VarNode* node, const std::string& name);
   int table_index(const std::shared_ptr<TableStorage>& table);
   void emit(ir::Assign a);
   // Emits op(args) into a new temporary and returns the variable.

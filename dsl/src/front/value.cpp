@@ -139,7 +139,10 @@ std::array<double, 4> host_value(const Value& v) {
   return out;
 }
 
-void set_name(const Value& v, const std::string& name) { v.node->name = name; }
+void set_name(const Value& v, const std::string& name) {
+  v.node->name = name;
+  if (Recorder* r = current_recorder()) r->rename(v.node.get(), name);
+}
 
 Value table_read(const std::shared_ptr<TableStorage>& table, ir::Op op, const Value& coords) {
   Recorder* r = current_recorder();
