@@ -27,6 +27,7 @@ struct Options {
   bool checked = false;                   // interp: report first NaN / bad table read
   bool optimize = true;                   // run the passes before compiling
   std::string device;                     // backend-specific device choice
+  std::string local_backend;              // for backends that delegate (mpi): what each part runs; default cpu
 
   std::string key() const;  // what a compiled kernel depends on
 };
@@ -42,6 +43,11 @@ struct TableView {
   int rank = 1;
   std::array<int, 3> dims{1, 1, 1};
   const void* data = nullptr;
+  const void* identity = nullptr;  // the table object: with version, says whether it changed
+  std::uint64_t version = 0;
+  std::size_t bytes() const {
+    return static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] * element.width * ir::storage_bytes(element.scalar);
+  }
 };
 
 struct RunArgs {
@@ -51,6 +57,14 @@ struct RunArgs {
   std::vector<TableView> tables;                // parallel to ir.tables
 };
 
+// What one part of a run did: a rank of the mpi backend, for instance.
+struct PartStats {
+  int part = 0;
+  std::size_t elements = 0, chunks = 0;
+  double busy_s = 0, idle_s = 0;
+  std::size_t bytes_sent = 0, bytes_received = 0;
+};
+
 struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)
@@ -58,6 +72,7 @@ struct RunStats {
   double run_ms = 0;
   std::size_t elements = 0;
   std::vector<std::string> diagnostics;  // checked mode findings
+  std::vector<PartStats> parts;          // per rank (or device), where the backend has them
 };
 
 class Kernel {

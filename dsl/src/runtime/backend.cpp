@@ -99,7 +99,7 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
     if (!s.filled)
       throw Error("program '" + p.name + "': table " + std::to_string(t) +
                   (s.decl.name.empty() ? "" : " '" + s.decl.name + "'") + " was never filled");
-    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data()});
+    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), &s, s.version});
   }
   return args;
 }
@@ -109,7 +109,7 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
 std::string Options::key() const {
   return std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
          ",t" + std::to_string(threads) + ",cap" + std::to_string(max_loop_iterations) + (checked ? ",checked" : "") +
-         (optimize ? "" : ",noopt") + ",dev=" + device;
+         (optimize ? "" : ",noopt") + ",dev=" + device + ",local=" + local_backend;
 }
 
 void register_backend(const std::string& name, BackendFactory factory) {

@@ -1,0 +1,28 @@
+#pragma once
+// The distributed backend: under `mpirun -np N`, rank 0 owns the streams
+// and every rank (rank 0 too) computes chunks with a local backend
+// (Options::local_backend: cpu by default, opencl or interp).  The stream
+// is cut into many more chunks than ranks and handed out as ranks ask;
+// results land in order.  Tables and uniforms go out once per version.
+// Including this header registers it as "mpi".
+//
+// Ranks other than 0 serve rank 0 from the first time they compile an mpi
+// kernel until rank 0 exits; call sh::mpi::start() at the top of main to
+// make them do so at once (they then never run the rest of main).  Run
+// without mpirun, it is one rank, and says so.
+#include "sh/backend.hpp"
+
+namespace sh::mpi {
+
+void register_backend();
+
+// Initialises MPI if needed; on ranks other than 0 serves and exits.
+void start();
+int rank();
+int size();
+
+namespace detail {
+inline const bool registered = (register_backend(), true);
+}  // namespace detail
+
+}  // namespace sh::mpi

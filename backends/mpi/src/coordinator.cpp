@@ -1,0 +1,189 @@
+#include "coordinator.hpp"
+
+#include <mpi.h>
+
+#include <chrono>
+#include <map>
+
+#include "sh/error.hpp"
+#include "sh/ir/serialize.hpp"
+#include "wire.hpp"
+
+namespace sh::mpi {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::size_t element_bytes(ir::Type t) { return static_cast<std::size_t>(t.width) * ir::storage_bytes(t.scalar); }
+
+// Tables the serving ranks hold, by identity, at the version they hold.
+std::map<const void*, std::uint64_t>& tables_sent() {
+  static std::map<const void*, std::uint64_t> sent;
+  return sent;
+}
+
+class Coordinator : public Kernel {
+ public:
+  Coordinator(const ir::Program& p, const Options& o) : program_(p) {
+    static std::uint64_t next_id = 1;
+    id_ = next_id++;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
+    Options local = o;
+    local.local_backend.clear();
+    local_ = find_backend(o.local_backend).compile(p, local);
+    if (ranks_ > 1) compile_everywhere(local, o.local_backend);
+  }
+
+  void run(const RunArgs& args, RunStats& stats) override {
+    Traffic t;
+    if (ranks_ > 1) broadcast(run_command(args), t);
+    PartStats mine;
+    mine.part = 0;
+    std::size_t chunk = std::max<std::size_t>(1, (args.count + 16 * ranks_ - 1) / (16 * ranks_));
+    Schedule s{args, chunk, 0, {}, 0};
+    std::size_t served = 0;  // serving ranks that have been told they are done
+    std::vector<PartStats> parts{};
+    int waiting_stats = ranks_ - 1;
+    while (served < static_cast<std::size_t>(ranks_ - 1) || (s.next < args.count && s.error.empty())) {
+      // Answer every rank that is asking, then compute a chunk here.
+      int pending = 0;
+      MPI_Status status;
+      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &pending, &status);
+      if (!pending && s.next < args.count && s.error.empty()) {
+        auto busy = Clock::now();
+        compute_here(s, mine);
+        mine.busy_s += seconds_since(busy);
+        continue;
+      }
+      auto idle = Clock::now();
+      int source = 0, tag = 0;
+      std::string message = receive(MPI_ANY_SOURCE, MPI_ANY_TAG, t, &source, &tag);
+      mine.idle_s += seconds_since(idle);
+      if (tag == kStats) {
+        parts.push_back(Unpacker(message).get<PartStats>());
+        --waiting_stats;
+        continue;
+      }
+      if (tag == kResult) land(s, message);
+      if (tag == kFailed && s.error.empty()) s.error = "rank " + std::to_string(source) + ": " + message;
+      served += hand_out(s, source, t);
+    }
+    while (waiting_stats-- > 0) parts.push_back(Unpacker(receive(MPI_ANY_SOURCE, kStats, t)).get<PartStats>());
+    mine.bytes_sent = t.sent;
+    mine.bytes_received = t.received;
+    parts.insert(parts.begin(), mine);
+    stats.parts = std::move(parts);
+    if (!s.error.empty()) throw Error("mpi backend: " + s.error);
+  }
+
+  std::string listing() const override { return local_->listing(); }
+
+ private:
+  struct Schedule {
+    const RunArgs& args;
+    std::size_t chunk;
+    std::size_t next;
+    std::string error;
+    std::size_t outstanding;
+  };
+
+  void compile_everywhere(const Options& local, const std::string& local_backend) {
+    Options sent = local;
+    sent.local_backend = local_backend;
+    Packer p;
+    p.put(Command::Compile).put(id_);
+    pack(p, sent);
+    p.put(ir::serialize(program_));
+    Traffic t;
+    broadcast(p.bytes(), t);
+    std::string failures;
+    for (int i = 1; i < ranks_; ++i) {
+      int source = 0, tag = 0;
+      std::string message = receive(MPI_ANY_SOURCE, MPI_ANY_TAG, t, &source, &tag);
+      if (tag == kFailed) failures += "\n  rank " + std::to_string(source) + ": " + message;
+    }
+    if (!failures.empty()) throw Error("program '" + program_.name + "': mpi backend: compiling failed on" + failures);
+  }
+
+  // The command every serving rank receives: the kernel, and the tables
+  // and uniforms that changed since they last got them.
+  std::string run_command(const RunArgs& args) {
+    Packer p;
+    p.put(Command::Run).put(id_);
+    for (const TableView& table : args.tables) {
+      p.put(reinterpret_cast<std::uint64_t>(table.identity));
+      auto it = tables_sent().find(table.identity);
+      bool fresh = it == tables_sent().end() || it->second != table.version;
+      p.put(fresh);
+      if (!fresh) continue;
+      p.put(table.version).put(table).put(static_cast<std::uint64_t>(table.bytes())).raw(table.data, table.bytes());
+      tables_sent()[table.identity] = table.version;
+    }
+    bool changed = args.uniforms != uniforms_sent_;
+    p.put(changed);
+    if (changed)
+      for (const auto& u : args.uniforms) p.put(u);
+    uniforms_sent_ = args.uniforms;
+    return p.bytes();
+  }
+
+  // Gives `rank` the next chunk, or tells it the run is over (returns 1).
+  std::size_t hand_out(Schedule& s, int rank, Traffic& t) {
+    if (s.next >= s.args.count || !s.error.empty()) {
+      send({}, rank, kDone, t);
+      return 1;
+    }
+    std::size_t begin = s.next, n = std::min(s.chunk, s.args.count - begin);
+    s.next += n;
+    Packer p;
+    p.put(static_cast<std::uint64_t>(begin)).put(static_cast<std::uint64_t>(n));
+    for (const BufferView& in : s.args.inputs)
+      p.raw(static_cast<const char*>(in.data) + begin * element_bytes(in.type), n * element_bytes(in.type));
+    send(p.bytes(), rank, kAssign, t);
+    return 0;
+  }
+
+  // Results land in order: each chunk is copied to where it belongs.
+  void land(Schedule& s, const std::string& message) {
+    Unpacker u(message);
+    auto begin = u.get<std::uint64_t>();
+    auto n = u.get<std::uint64_t>();
+    for (const BufferView& out : s.args.outputs) {
+      std::size_t bytes = n * element_bytes(out.type);
+      std::memcpy(static_cast<char*>(out.data) + begin * element_bytes(out.type), u.take(bytes), bytes);
+    }
+  }
+
+  void compute_here(Schedule& s, PartStats& mine) {
+    std::size_t begin = s.next, n = std::min(s.chunk, s.args.count - begin);
+    s.next += n;
+    RunArgs slice = s.args;
+    slice.count = n;
+    for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
+    for (BufferView& b : slice.outputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
+    try {
+      RunStats ignored;
+      local_->run(slice, ignored);
+      mine.elements += n;
+      ++mine.chunks;
+    } catch (const std::exception& e) {
+      if (s.error.empty()) s.error = std::string("rank 0: ") + e.what();
+    }
+  }
+
+  ir::Program program_;
+  std::uint64_t id_ = 0;
+  int ranks_ = 1;
+  std::unique_ptr<Kernel> local_;
+  std::vector<std::array<double, 4>> uniforms_sent_;
+};
+
+}  // namespace
+
+std::unique_ptr<Kernel> coordinator(const ir::Program& program, const Options& options) {
+  return std::make_unique<Coordinator>(program, options);
+}
+
+}  // namespace sh::mpi

@@ -1,0 +1,77 @@
+#pragma once
+// Bytes on the wire between ranks: packing values into a message, and
+// checked point-to-point and broadcast calls that count what they move.
+#include <mpi.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "sh/backend.hpp"
+
+namespace sh::mpi {
+
+// Message tags of the dynamic phase of a run.
+enum Tag : int { kReady = 1, kAssign, kDone, kResult, kFailed, kStats };
+
+// Commands rank 0 broadcasts to the serving ranks.
+enum class Command : std::uint32_t { Compile = 1, Run, Shutdown };
+
+class Packer {
+ public:
+  template <class T>
+  Packer& put(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
+    return *this;
+  }
+  Packer& put(const std::string& s) {
+    put(static_cast<std::uint64_t>(s.size()));
+    bytes_ += s;
+    return *this;
+  }
+  Packer& raw(const void* data, std::size_t n) {
+    bytes_.append(static_cast<const char*>(data), n);
+    return *this;
+  }
+  std::string& bytes() { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(const std::string& bytes) : bytes_(bytes) {}
+  template <class T>
+  T get() {
+    T v;
+    std::memcpy(&v, take(sizeof v), sizeof v);
+    return v;
+  }
+  std::string text() {
+    auto n = get<std::uint64_t>();
+    return std::string(take(n), n);
+  }
+  const char* take(std::size_t n);
+
+ private:
+  const std::string& bytes_;
+  std::size_t at_ = 0;
+};
+
+void pack(Packer& p, const Options& o);
+Options unpack_options(Unpacker& u);
+
+// Counted, checked transfers (MPI errors end the job, as MPI's default).
+struct Traffic {
+  std::size_t sent = 0, received = 0;
+};
+void send(const std::string& bytes, int to, int tag, Traffic& t);
+std::string receive(int from, int tag, Traffic& t, int* source = nullptr, int* tag_out = nullptr);
+// Rank 0 sends `bytes`; every rank returns them.
+std::string broadcast(const std::string& bytes, Traffic& t);
+
+}  // namespace sh::mpi

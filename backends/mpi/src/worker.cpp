@@ -1,0 +1,156 @@
+// A serving rank: compiles what rank 0 sends, keeps the tables and
+// uniforms it was sent, and computes the chunks it is handed.
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <memory>
+
+#include "sh/error.hpp"
+#include "sh/ir/serialize.hpp"
+#include "wire.hpp"
+#include "world.hpp"
+
+namespace sh::mpi {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct LocalKernel {
+  ir::Program program;
+  std::unique_ptr<Kernel> kernel;
+  std::vector<std::array<double, 4>> uniforms;
+};
+
+struct Table {
+  std::uint64_t version = 0;
+  TableView view;
+  std::string bytes;
+};
+
+class Worker {
+ public:
+  Worker() { MPI_Comm_rank(MPI_COMM_WORLD, &rank_); }
+
+  [[noreturn]] void serve() {
+    for (;;) {
+      Traffic t;
+      std::string message = broadcast({}, t);
+      Unpacker u(message);
+      switch (u.get<Command>()) {
+        case Command::Compile: compile(u); break;
+        case Command::Run: run(u, t); break;
+        case Command::Shutdown:
+          MPI_Finalize();
+          std::exit(0);
+      }
+    }
+  }
+
+ private:
+  void compile(Unpacker& u) {
+    auto id = u.get<std::uint64_t>();
+    Options o = unpack_options(u);
+    std::string ir = u.text();
+    Traffic t;
+    try {
+      LocalKernel k;
+      k.program = ir::deserialize(ir);
+      k.kernel = find_backend(o.local_backend).compile(k.program, o);
+      kernels_[id] = std::move(k);
+      send({}, 0, kDone, t);
+    } catch (const std::exception& e) {
+      send(e.what(), 0, kFailed, t);
+    }
+  }
+
+  void run(Unpacker& u, Traffic& t) {
+    PartStats stats;
+    stats.part = rank_;
+    auto id = u.get<std::uint64_t>();
+    LocalKernel& k = kernels_.at(id);
+    RunArgs args;
+    receive_tables(u, k, args);
+    if (u.get<bool>()) {  // new uniform values; otherwise the last ones hold
+      k.uniforms.resize(k.program.uniforms.size());
+      for (auto& value : k.uniforms) value = u.get<std::array<double, 4>>();
+    }
+    args.uniforms = k.uniforms;
+    send({}, 0, kReady, t);
+    for (;;) {
+      auto idle = Clock::now();
+      int tag = 0;
+      std::string message = receive(0, MPI_ANY_TAG, t, nullptr, &tag);
+      stats.idle_s += std::chrono::duration<double>(Clock::now() - idle).count();
+      if (tag == kDone) break;
+      auto busy = Clock::now();
+      compute(k, args, message, stats, t);
+      stats.busy_s += std::chrono::duration<double>(Clock::now() - busy).count();
+    }
+    stats.bytes_sent = t.sent;
+    stats.bytes_received = t.received;
+    Packer p;
+    p.put(stats);
+    send(p.bytes(), 0, kStats, t);
+  }
+
+  void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args) {
+    for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
+      auto identity = u.get<std::uint64_t>();
+      Table& table = tables_[identity];
+      if (u.get<bool>()) {
+        table.version = u.get<std::uint64_t>();
+        table.view = u.get<TableView>();
+        auto n = u.get<std::uint64_t>();
+        table.bytes.assign(u.take(n), n);
+      }
+      table.view.data = table.bytes.data();
+      args.tables.push_back(table.view);
+    }
+  }
+
+  void compute(const LocalKernel& k, RunArgs args, const std::string& message, PartStats& stats, Traffic& t) {
+    Unpacker u(message);
+    auto begin = u.get<std::uint64_t>();
+    args.count = u.get<std::uint64_t>();
+    // Reserved up front: the views below point into these strings.
+    std::vector<std::string> inputs, outputs;
+    inputs.reserve(k.program.inputs.size());
+    outputs.reserve(k.program.outputs.size());
+    for (ir::VarId v : k.program.inputs) {
+      std::size_t n = args.count * element_bytes(k.program.type_of(v));
+      inputs.emplace_back(u.take(n), n);
+      args.inputs.push_back({k.program.type_of(v), args.count, inputs.back().data()});
+    }
+    for (ir::VarId v : k.program.outputs) {
+      outputs.emplace_back(args.count * element_bytes(k.program.type_of(v)), '\0');
+      args.outputs.push_back({k.program.type_of(v), args.count, outputs.back().data()});
+    }
+    try {
+      RunStats ignored;
+      k.kernel->run(args, ignored);
+    } catch (const std::exception& e) {
+      send(e.what(), 0, kFailed, t);
+      return;
+    }
+    Packer p;
+    p.put(begin).put(static_cast<std::uint64_t>(args.count));
+    for (const std::string& o : outputs) p.raw(o.data(), o.size());
+    send(p.bytes(), 0, kResult, t);
+    stats.elements += args.count;
+    ++stats.chunks;
+  }
+
+  static std::size_t element_bytes(ir::Type t) { return static_cast<std::size_t>(t.width) * ir::storage_bytes(t.scalar); }
+
+  int rank_ = 0;
+  std::map<std::uint64_t, LocalKernel> kernels_;
+  std::map<std::uint64_t, Table> tables_;
+};
+
+}  // namespace
+
+void serve() { Worker().serve(); }
+
+}  // namespace sh::mpi
