@@ -200,6 +200,10 @@ int main(int argc, char** argv) {
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
   try {
+#if __has_include(<sh/mpi.hpp>)
+    // Under mpirun, serving ranks wait for rank 0 from here on.
+    if (backend_name == "mpi") sh::mpi::start();
+#endif
     if (render->parsed())
       return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general);
     if (bench->parsed()) return bench_command(common, bench_backends);
