@@ -26,7 +26,7 @@ std::map<const void*, std::uint64_t>& tables_sent() {
 
 class Coordinator : public Kernel {
  public:
-  Coordinator(const ir::Program& p, const Options& o) : program_(p) {
+  Coordinator(const ir::Program& p, const Options& o) : program_(p), schedule_(schedule_of(o)), chunk_(chunk_of(o)) {
     static std::uint64_t next_id = 1;
     id_ = next_id++;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
@@ -41,17 +41,31 @@ class Coordinator : public Kernel {
     if (ranks_ > 1) broadcast(run_command(args), t);
     PartStats mine;
     mine.part = 0;
-    std::size_t chunk = std::max<std::size_t>(1, (args.count + 16 * ranks_ - 1) / (16 * ranks_));
+    // Dynamic: many more chunks than ranks (16 each unless a size is set);
+    // static: one contiguous share per rank.
+    std::size_t shares = schedule_ == "static" ? ranks_ : 16 * ranks_;
+    std::size_t chunk = chunk_ > 0 && schedule_ != "static" ? chunk_ : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
     Schedule s{args, chunk, 0, {}, 0};
     std::size_t served = 0;  // serving ranks that have been told they are done
     std::vector<PartStats> parts{};
     int waiting_stats = ranks_ - 1;
+    // Every serving rank gets its first chunk before rank 0 computes any:
+    // a rank busy computing does not see requests (MPI progresses only in
+    // MPI calls), and a static split needs each rank to take its share.
+    for (int i = 1; i < ranks_; ++i) {
+      auto idle = Clock::now();
+      int source = 0;
+      receive(MPI_ANY_SOURCE, kReady, t, &source);
+      mine.idle_s += seconds_since(idle);
+      served += hand_out(s, source, t);
+    }
     while (served < static_cast<std::size_t>(ranks_ - 1) || (s.next < args.count && s.error.empty())) {
       // Answer every rank that is asking, then compute a chunk here.
       int pending = 0;
       MPI_Status status;
       MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &pending, &status);
-      if (!pending && s.next < args.count && s.error.empty()) {
+      // A static split keeps rank 0's share for rank 0.
+      if ((!pending || schedule_ == "static") && s.next < args.count && s.error.empty()) {
         auto busy = Clock::now();
         compute_here(s, mine);
         mine.busy_s += seconds_since(busy);
@@ -156,8 +170,12 @@ class Coordinator : public Kernel {
     }
   }
 
+  // Rank 0 computes in pieces an eighth of a chunk (dynamic schedule), so
+  // that it answers the other ranks often: MPI moves messages only while
+  // rank 0 is in an MPI call, and a waiting rank is an idle rank.
   void compute_here(Schedule& s, PartStats& mine) {
-    std::size_t begin = s.next, n = std::min(s.chunk, s.args.count - begin);
+    std::size_t piece = schedule_ == "static" ? s.chunk : std::max<std::size_t>(1, s.chunk / 8);
+    std::size_t begin = s.next, n = std::min(piece, s.args.count - begin);
     s.next += n;
     RunArgs slice = s.args;
     slice.count = n;
@@ -167,13 +185,33 @@ class Coordinator : public Kernel {
       RunStats ignored;
       local_->run(slice, ignored);
       mine.elements += n;
-      ++mine.chunks;
+      if (piece == s.chunk || (begin + n) % s.chunk == 0 || begin + n == s.args.count) ++mine.chunks;
     } catch (const std::exception& e) {
       if (s.error.empty()) s.error = std::string("rank 0: ") + e.what();
     }
   }
 
+  static std::string schedule_of(const Options& o) {
+    auto it = o.settings.find("schedule");
+    std::string s = it == o.settings.end() ? "dynamic" : it->second;
+    if (s != "dynamic" && s != "static") throw Error("mpi backend: schedule must be dynamic or static, not '" + s + "'");
+    return s;
+  }
+  static std::size_t chunk_of(const Options& o) {
+    auto it = o.settings.find("chunk");
+    if (it == o.settings.end()) return 0;
+    try {
+      long long n = std::stoll(it->second);
+      if (n < 1) throw std::invalid_argument("");
+      return static_cast<std::size_t>(n);
+    } catch (const std::exception&) {
+      throw Error("mpi backend: chunk must be a positive number of elements, not '" + it->second + "'");
+    }
+  }
+
   ir::Program program_;
+  std::string schedule_;
+  std::size_t chunk_;
   std::uint64_t id_ = 0;
   int ranks_ = 1;
   std::unique_ptr<Kernel> local_;

@@ -16,6 +16,8 @@ const char* Unpacker::take(std::size_t n) {
 void pack(Packer& p, const Options& o) {
   p.put(o.precision).put(o.math).put(o.threads).put(o.max_loop_iterations).put(o.checked).put(o.optimize);
   p.put(o.device).put(o.local_backend);
+  p.put(static_cast<std::uint64_t>(o.settings.size()));
+  for (const auto& [name, value] : o.settings) p.put(name).put(value);
 }
 
 Options unpack_options(Unpacker& u) {
@@ -28,6 +30,11 @@ Options unpack_options(Unpacker& u) {
   o.optimize = u.get<bool>();
   o.device = u.text();
   o.local_backend = u.text();
+  auto n = u.get<std::uint64_t>();
+  for (std::uint64_t i = 0; i < n; ++i) {
+    std::string name = u.text();
+    o.settings[name] = u.text();
+  }
   return o;
 }
 

@@ -84,9 +84,7 @@ class Worker {
       std::string message = receive(0, MPI_ANY_TAG, t, nullptr, &tag);
       stats.idle_s += std::chrono::duration<double>(Clock::now() - idle).count();
       if (tag == kDone) break;
-      auto busy = Clock::now();
       compute(k, args, message, stats, t);
-      stats.busy_s += std::chrono::duration<double>(Clock::now() - busy).count();
     }
     stats.bytes_sent = t.sent;
     stats.bytes_received = t.received;
@@ -127,6 +125,7 @@ class Worker {
       outputs.emplace_back(args.count * element_bytes(k.program.type_of(v)), '\0');
       args.outputs.push_back({k.program.type_of(v), args.count, outputs.back().data()});
     }
+    auto busy = Clock::now();
     try {
       RunStats ignored;
       k.kernel->run(args, ignored);
@@ -134,10 +133,13 @@ class Worker {
       send(e.what(), 0, kFailed, t);
       return;
     }
+    stats.busy_s += std::chrono::duration<double>(Clock::now() - busy).count();
+    auto waiting = Clock::now();  // a large result waits for rank 0 to take it
     Packer p;
     p.put(begin).put(static_cast<std::uint64_t>(args.count));
     for (const std::string& o : outputs) p.raw(o.data(), o.size());
     send(p.bytes(), 0, kResult, t);
+    stats.idle_s += std::chrono::duration<double>(Clock::now() - waiting).count();
     stats.elements += args.count;
     ++stats.chunks;
   }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +29,9 @@ struct Options {
   bool optimize = true;                   // run the passes before compiling
   std::string device;                     // backend-specific device choice
   std::string local_backend;              // for backends that delegate (mpi): what each part runs; default cpu
+  // Backend-specific knobs by name (mpi: "chunk" elements per chunk,
+  // "schedule" dynamic or static).  Part of the kernel key.
+  std::map<std::string, std::string> settings;
 
   std::string key() const;  // what a compiled kernel depends on
 };

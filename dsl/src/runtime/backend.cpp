@@ -107,9 +107,11 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
 }  // namespace
 
 std::string Options::key() const {
-  return std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
-         ",t" + std::to_string(threads) + ",cap" + std::to_string(max_loop_iterations) + (checked ? ",checked" : "") +
-         (optimize ? "" : ",noopt") + ",dev=" + device + ",local=" + local_backend;
+  std::string k = std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
+                  ",t" + std::to_string(threads) + ",cap" + std::to_string(max_loop_iterations) + (checked ? ",checked" : "") +
+                  (optimize ? "" : ",noopt") + ",dev=" + device + ",local=" + local_backend;
+  for (const auto& [name, value] : settings) k += "," + name + "=" + value;
+  return k;
 }
 
 void register_backend(const std::string& name, BackendFactory factory) {
