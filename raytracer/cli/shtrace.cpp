@@ -70,7 +70,7 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
 
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
-                   bool general) {
+                   bool general, bool analyze) {
   Scene scene = scene_for(c);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
@@ -85,6 +85,11 @@ int render_command(const Common& c, const std::string& backend_name, const std::
               r.scene().mesh.triangles(), r.grid().dims[0], r.grid().dims[1], r.grid().dims[2], r.grid().build_ms,
               r.grid().bytes() / 1048576.0, r.features().left_out().c_str());
   if (dump_ir) std::printf("%s\n-- after the passes --\n%s", print(r.program()).c_str(), print_optimized(r.program()).c_str());
+  if (analyze) {
+    for (const Program& k : {raygen_program(r.tables()), intersector_program(r.tables()), r.program()})
+      std::printf("kernel %s (after the passes):\n%s", k.name().c_str(),
+                  analysis::describe(analysis::count_operations(optimize(k.ir()))).c_str());
+  }
   RenderReport report;
   Image image = r.render(&report);
   std::filesystem::path out(output);
@@ -178,7 +183,7 @@ int main(int argc, char** argv) {
   Common common;
   std::string backend_name, output = "out/render.png", aov, eye, look_at, up;
   float fov = 0;
-  bool dump_ir = false, general = false;
+  bool dump_ir = false, general = false, analyze = false;
   std::vector<std::string> bench_backends;
 
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG");
@@ -192,6 +197,7 @@ int main(int argc, char** argv) {
   render->add_option("--fov", fov, "vertical field of view, degrees");
   render->add_flag("--dump-ir", dump_ir, "print the kernel's IR before and after the passes");
   render->add_flag("--general", general, "use the general kernel, not one specialised to the scene");
+  render->add_flag("--analyze", analyze, "print the kernels' operation counts, per loop iteration too");
 
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
@@ -205,7 +211,7 @@ int main(int argc, char** argv) {
     if (backend_name == "mpi") sh::mpi::start();
 #endif
     if (render->parsed())
-      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general);
+      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general, analyze);
     if (bench->parsed()) return bench_command(common, bench_backends);
     return info_command();
   } catch (const Error& e) {

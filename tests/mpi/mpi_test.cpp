@@ -27,7 +27,9 @@ TEST(Mpi, EveryRankComputesAndResultsLandInOrder) {
   for (const PartStats& part : s.parts) {
     elements += part.elements;
     chunks += part.chunks;
-    if (part.part != 0) EXPECT_GT(part.bytes_received, 0u) << "rank " << part.part;
+    if (part.part != 0) {
+      EXPECT_GT(part.bytes_received, 0u) << "rank " << part.part;
+    }
   }
   EXPECT_EQ(elements, xs.size());
   EXPECT_GE(chunks, 8u * s.parts.size()) << "many more chunks than ranks";

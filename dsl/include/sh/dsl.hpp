@@ -9,6 +9,7 @@
 #include "sh/library.hpp"
 #include "sh/matrix.hpp"
 #include "sh/operators.hpp"
+#include "sh/analysis.hpp"
 #include "sh/passes.hpp"
 #include "sh/print.hpp"
 #include "sh/program.hpp"

@@ -1,0 +1,88 @@
+// The cost analysis: counts by class on the paper's ray-plane kernel, per
+// loop iteration, and the critical path under parallel units.
+#include <gtest/gtest.h>
+
+#include <sh/sh.hpp>
+
+#include "../../examples/ray_plane.hpp"
+
+namespace {
+
+using namespace sh;
+using analysis::Unit;
+
+TEST(Analysis, RayPlaneCountsAsThePaperDoes) {
+  analysis::OpCounts c = analysis::count_operations(ray_plane_program().ir()).outside_loops;
+  EXPECT_EQ(c[Unit::Mul], 9u);
+  EXPECT_EQ(c[Unit::Add], 7u);
+  EXPECT_EQ(c[Unit::Div], 1u);
+  EXPECT_EQ(c[Unit::Negate], 2u);
+  EXPECT_EQ(c.total(), 19u);
+}
+
+TEST(Analysis, CriticalPathUnderParallelMultipliers) {
+  ir::Program p = ray_plane_program().ir();
+  analysis::Machine m;
+  m.latency = {4, 1, 9, 1, 1, 1, 1};  // the paper's t_m = 4, t_a = 1; t_d = 9, t_l = 1
+  m.one_at_a_time = true;
+  EXPECT_EQ(analysis::critical_path(p, m), 54u) << "9*4 + 7*1 + 9 + 2*1, one operation at a time";
+  m.one_at_a_time = false;
+  m.units = {1, 1, 1, 1, 1, 1, 1};
+  std::uint64_t one = analysis::critical_path(p, m);
+  // One unit per class: nine multiplications in a row (36 cycles), then the
+  // last product's add and the division (1 + 9), everything else hidden.
+  EXPECT_EQ(one, 46u);
+  m.units = {3, 1, 1, 1, 1, 1, 1};
+  EXPECT_EQ(analysis::critical_path(p, m), 23u);
+  m.units = {9, 3, 1, 1, 1, 1, 1};
+  EXPECT_EQ(analysis::critical_path(p, m), 18u) << "the paper's 1 t_m + 3 t_a + t_d + 2 t_l";
+  m.units = {0, 0, 0, 0, 0, 0, 0};
+  EXPECT_EQ(analysis::critical_path(p, m), 18u) << "the dependence chain itself";
+}
+
+TEST(Analysis, LoopsReportPerIterationAndConstantTripCounts) {
+  Program p = SH_BEGIN_PROGRAM("loops") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x;
+    SH_FOR(Attrib1f i = 0.0f, i < 10.0f, i += 1.0f) { y = y * x + 1.0f; } SH_ENDFOR;
+    SH_WHILE(y > 1.0f) { y = sqrt(y); } SH_ENDWHILE;
+  } SH_END;
+  analysis::Cost c = analysis::count_operations(optimize(p.ir()));
+  ASSERT_EQ(c.loops.size(), 2u);
+  EXPECT_EQ(c.loops[0].trips, std::optional<std::uint64_t>(10));
+  EXPECT_EQ(c.loops[0].per_iteration[Unit::Mul], 1u);
+  EXPECT_EQ(c.loops[0].per_iteration[Unit::Add], 2u);  // y*x+1 and the counter
+  EXPECT_EQ(c.loops[0].per_iteration[Unit::Compare], 1u);
+  EXPECT_EQ((*c.loops[0].total)[Unit::Mul], 10u);
+  EXPECT_FALSE(c.loops[1].trips.has_value()) << "a data-dependent loop has no total";
+  EXPECT_EQ(c.loops[1].per_iteration[Unit::Transcendental], 1u);
+  EXPECT_EQ(c.outside_loops[Unit::Mul], 10u) << "the counted loop folds into the program's total";
+  std::string text = analysis::describe(c);
+  EXPECT_NE(text.find("10 iterations"), std::string::npos) << text;
+  EXPECT_NE(text.find("depend on the data"), std::string::npos) << text;
+}
+
+TEST(Analysis, CriticalPathNeedsStraightLineCode) {
+  Program p = SH_BEGIN_PROGRAM("branchy") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x;
+    SH_IF(x > 0.0f) { y = x * 2.0f; } SH_ENDIF;
+  } SH_END;
+  EXPECT_THROW(analysis::critical_path(p.ir(), analysis::Machine{}), Error);
+}
+
+TEST(Analysis, CountsAreOnePerComponent) {
+  Program p = SH_BEGIN_PROGRAM("wide") {
+    InputAttrib4f a;
+    OutputAttrib4f r;
+    r = a * a + sqrt(a);
+  } SH_END;
+  analysis::OpCounts c = analysis::count_operations(p.ir()).outside_loops;
+  EXPECT_EQ(c[Unit::Mul], 4u);
+  EXPECT_EQ(c[Unit::Add], 4u);
+  EXPECT_EQ(c[Unit::Transcendental], 4u);
+}
+
+}  // namespace
