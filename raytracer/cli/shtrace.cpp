@@ -113,7 +113,8 @@ std::pair<std::vector<float>, std::vector<float>> primary_rays(sh::rt::Renderer&
   Channel<Attrib2f> pixels(pixel_centres(w, h));
   Channel<Point3f> o;
   Channel<Vector3f> d;
-  run(raygen, {pixels}, {o, d}, backend("cpu"));
+  Channel<Attrib2f> pixel;
+  run(raygen, {pixels}, {o, d, pixel}, backend("cpu"));
   return {o.values(), d.values()};
 }
 

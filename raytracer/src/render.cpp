@@ -26,8 +26,9 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   if (settings_.reflections < 0 || settings_.reflections > 64)
     throw Error("reflection depth must be 0..64, got " + std::to_string(settings_.reflections));
   validate(scene_, scene_.name);
-  grid_ = build_grid(scene_);
+  grid_ = build_grid(scene_, settings_.grid_density);
   tables_ = std::make_unique<SceneTables>(scene_, grid_);
+  tables_->set_samples(settings_.pattern, settings_.shadow_samples, settings_.seed);
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
   tables_->set_reflection_depth(settings_.reflections);
   features_ = settings_.specialise ? Features::of(scene_, settings_.reflections) : Features::all();

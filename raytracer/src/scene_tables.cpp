@@ -18,7 +18,14 @@ int at_least_one(std::size_t n) { return static_cast<int>(std::max<std::size_t>(
 }  // namespace
 
 Features Features::of(const Scene& s, int reflection_depth) {
-  return {!s.lights.empty(), s.has_reflections() && reflection_depth > 0, s.has_vertex_colors()};
+  return {!s.lights.empty(), !s.disk_lights.empty(), s.has_reflections() && reflection_depth > 0, s.has_vertex_colors()};
+}
+
+void SceneTables::set_samples(SamplePattern pattern, int n, unsigned seed) {
+  std::vector<float> xy = disk_samples(pattern, n, seed);
+  xy.resize(2 * kMaxShadowSamples, 0.0f);
+  samples.assign(xy);
+  sample_count = n;
 }
 
 std::string Features::left_out() const {
@@ -26,7 +33,8 @@ std::string Features::left_out() const {
   auto add = [&](bool present, const char* what) {
     if (!present) out += (out.empty() ? "" : ", ") + std::string(what);
   };
-  add(shadows, "shadow rays (no lights)");
+  add(shadows, "shadow rays to point lights (none)");
+  add(soft_shadows, "soft shadows (no disk lights)");
   add(reflections, "reflection loop (no reflective material, or depth 0)");
   add(vertex_colors, "vertex colours (none in the scene)");
   return out.empty() ? "nothing" : out;
@@ -42,7 +50,9 @@ SceneTables::SceneTables(const Scene& scene, const Grid& grid)
       colors(at_least_one(scene.mesh.colors.size())),
       material(at_least_one(scene.mesh.triangles())),
       materials(at_least_one(2 * scene.materials.size())),
-      lights(at_least_one(2 * scene.lights.size())) {
+      lights(at_least_one(2 * scene.lights.size())),
+      disks(at_least_one(4 * scene.disk_lights.size())),
+      samples(kMaxShadowSamples) {
   cell_start.name("cell_start").assign(grid.cell_start);
   cell_triangles.name("cell_triangles").assign(grid.cell_triangles);
   grid_lo = Attrib3f(grid.lo.x, grid.lo.y, grid.lo.z);
@@ -75,6 +85,16 @@ SceneTables::SceneTables(const Scene& scene, const Grid& grid)
   }
   lights.name("lights").assign(ls.empty() ? std::vector<float>{0, 0, 0} : flatten(ls));
   light_count = static_cast<std::int32_t>(scene.lights.size());
+  std::vector<Vec3> ds;
+  for (const DiskLight& d : scene.disk_lights) {
+    Vec3 n = normalize(d.normal);
+    Vec3 u = normalize(cross(n, std::fabs(n.x) < 0.9f ? Vec3{1, 0, 0} : Vec3{0, 1, 0})), v = cross(n, u);
+    ds.insert(ds.end(), {d.centre, u * d.radius, v * d.radius, d.color});
+  }
+  disks.name("disks").assign(ds.empty() ? std::vector<float>{0, 0, 0} : flatten(ds));
+  disk_count = static_cast<std::int32_t>(scene.disk_lights.size());
+  samples.name("samples");
+  set_samples(SamplePattern::Random, 16, 1);
   use_vertex_colors = scene.has_vertex_colors() ? 1.0f : 0.0f;
   ambient = scene.ambient;
   background = Attrib3f(scene.background.x, scene.background.y, scene.background.z);

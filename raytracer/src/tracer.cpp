@@ -1,7 +1,8 @@
 // Ray generation and the tracer, after the seed: primary rays from a
 // pinhole camera; at each hit, shadow rays to every light (a recorded loop
-// over the lights table), Phong shading with barycentric normals and
-// colours, and a recorded loop of reflections to a set depth.
+// over the lights table) and to sample points of every disk light, Phong
+// shading with barycentric normals and colours, and a recorded loop of
+// reflections to a set depth.
 #include "sh/raytracer/kernels.hpp"
 
 namespace sh::rt {
@@ -42,7 +43,11 @@ Point3f lift(const SceneTables& s, const Surface& x) {
   return x.p + x.n * offset;
 }
 
-// Direct light from every light the point sees: Phong, shadowed.
+Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const Attrib1f& facing) {
+  return x.diffuse * facing + x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
+}
+
+// Direct light from every point light the point sees: Phong, shadowed.
 Color3f direct(const SceneTables& s, const Surface& x, const Vector3f& view) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
   Point3f from = lift(s, x);
@@ -57,11 +62,49 @@ Color3f direct(const SceneTables& s, const Surface& x, const Vector3f& view) {
       Attrib1i blocker;
       Attrib2f uv;
       Attrib1f shadowed = intersect(s, from, dir, dist, t, blocker, uv);
-      Attrib1f specular = x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
-      sum += (1.0f - shadowed) * (x.diffuse * facing + specular) * light_color;
+      sum += (1.0f - shadowed) * phong(x, view, dir, facing) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;
   return sum;
+}
+
+// Light from every disk light: Phong towards its centre, times the share
+// of shadow rays to its sample points that reach it.  The samples are
+// turned by a per-pixel angle so the pattern does not repeat in the
+// penumbra.
+Color3f soft_direct(const SceneTables& s, const Surface& x, const Vector3f& view, const Attrib2f& turn) {
+  Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
+  Point3f from = lift(s, x);
+  SH_FOR(Attrib1i l = 0, l < s.disk_count, l += 1) {
+    Attrib3f centre = s.disks[4 * l], du = s.disks[4 * l + 1], dv = s.disks[4 * l + 2], color = s.disks[4 * l + 3];
+    Vector3f to_centre = centre - from;
+    Vector3f dir = to_centre / length(to_centre);
+    Attrib1f facing = dot(x.n, dir);
+    SH_IF(facing > 0.0f) {
+      Attrib1f reached = 0.0f;
+      SH_FOR(Attrib1i k = 0, k < s.sample_count, k += 1) {
+        Attrib2f xy = s.samples[k];
+        Attrib1f a = xy(0) * turn(0) - xy(1) * turn(1), b = xy(0) * turn(1) + xy(1) * turn(0);
+        Vector3f to_sample = centre + a * du + b * dv - from;
+        Attrib1f dist = length(to_sample);
+        Attrib1f t;
+        Attrib1i blocker;
+        Attrib2f uv;
+        reached += 1.0f - intersect(s, from, to_sample / dist, dist, t, blocker, uv);
+      } SH_ENDFOR;
+      sum += reached / s.sample_count.cast<float>() * phong(x, view, dir, facing) * color;
+    } SH_ENDIF;
+  } SH_ENDFOR;
+  return sum;
+}
+
+// cos and sin of a pseudo-random angle per pixel, from integer hashing of
+// the pixel (the same on every backend).
+Attrib2f pixel_turn(const Attrib2f& pixel) {
+  Attrib2i p = floor(pixel).cast<std::int32_t>();
+  Attrib1i h = p(0) * 1103515245 + p(1) * 12345 + 7;
+  Attrib1f angle = abs((h % 4096).cast<float>()) * (6.2831853f / 4096.0f);
+  return join(cos(angle), sin(angle));
 }
 
 }  // namespace
@@ -71,11 +114,13 @@ Program raygen_program(const SceneTables& s) {
     InputAttrib2f pixel;  // the pixel's centre, (x + 0.5, y + 0.5), row 0 at the top
     OutputPoint3f origin;
     OutputVector3f direction;
+    OutputAttrib2f pixel_out;  // passed on: soft shadows turn their samples by it
     Attrib1f aspect = s.image_size(0) / s.image_size(1);
     Attrib2f ndc = 2.0f * pixel / s.image_size - 1.0f;
     Attrib1f x = ndc(0) * s.tan_half_fov * aspect, y = -ndc(1) * s.tan_half_fov;
     origin = s.eye;
     direction = normalize(s.forward + x * s.right + y * s.up);
+    pixel_out = pixel;
   } SH_END;
 }
 
@@ -83,6 +128,7 @@ Program tracer_program(const SceneTables& s, Features f) {
   return SH_BEGIN_PROGRAM("tracer") {
     InputPoint3f origin;
     InputVector3f direction;
+    InputAttrib2f pixel;
     OutputColor3f color;
     OutputAttrib1f distance;   // of the primary hit, -1 where none
     OutputAttrib1i triangle;   // of the primary hit, -1 where none
@@ -93,6 +139,7 @@ Program tracer_program(const SceneTables& s, Features f) {
     triangle = -1;
     Color3f weight = ConstColor3f(1.0f, 1.0f, 1.0f);
     Attrib1f first = 1.0f;
+    Attrib2f turn = f.soft_shadows ? pixel_turn(pixel) : Attrib2f(1.0f, 0.0f);
 
     // One bounce: shade the hit, or add the background and stop.
     auto bounce = [&](bool in_loop) {
@@ -110,6 +157,7 @@ Program tracer_program(const SceneTables& s, Features f) {
         Surface x = surface_at(s, o, d, t, tri, uv, f);
         Color3f local = s.ambient * x.diffuse;
         if (f.shadows) local += direct(s, x, -d);
+        if (f.soft_shadows) local += soft_direct(s, x, -d, turn);
         if (f.reflections) {
           color += weight * (1.0f - x.reflectivity) * local;
           weight *= x.reflectivity;

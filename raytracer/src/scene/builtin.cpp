@@ -84,15 +84,34 @@ Scene procedural(std::size_t triangles) {
   return s;
 }
 
+// The soft-shadow paper's scene: a sphere above a plane, lit by one or two
+// 4 cm disk lights (units are metres).
+Scene soft(int lights) {
+  Scene s;
+  s.name = lights == 1 ? "soft" : "soft2";
+  int floor = material(s, "floor", {0.8f, 0.8f, 0.8f});
+  int ball = material(s, "ball", {0.8f, 0.3f, 0.2f}, 0.4f, 40);
+  add_quad(s, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, floor);
+  add_sphere(s, {0, 0.35f, 0}, 0.25f, ball, 48);
+  s.disk_lights.push_back({{0.3f, 1.4f, 0.2f}, {0, -1, 0}, 0.02f, {0.9f, 0.9f, 0.85f}});
+  if (lights == 2) s.disk_lights.push_back({{-0.5f, 1.2f, -0.1f}, {0, -1, 0}, 0.02f, {0.5f, 0.5f, 0.6f}});
+  s.camera = {{0, 1.3f, 1.9f}, {0, 0.1f, 0}, {0, 1, 0}, 40};
+  s.ambient = 0.08f;
+  s.background = {0.2f, 0.2f, 0.25f};
+  return s;
+}
+
 }  // namespace
 
-std::vector<std::string> builtin_scene_names() { return {"cornell", "spheres", "procedural"}; }
+std::vector<std::string> builtin_scene_names() { return {"cornell", "spheres", "procedural", "soft", "soft2"}; }
 
 Scene builtin_scene(const std::string& name, std::size_t triangles) {
   if (name == "cornell") return cornell();
   if (name == "spheres") return spheres();
   if (name == "procedural") return procedural(triangles);
-  throw Error("unknown built-in scene '" + name + "' (built in: cornell, spheres, procedural)");
+  if (name == "soft") return soft(1);
+  if (name == "soft2") return soft(2);
+  throw Error("unknown built-in scene '" + name + "' (built in: cornell, spheres, procedural, soft, soft2)");
 }
 
 }  // namespace sh::rt

@@ -117,9 +117,21 @@ void read_lights(const Reader& r, const json& j, Scene& s) {
   if (!j.is_array()) r.fail("lights", "expected an array");
   for (std::size_t i = 0; i < j.size(); ++i) {
     std::string at = "lights[" + std::to_string(i) + "]";
+    std::string type = j[i].is_object() ? j[i].value("type", "point") : "point";
+    if (type == "disk") {
+      r.only(j[i], at, {"type", "center", "normal", "radius", "color"});
+      DiskLight d;
+      d.centre = r.vec3(r.required(j[i], at, "center"), at + ".center");
+      d.normal = r.vec3(j[i], at, "normal", d.normal);
+      d.radius = r.number(j[i], at, "radius", d.radius);
+      d.color = r.vec3(j[i], at, "color", d.color);
+      if (d.radius < 0) r.fail(at + ".radius", "must not be negative");
+      if (length(d.normal) == 0) r.fail(at + ".normal", "must not be zero");
+      s.disk_lights.push_back(d);
+      continue;
+    }
     r.only(j[i], at, {"type", "position", "color"});
-    std::string type = j[i].value("type", "point");
-    if (type != "point") r.fail(at + ".type", "unknown light type '" + type + "' (known: point)");
+    if (type != "point") r.fail(at + ".type", "unknown light type '" + type + "' (known: point, disk)");
     s.lights.push_back({r.vec3(r.required(j[i], at, "position"), at + ".position"), r.vec3(j[i], at, "color", {1, 1, 1})});
   }
 }

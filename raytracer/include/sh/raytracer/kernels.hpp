@@ -11,6 +11,7 @@
 #include <sh/dsl.hpp>
 
 #include "sh/raytracer/grid.hpp"
+#include "sh/raytracer/sampling.hpp"
 #include "sh/raytracer/scene.hpp"
 
 namespace sh::rt {
@@ -20,6 +21,7 @@ namespace sh::rt {
 // reflective materials, no colour reads without per-vertex colours.
 struct Features {
   bool shadows = true;
+  bool soft_shadows = true;
   bool reflections = true;
   bool vertex_colors = true;
 
@@ -35,6 +37,8 @@ class SceneTables {
   void set_camera(const Camera& c, int width, int height);
   void set_reflection_depth(int depth) { max_bounces = static_cast<float>(depth); }
   void set_light_count(int n) { light_count = n; }
+  // The disk samples every shading point uses (rotated per pixel).
+  void set_samples(SamplePattern pattern, int n, unsigned seed);
 
   // Grid.
   Table3D<Attrib1i> cell_start;
@@ -49,6 +53,12 @@ class SceneTables {
   Table1D<Attrib4f> materials;
   Table1D<Attrib3f> lights;
   Attrib1i light_count;
+  // Disk lights, four entries each: centre, radius * u, radius * v (u, v
+  // spanning the disk), colour; and the unit-disk samples.
+  Table1D<Attrib3f> disks;
+  Attrib1i disk_count;
+  Table1D<Attrib2f> samples;
+  Attrib1i sample_count;
   Attrib1f use_vertex_colors;  // 0 or 1: the general kernel's switch
   Attrib1f max_bounces, ambient, surface_offset;
   Attrib3f background;
@@ -64,8 +74,8 @@ class SceneTables {
 Attrib1f intersect(const SceneTables& s, const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t,
                    Attrib1i& triangle, Attrib2f& uv);
 
-Program raygen_program(const SceneTables& s);       // pixel centre -> origin, direction
+Program raygen_program(const SceneTables& s);       // pixel centre -> origin, direction, pixel centre
 Program intersector_program(const SceneTables& s);  // origin, direction -> t, triangle
-Program tracer_program(const SceneTables& s, Features f);  // origin, direction -> colour, t, triangle
+Program tracer_program(const SceneTables& s, Features f);  // origin, direction, pixel -> colour, t, triangle
 
 }  // namespace sh::rt

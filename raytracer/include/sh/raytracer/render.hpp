@@ -27,6 +27,10 @@ struct RenderSettings {
   std::string backend;         // empty: the default backend
   Options options;
   bool specialise = true;      // kernels hold only what the scene needs
+  int shadow_samples = 16;     // per disk light and shading point
+  SamplePattern pattern = SamplePattern::Random;
+  unsigned seed = 1;           // of the sample set
+  double grid_density = 2.0;   // grid cells per triangle
   bool progress = false;       // a progress line on stderr (when it is a terminal)
 };
 

@@ -27,6 +27,15 @@ struct PointLight {
   Vec3 color{1, 1, 1};
 };
 
+// A disk light (soft shadows): sampled with several shadow rays per
+// shading point.  A radius of zero is a point light.
+struct DiskLight {
+  Vec3 centre;
+  Vec3 normal{0, -1, 0};
+  float radius = 0.02f;
+  Vec3 color{1, 1, 1};
+};
+
 struct Material {
   std::string name;
   Vec3 diffuse{0.8f, 0.8f, 0.8f};
@@ -51,6 +60,7 @@ struct Scene {
   std::string name;
   Camera camera;
   std::vector<PointLight> lights;
+  std::vector<DiskLight> disk_lights;
   std::vector<Material> materials;
   Mesh mesh;
   Vec3 background{0.05f, 0.05f, 0.08f};
@@ -83,8 +93,10 @@ void add_sphere(Scene& s, Vec3 centre, float radius, int material, int segments 
 void add_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int material);
 void add_box(Scene& s, Vec3 lo, Vec3 hi, int material);
 
-// Built-in scenes: "cornell", "spheres" (the flagship) and "procedural"
-// (about `triangles` triangles).  Unknown names throw sh::Error.
+// Built-in scenes: "cornell", "spheres" (the flagship), "procedural"
+// (about `triangles` triangles), and the soft-shadow paper's "soft" (a
+// sphere on a plane under a 4 cm disk light) and "soft2" (two such
+// lights).  Unknown names throw sh::Error.
 Scene builtin_scene(const std::string& name, std::size_t triangles = 100000);
 std::vector<std::string> builtin_scene_names();
 
