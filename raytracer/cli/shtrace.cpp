@@ -10,6 +10,7 @@
 #include <sh/sh.hpp>
 
 #include "embree_anchor.hpp"
+#include "tradeoff.hpp"
 
 namespace {
 
@@ -20,6 +21,9 @@ struct Common {
   std::string scene = "spheres";
   std::string size = "640x480";
   int reflections = 3;
+  int samples = 16;
+  std::string pattern = "random";
+  double grid_density = 2.0;
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;
@@ -34,6 +38,11 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--precision", c.precision, "f32 or f64")->check(CLI::IsMember({"f32", "f64"}))->capture_default_str();
   app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
   app->add_option("--threads", c.threads, "CPU threads (0: all)")->capture_default_str();
+  app->add_option("--samples", c.samples, "shadow rays per disk light and shading point")
+      ->capture_default_str()->check(CLI::Range(1, kMaxShadowSamples));
+  app->add_option("--pattern", c.pattern, "disk sample pattern: random or pseudo")
+      ->check(CLI::IsMember({"random", "pseudo"}))->capture_default_str();
+  app->add_option("--grid-density", c.grid_density, "grid cells per triangle")->capture_default_str()->check(CLI::Range(0.01, 64.0));
 }
 
 std::pair<int, int> parse_size(const std::string& s) {
@@ -65,6 +74,9 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.options.precision = c.precision == "f64" ? Precision::F64 : Precision::F32;
   s.options.math = c.math == "fast" ? MathMode::Fast : MathMode::Precise;
   s.options.threads = c.threads;
+  s.shadow_samples = c.samples;
+  s.pattern = parse_pattern(c.pattern);
+  s.grid_density = c.grid_density;
   return s;
 }
 
@@ -204,6 +216,14 @@ int main(int argc, char** argv) {
   add_common(bench, common);
   bench->add_option("--backends", bench_backends, "backends to run (default: all built)");
 
+  shtrace::TradeoffOptions tradeoff_options;
+  std::string tradeoff_size = "200x150";
+  CLI::App* trade = app.add_subcommand("tradeoff", "a grid of settings against a converged reference: CSV and plot");
+  trade->add_option("--scene", tradeoff_options.scene, "scene (default: soft)")->capture_default_str();
+  trade->add_option("--size", tradeoff_size, "image size")->capture_default_str();
+  trade->add_option("--backends", tradeoff_options.backends, "backends (default: cpu and opencl)");
+  trade->add_option("--out", tradeoff_options.out, "writes OUT.csv, OUT.gp and OUT.png")->capture_default_str();
+
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -214,6 +234,10 @@ int main(int argc, char** argv) {
     if (render->parsed())
       return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general, analyze);
     if (bench->parsed()) return bench_command(common, bench_backends);
+    if (trade->parsed()) {
+      std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);
+      return shtrace::tradeoff(tradeoff_options);
+    }
     return info_command();
   } catch (const Error& e) {
     std::fprintf(stderr, "shtrace: %s\n", e.what());
