@@ -1,0 +1,113 @@
+// Soft shadows at the extremes: a disk of radius 0 is a point light, huge
+// disks, lights touching a surface, grazing light, one sample, f32 against
+// f64 far from the origin; both sample patterns on every backend.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <sh/raytracer.hpp>
+#include <sh/sh.hpp>
+
+namespace {
+
+using namespace sh::rt;
+
+Image render(const Scene& s, const std::string& backend, int samples = 8, SamplePattern p = SamplePattern::Random,
+             sh::Precision precision = sh::Precision::F32, int w = 48, int h = 36) {
+  RenderSettings settings;
+  settings.width = w;
+  settings.height = h;
+  settings.backend = backend;
+  settings.shadow_samples = samples;
+  settings.pattern = p;
+  settings.options.precision = precision;
+  return Renderer(s, settings).render();
+}
+
+void expect_finite(const Image& img, const std::string& what) {
+  for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v) && v >= 0) << what << ": " << v;
+}
+
+TEST(SoftShadows, DiskOfRadiusZeroIsAPointLight) {
+  Scene disk = builtin_scene("soft");
+  disk.disk_lights[0].radius = 0;
+  Scene point = disk;
+  point.lights.push_back({disk.disk_lights[0].centre, disk.disk_lights[0].color});
+  point.disk_lights.clear();
+  Image a = render(disk, "cpu", 4), b = render(point, "cpu");
+  EXPECT_EQ(share_within(a, b, 0.0f), 1.0);
+}
+
+TEST(SoftShadows, ExtremeDisksStayFinite) {
+  Scene huge = builtin_scene("soft");
+  huge.disk_lights[0].radius = 100;
+  expect_finite(render(huge, "cpu"), "huge disk");
+  Scene touching = builtin_scene("soft");
+  touching.disk_lights[0].centre = {0.6f, 0.0f, 0.3f};  // on the floor
+  touching.disk_lights[0].normal = {0, 1, 0};
+  expect_finite(render(touching, "cpu"), "light touching the floor");
+  Scene grazing = builtin_scene("soft");
+  grazing.disk_lights[0].centre = {-30.0f, 0.01f, 0.0f};  // the floor sees it edge on
+  grazing.disk_lights[0].normal = {1, 0, 0};
+  Image g = render(grazing, "cpu");
+  expect_finite(g, "grazing light");
+}
+
+TEST(SoftShadows, OneSampleGivesAHardShadowAndMoreSamplesConverge) {
+  Scene s = builtin_scene("soft");
+  Image reference = render(s, "cpu", 256);
+  double one = psnr(reference, render(s, "cpu", 1)), many = psnr(reference, render(s, "cpu", 64));
+  EXPECT_GT(many, one) << "64 samples are closer to 256 than 1 is";
+}
+
+TEST(SoftShadows, PseudoRandomPatternIsTheCentreThenARing) {
+  std::vector<float> xy = disk_samples(SamplePattern::PseudoRandom, 9, 3);
+  EXPECT_EQ(xy[0], 0.f);
+  EXPECT_EQ(xy[1], 0.f);
+  for (int i = 1; i < 9; ++i) {
+    float r = std::hypot(xy[2 * i], xy[2 * i + 1]);
+    EXPECT_GE(r, 0.3f - 1e-6f);
+    EXPECT_LE(r, 1.0f + 1e-6f);
+    float theta = 2 * 3.14159265f * static_cast<float>(i) / 8;  // evenly spaced angles
+    EXPECT_NEAR(xy[2 * i] / r, std::cos(theta), 1e-5);
+    EXPECT_NEAR(xy[2 * i + 1] / r, std::sin(theta), 1e-5);
+  }
+  std::vector<float> random = disk_samples(SamplePattern::Random, 64, 5);
+  for (int i = 0; i < 64; ++i) EXPECT_LE(std::hypot(random[2 * i], random[2 * i + 1]), 1.0f);
+  EXPECT_THROW(disk_samples(SamplePattern::Random, 0, 1), sh::Error);
+}
+
+TEST(SoftShadows, F32AgainstF64FarFromTheOrigin) {
+  Scene s = builtin_scene("soft");
+  Vec3 offset{1e4f, 1e4f, 1e4f};
+  for (Vec3& p : s.mesh.positions) p = p + offset;
+  for (DiskLight& d : s.disk_lights) d.centre = d.centre + offset;
+  s.camera.eye = s.camera.eye + offset;
+  s.camera.look_at = s.camera.look_at + offset;
+  double db = psnr(render(s, "cpu", 16, SamplePattern::Random, sh::Precision::F64),
+                   render(s, "cpu", 16, SamplePattern::Random, sh::Precision::F32));
+  RecordProperty("psnr_f32_vs_f64_at_1e4", static_cast<int>(db));
+  EXPECT_GT(db, 30.0) << "f32 at 1e4 from the origin";
+}
+
+class SoftShadowBackends : public testing::TestWithParam<std::string> {};
+
+TEST_P(SoftShadowBackends, BothPatternsAgreeWithInterp) {
+  for (SamplePattern p : {SamplePattern::Random, SamplePattern::PseudoRandom}) {
+    Scene s = builtin_scene("soft2");
+    Image reference = render(s, "interp", 8, p), image = render(s, GetParam(), 8, p);
+    EXPECT_GE(share_within(reference, image, 1.0f / 255), 0.999) << pattern_name(p) << " on " << GetParam();
+  }
+}
+
+std::vector<std::string> image_backends() {
+  std::vector<std::string> out;
+  for (const std::string& b : sh::backend_names())
+    if (b != "mpi" && b != "interp") out.push_back(b);
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, SoftShadowBackends, testing::ValuesIn(image_backends()),
+                         [](const testing::TestParamInfo<std::string>& i) { return i.param; });
+
+}  // namespace
