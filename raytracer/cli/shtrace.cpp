@@ -82,7 +82,7 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
 
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
-                   bool general, bool analyze) {
+                   bool general, bool analyze, int frames) {
   Scene scene = scene_for(c);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
@@ -104,6 +104,14 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   }
   RenderReport report;
   Image image = r.render(&report);
+  double compile_ms = report.compile_ms, best_ms = report.render_ms;
+  for (int f = 1; f < frames; ++f) {  // later frames: warm, the kernel cached
+    RenderReport again;
+    r.render(&again);
+    best_ms = std::min(best_ms, again.render_ms);
+  }
+  report.compile_ms = compile_ms;
+  report.render_ms = best_ms;
   std::filesystem::path out(output);
   if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
   write_png(output, image);
@@ -112,9 +120,10 @@ int render_command(const Common& c, const std::string& backend_name, const std::
     std::vector<float> ids(image.triangle.begin(), image.triangle.end());
     write_pfm(aov + "_triangle.pfm", image.width, image.height, ids);
   }
-  std::printf("rendered %dx%d on %s: compile %.1f ms, render %.1f ms (%.2f Mrays/s primary)\nimage: %s\n", image.width,
-              image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
-              report.rays / (report.render_ms * 1e3), std::filesystem::absolute(output).c_str());
+  std::printf("rendered %dx%d on %s: compile %.1f ms, render %.1f ms%s (%.2f Mrays/s primary, %.2f fps)\nimage: %s\n",
+              image.width, image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
+              frames > 1 ? " (best warm frame)" : "", report.rays / (report.render_ms * 1e3), 1000.0 / report.render_ms,
+              std::filesystem::absolute(output).c_str());
   if (!aov.empty()) std::printf("aov: %s_distance.pfm, %s_triangle.pfm\n", aov.c_str(), aov.c_str());
   return 0;
 }
@@ -197,6 +206,7 @@ int main(int argc, char** argv) {
   std::string backend_name, output = "out/render.png", aov, eye, look_at, up;
   float fov = 0;
   bool dump_ir = false, general = false, analyze = false;
+  int frames = 1;
   std::vector<std::string> bench_backends;
 
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG");
@@ -211,6 +221,7 @@ int main(int argc, char** argv) {
   render->add_flag("--dump-ir", dump_ir, "print the kernel's IR before and after the passes");
   render->add_flag("--general", general, "use the general kernel, not one specialised to the scene");
   render->add_flag("--analyze", analyze, "print the kernels' operation counts, per loop iteration too");
+  render->add_option("--frames", frames, "render this many frames and report the best warm one")->check(CLI::Range(1, 1000));
 
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
@@ -232,7 +243,7 @@ int main(int argc, char** argv) {
     if (backend_name == "mpi") sh::mpi::start();
 #endif
     if (render->parsed())
-      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general, analyze);
+      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general, analyze, frames);
     if (bench->parsed()) return bench_command(common, bench_backends);
     if (trade->parsed()) {
       std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);
