@@ -45,9 +45,7 @@ class CpuKernel : public Kernel {
     });
     if (status[0] != 0) {
       const ir::Stmt* loop = jitted_.loops().at(static_cast<std::size_t>(status[0] - 1));
-      throw Error("program '" + program_.name + "': element " + std::to_string(status[1]) + " ran a loop more than " +
-                  std::to_string(options_.max_loop_iterations) + " iterations (`" + ir::print(program_, *loop) +
-                  "`); raise Options::max_loop_iterations if that is intended");
+      throw runaway_loop(program_, *loop, static_cast<std::uint64_t>(status[1]), options_.max_loop_iterations);
     }
   }
 

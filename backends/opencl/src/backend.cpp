@@ -76,7 +76,7 @@ class OpenClKernel : public Kernel {
             where("reading an output"));
     check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
           where("finishing the run"));
-    if (status[0] != 0) throw Error(runaway(status[0], status[1]));
+    if (status[0] != 0) throw runaway(status[0], status[1]);
   }
 
   std::string listing() const override { return source_; }
@@ -127,20 +127,18 @@ class OpenClKernel : public Kernel {
     }
   }
 
-  std::string runaway(cl_long loop, cl_long element) const {
-    std::string which;
+  Error runaway(cl_long loop, cl_long element) const {
     int n = 0;
+    const ir::Stmt* which = nullptr;
     find_loop(program_.body, loop, n, which);
-    return "program '" + program_.name + "': element " + std::to_string(element) + " ran a loop more than " +
-           std::to_string(options_.max_loop_iterations) + " iterations (`" + which +
-           "`); raise Options::max_loop_iterations if that is intended";
+    return runaway_loop(program_, *which, static_cast<std::uint64_t>(element), options_.max_loop_iterations);
   }
 
   // Loops are numbered in the order the generator meets them.
-  void find_loop(const ir::Block& b, cl_long wanted, int& n, std::string& out) const {
+  void find_loop(const ir::Block& b, cl_long wanted, int& n, const ir::Stmt*& out) const {
     for (const ir::Stmt& s : b) {
       if (auto* l = std::get_if<ir::Loop>(&s.node)) {
-        if (++n == wanted) out = ir::print(program_, s);
+        if (++n == wanted) out = &s;
         find_loop(l->header, wanted, n, out);
         find_loop(l->body, wanted, n, out);
         find_loop(l->update, wanted, n, out);

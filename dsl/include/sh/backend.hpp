@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "sh/error.hpp"
 #include "sh/ir/eval.hpp"
 #include "sh/ir/program.hpp"
 #include "sh/program.hpp"
@@ -95,6 +96,10 @@ class Backend {
   // Devices or platform in one line each, for `info`.
   virtual std::vector<std::string> describe() const { return {}; }
 };
+
+// The error every backend gives when an element runs a loop past
+// Options::max_loop_iterations: names the program, the element and the loop.
+Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t element, std::uint64_t cap);
 
 using BackendFactory = std::function<std::unique_ptr<Backend>()>;
 void register_backend(const std::string& name, BackendFactory factory);

@@ -87,9 +87,7 @@ class Machine {
     };
     for (std::uint64_t n = 0;; ++n) {
       if (n >= o_.max_loop_iterations)
-        throw Error("program '" + p_.name + "': element " + std::to_string(element_) + " ran a loop more than " +
-                    std::to_string(o_.max_loop_iterations) + " iterations (`" + ir::print(p_, s) +
-                    "`); raise Options::max_loop_iterations if that is intended");
+        throw runaway_loop(p_, s, element_, o_.max_loop_iterations);
       if (l.test_at_top && !keep_going()) break;
       if (block(l.body) == Flow::Break) break;
       block(l.update);

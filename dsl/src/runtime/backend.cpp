@@ -7,6 +7,7 @@
 
 #include "../interp/interp.hpp"
 #include "sh/error.hpp"
+#include "sh/ir/printer.hpp"
 #include "sh/passes.hpp"
 
 namespace sh {
@@ -105,6 +106,12 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
 }
 
 }  // namespace
+
+Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t element, std::uint64_t cap) {
+  return Error("program '" + p.name + "': element " + std::to_string(element) + " ran a loop more than " +
+               std::to_string(cap) + " iterations (`" + ir::print(p, loop) +
+               "`); raise Options::max_loop_iterations if that is intended");
+}
 
 std::string Options::key() const {
   std::string k = std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
