@@ -253,5 +253,8 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     std::fprintf(stderr, "shtrace: %s\n", e.what());
     return 1;
+  } catch (const std::exception& e) {  // the file system, memory: still a message, not a crash
+    std::fprintf(stderr, "shtrace: %s\n", e.what());
+    return 1;
   }
 }
