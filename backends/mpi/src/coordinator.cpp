@@ -19,8 +19,8 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 std::size_t element_bytes(ir::Type t) { return static_cast<std::size_t>(t.width) * ir::storage_bytes(t.scalar); }
 
 // Tables the serving ranks hold, by identity, at the version they hold.
-std::map<const void*, std::uint64_t>& tables_sent() {
-  static std::map<const void*, std::uint64_t> sent;
+std::map<std::uint64_t, std::uint64_t>& tables_sent() {
+  static std::map<std::uint64_t, std::uint64_t> sent;
   return sent;
 }
 
@@ -127,13 +127,13 @@ class Coordinator : public Kernel {
     Packer p;
     p.put(Command::Run).put(id_);
     for (const TableView& table : args.tables) {
-      p.put(reinterpret_cast<std::uint64_t>(table.identity));
-      auto it = tables_sent().find(table.identity);
+      p.put(table.id);
+      auto it = tables_sent().find(table.id);
       bool fresh = it == tables_sent().end() || it->second != table.version;
       p.put(fresh);
       if (!fresh) continue;
       p.put(table.version).put(table).put(static_cast<std::uint64_t>(table.bytes())).raw(table.data, table.bytes());
-      tables_sent()[table.identity] = table.version;
+      tables_sent()[table.id] = table.version;
     }
     bool changed = args.uniforms != uniforms_sent_;
     p.put(changed);

@@ -95,8 +95,8 @@ class Worker {
 
   void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args) {
     for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
-      auto identity = u.get<std::uint64_t>();
-      Table& table = tables_[identity];
+      auto id = u.get<std::uint64_t>();
+      Table& table = tables_[id];
       if (u.get<bool>()) {
         table.version = u.get<std::uint64_t>();
         table.view = u.get<TableView>();

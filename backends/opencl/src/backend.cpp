@@ -1,4 +1,6 @@
 #include <cstring>
+#include <utility>
+#include <map>
 #include <mutex>
 
 #include "codegen.hpp"
@@ -16,6 +18,10 @@ struct Buffer {
   Buffer() = default;
   Buffer(const Buffer&) = delete;
   Buffer(Buffer&& o) noexcept : mem(o.mem) { o.mem = nullptr; }
+  Buffer& operator=(Buffer&& o) noexcept {
+    std::swap(mem, o.mem);
+    return *this;
+  }
   ~Buffer() {
     if (mem) clReleaseMemObject(mem);
   }
@@ -59,9 +65,7 @@ class OpenClKernel : public Kernel {
       set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_WRITE_ONLY, nullptr, "an output"));
     for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
     for (const TableView& t : args.tables) {
-      std::size_t n = static_cast<std::size_t>(t.dims[0]) * t.dims[1] * t.dims[2];
-      set_buffer(arg++, buffers,
-                 make(bytes(t.element, n), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table"));
+      set(arg++, sizeof(cl_mem), &table_buffer(t));
       for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
     }
     cl_long status[2] = {0, 0};
@@ -99,6 +103,16 @@ class OpenClKernel : public Kernel {
     b.mem = clCreateBuffer(device_->context, flags, size == 0 ? 1 : size, size == 0 ? nullptr : host, &err);
     check(err, where(std::string("allocating ") + what + " of " + std::to_string(size) + " bytes"));
     return b;
+  }
+
+  // Tables stay on the device between runs until their version changes.
+  const cl_mem& table_buffer(const TableView& t) {
+    Cached& c = tables_[t.id];
+    if (!c.buffer.mem || c.version != t.version) {
+      c.buffer = make(t.bytes(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table");
+      c.version = t.version;
+    }
+    return c.buffer.mem;
   }
 
   void set(cl_uint index, std::size_t size, const void* value) {
@@ -152,6 +166,11 @@ class OpenClKernel : public Kernel {
   ir::Program program_;
   Options options_;
   std::shared_ptr<Device> device_;
+  struct Cached {
+    Buffer buffer;
+    std::uint64_t version = 0;
+  };
+  std::map<std::uint64_t, Cached> tables_;
   std::string source_;
   cl_program cl_program_ = nullptr;
   cl_kernel kernel_ = nullptr;

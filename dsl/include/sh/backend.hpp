@@ -48,7 +48,7 @@ struct TableView {
   int rank = 1;
   std::array<int, 3> dims{1, 1, 1};
   const void* data = nullptr;
-  const void* identity = nullptr;  // the table object: with version, says whether it changed
+  std::uint64_t id = 0;       // the table, unique in the process: with version, says whether it changed
   std::uint64_t version = 0;
   std::size_t bytes() const {
     return static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] * element.width * ir::storage_bytes(element.scalar);

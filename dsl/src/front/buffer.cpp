@@ -1,6 +1,13 @@
 #include "sh/detail/buffer.hpp"
 
+#include <atomic>
+
 namespace sh::detail {
+
+TableStorage::TableStorage() {
+  static std::atomic<std::uint64_t> next{1};
+  id = next++;
+}
 
 void Buffer::resize(std::size_t count) {
   count_ = count;

@@ -100,7 +100,7 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
     if (!s.filled)
       throw Error("program '" + p.name + "': table " + std::to_string(t) +
                   (s.decl.name.empty() ? "" : " '" + s.decl.name + "'") + " was never filled");
-    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), &s, s.version});
+    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), s.id, s.version});
   }
   return args;
 }

@@ -35,6 +35,8 @@ class Buffer {
 };
 
 struct TableStorage {
+  TableStorage();
+  std::uint64_t id;  // unique in the process, never reused
   ir::TableDecl decl;
   std::array<int, 3> dims{1, 1, 1};
   Buffer buffer;
