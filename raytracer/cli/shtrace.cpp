@@ -225,14 +225,14 @@ int main(int argc, char** argv) {
 
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
-  bench->add_option("--backends", bench_backends, "backends to run (default: all built)");
+  bench->add_option("--backends", bench_backends, "backends to run, comma-separated (default: all built)")->delimiter(',');
 
   shtrace::TradeoffOptions tradeoff_options;
   std::string tradeoff_size = "200x150";
   CLI::App* trade = app.add_subcommand("tradeoff", "a grid of settings against a converged reference: CSV and plot");
   trade->add_option("--scene", tradeoff_options.scene, "scene (default: soft)")->capture_default_str();
   trade->add_option("--size", tradeoff_size, "image size")->capture_default_str();
-  trade->add_option("--backends", tradeoff_options.backends, "backends (default: cpu and opencl)");
+  trade->add_option("--backends", tradeoff_options.backends, "backends, comma-separated (default: cpu and opencl)")->delimiter(',');
   trade->add_option("--out", tradeoff_options.out, "writes OUT.csv, OUT.gp and OUT.png")->capture_default_str();
 
   app.add_subcommand("info", "backends and OpenCL devices found");
