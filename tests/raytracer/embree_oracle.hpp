@@ -1,11 +1,8 @@
 #pragma once
 // Embree 3 as an independent oracle for the intersector: the same
-// triangles, the same rays, rtcIntersect1.
-#include <embree3/rtcore.h>
-
-#include <vector>
-
-#include <sh/raytracer.hpp>
+// triangles, the same rays, rtcIntersect1, hits at t > 0 as the intersector
+// counts them.
+#include <embree_scene.hpp>
 
 namespace oracle {
 
@@ -17,15 +14,11 @@ struct Hit {
 
 class Embree {
  public:
-  explicit Embree(const sh::rt::Scene& scene);
-  ~Embree();
-  Embree(const Embree&) = delete;
-  Embree& operator=(const Embree&) = delete;
+  explicit Embree(const sh::rt::Scene& scene) : scene_(scene, "threads=1") {}
   Hit intersect(sh::rt::Vec3 o, sh::rt::Vec3 d) const;
 
  private:
-  RTCDevice device_;
-  RTCScene scene_;
+  sh::rt::EmbreeScene scene_;
 };
 
 }  // namespace oracle

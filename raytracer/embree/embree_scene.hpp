@@ -1,0 +1,26 @@
+#pragma once
+// Embree 3 as the tracer's peer: the same triangles in an Embree scene, for
+// the speed anchor of `shtrace bench` and the intersection oracle of the
+// tests.  Not part of the tracer library, which does not need Embree.
+#include <embree3/rtcore.h>
+
+#include <sh/raytracer/scene.hpp>
+
+namespace sh::rt {
+
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(const Scene& scene, const char* device_config = nullptr);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // rtcIntersect1 from o along d for t in [t_near, inf): the filled ray hit.
+  RTCRayHit intersect(Vec3 o, Vec3 d, float t_near = 0) const;
+
+ private:
+  RTCDevice device_;
+  RTCScene scene_;
+};
+
+}  // namespace sh::rt
