@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstring>
 #include <utility>
 #include <map>
@@ -58,11 +59,23 @@ class OpenClKernel : public Kernel {
     cl_uint arg = 0;
     cl_long count = static_cast<cl_long>(args.count);
     set(arg++, sizeof count, &count);
-    for (const BufferView& b : args.inputs)
-      set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, b.data, "an input"));
+    // On a device that shares host memory the streams are used in place;
+    // elsewhere they are copied.  An output that is also an input (an
+    // in-out channel) is copied, since buffers over one host region may not
+    // overlap.
+    for (const BufferView& b : args.inputs) {
+      cl_mem_flags where = device_->unified ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR;
+      set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_READ_ONLY | where, b.data, "an input"));
+    }
     std::size_t first_output = buffers.size();
-    for (const BufferView& b : args.outputs)
-      set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_WRITE_ONLY, nullptr, "an output"));
+    std::vector<bool> in_place;
+    for (const BufferView& b : args.outputs) {
+      bool shared = std::any_of(args.inputs.begin(), args.inputs.end(), [&](const BufferView& in) { return in.data == b.data; });
+      in_place.push_back(device_->unified && !shared);
+      set_buffer(arg++, buffers,
+                 make(bytes(b.type, b.count), CL_MEM_WRITE_ONLY | (in_place.back() ? CL_MEM_USE_HOST_PTR : 0),
+                      in_place.back() ? b.data : nullptr, "an output"));
+    }
     for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
     for (const TableView& t : args.tables) {
       set(arg++, sizeof(cl_mem), &table_buffer(t));
@@ -74,10 +87,22 @@ class OpenClKernel : public Kernel {
     std::size_t global = args.count;
     check(clEnqueueNDRangeKernel(device_->queue, kernel_, 1, nullptr, &global, nullptr, 0, nullptr, nullptr),
           where("launching the kernel"));
-    for (std::size_t o = 0; o < args.outputs.size(); ++o)
-      check(clEnqueueReadBuffer(device_->queue, buffers[first_output + o].mem, CL_FALSE, 0,
-                                bytes(args.outputs[o].type, args.outputs[o].count), args.outputs[o].data, 0, nullptr, nullptr),
-            where("reading an output"));
+    for (std::size_t o = 0; o < args.outputs.size(); ++o) {
+      std::size_t size = bytes(args.outputs[o].type, args.outputs[o].count);
+      cl_mem mem = buffers[first_output + o].mem;
+      if (!in_place[o] || size == 0) {
+        check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, size, args.outputs[o].data, 0, nullptr, nullptr),
+              where("reading an output"));
+        continue;
+      }
+      // Mapping makes the host memory current (a copy only where the
+      // implementation kept its own).
+      cl_int err = CL_SUCCESS;
+      void* mapped = clEnqueueMapBuffer(device_->queue, mem, CL_TRUE, CL_MAP_READ, 0, size, 0, nullptr, nullptr, &err);
+      check(err, where("mapping an output"));
+      if (mapped != args.outputs[o].data) std::memcpy(args.outputs[o].data, mapped, size);
+      check(clEnqueueUnmapMemObject(device_->queue, mem, mapped, 0, nullptr, nullptr), where("unmapping an output"));
+    }
     check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
           where("finishing the run"));
     if (status[0] != 0) throw runaway(status[0], status[1]);
@@ -99,7 +124,7 @@ class OpenClKernel : public Kernel {
     Buffer b;
     cl_int err = CL_SUCCESS;
     // OpenCL has no empty buffers: an empty one is a byte that is never read.
-    if (size == 0) flags &= ~static_cast<cl_mem_flags>(CL_MEM_COPY_HOST_PTR);
+    if (size == 0) flags &= ~static_cast<cl_mem_flags>(CL_MEM_COPY_HOST_PTR | CL_MEM_USE_HOST_PTR);
     b.mem = clCreateBuffer(device_->context, flags, size == 0 ? 1 : size, size == 0 ? nullptr : host, &err);
     check(err, where(std::string("allocating ") + what + " of " + std::to_string(size) + " bytes"));
     return b;

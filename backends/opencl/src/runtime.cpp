@@ -126,6 +126,9 @@ std::shared_ptr<Device> open_device(const std::string& choice) {
   clGetDeviceInfo(f.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
   d->fp64 = fp64 != 0;
   clGetDeviceInfo(f.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof d->max_alloc, &d->max_alloc, nullptr);
+  cl_bool unified = CL_FALSE;
+  clGetDeviceInfo(f.device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified, nullptr);
+  d->unified = unified == CL_TRUE;
   cl_int err = CL_SUCCESS;
   d->context = clCreateContext(nullptr, 1, &f.device, nullptr, nullptr, &err);
   check(err, "creating an OpenCL context on " + d->name);

@@ -20,6 +20,7 @@ struct Device {
   cl_device_id id = nullptr;
   std::string name, platform_name;
   bool fp64 = false;
+  bool unified = false;  // shares the host's memory (a CPU device such as PoCL's)
   cl_ulong max_alloc = 0;
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
