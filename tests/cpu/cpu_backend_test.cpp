@@ -109,3 +109,50 @@ TEST(CpuBackend, TableReadsStayInsideTheBufferForAnyIndex) {
 }
 
 }  // namespace
+
+#include <filesystem>
+#include <fstream>
+
+namespace {
+
+TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(testing::TempDir()) / "sh_object_cache_test";
+  fs::remove_all(dir);
+  setenv("SH_CACHE_DIR", dir.c_str(), 1);
+  sh::Program p = polynomial();
+  sh::ir::Program ir = sh::optimize(p.ir());
+  sh::Backend& cpu = sh::find_backend("cpu");
+  auto first = cpu.compile(ir, sh::Options{});
+  EXPECT_EQ(first->listing().find("loaded from the object cache"), std::string::npos);
+  std::size_t objects = 0;
+  for (const auto& f : fs::directory_iterator(dir)) objects += f.path().extension() == ".o";
+  EXPECT_EQ(objects, 1u);
+  auto second = cpu.compile(ir, sh::Options{});
+  EXPECT_NE(second->listing().find("loaded from the object cache"), std::string::npos);
+  EXPECT_NE(second->listing().find("define void @sh_kernel"), std::string::npos) << "the stored listing comes back";
+
+  sh::Channel<sh::Attrib1f> x(std::vector<float>{1, 2}), y1, y2;
+  auto run_with = [&](sh::Kernel& k, sh::Channel<sh::Attrib1f>& out) {
+    out.resize(2);
+    std::shared_ptr<sh::detail::Buffer> in = x, o = out;
+    sh::RunArgs a;
+    a.count = 2;
+    a.inputs.push_back({in->type(), 2, in->data()});
+    a.outputs.push_back({o->type(), 2, o->data()});
+    sh::RunStats s;
+    k.run(a, s);
+  };
+  run_with(*second, y2);
+  EXPECT_EQ(y2[1], 17.f);
+
+  for (const auto& f : fs::directory_iterator(dir))
+    if (f.path().extension() == ".o") std::ofstream(f.path(), std::ios::binary) << "not an object file";
+  auto third = cpu.compile(ir, sh::Options{});
+  run_with(*third, y1);
+  EXPECT_EQ(y1[1], 17.f) << "a corrupt cache entry is compiled afresh";
+  unsetenv("SH_CACHE_DIR");
+  fs::remove_all(dir);
+}
+
+}  // namespace

@@ -4,6 +4,8 @@
 
 #include <llvm/Analysis/CGSCCPassManager.h>
 #include <llvm/Analysis/LoopAnalysisManager.h>
+#include <llvm/Config/llvm-config.h>
+#include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
@@ -56,6 +58,19 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
 
 Jitted::Jitted(const ir::Program& program, const Options& options) {
   initialise_llvm();
+  try {
+    build(program, options, true);
+  } catch (const Error&) {
+    if (!from_cache()) throw;
+    // A cached object that does not load (truncated, another LLVM): forget
+    // it and compile afresh.
+    cache_->forget();
+    jit_.reset();
+    build(program, options, false);
+  }
+}
+
+void Jitted::build(const ir::Program& program, const Options& options, bool use_cache) {
   auto context = std::make_unique<llvm::LLVMContext>();
   Lowered lowered = lower(program, options, *context);
   loops_ = std::move(lowered.loops);
@@ -74,11 +89,38 @@ Jitted::Jitted(const ir::Program& program, const Options& options) {
   auto machine = unwrap(builder.createTargetMachine(), program, "creating the target machine");
   m.setDataLayout(machine->createDataLayout());
   m.setTargetTriple(machine->getTargetTriple().str());
-  optimise(m, *machine);
-  llvm::raw_string_ostream ir(llvm_ir_);
-  m.print(ir, nullptr);
 
-  jit_ = unwrap(llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(builder).create(), program, "creating the JIT");
+  // The cache key: what the kernel is before optimisation, and everything
+  // the machine code depends on besides.
+  std::string key;
+  llvm::raw_string_ostream k(key);
+  m.print(k, nullptr);
+  k << "|" << options.key() << "|" << builder.getCPU() << "|" << builder.getFeatures().getString() << "|"
+    << LLVM_VERSION_STRING;
+  cache_ = use_cache ? ObjectCache::open(k.str()) : std::nullopt;
+  if (cache_ && cache_->has_object()) {
+    llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
+  } else {
+    optimise(m, *machine);
+    llvm::raw_string_ostream ir(llvm_ir_);
+    m.print(ir, nullptr);
+    if (cache_) cache_->store_listing(llvm_ir_);
+  }
+
+  llvm::ObjectCache* cache = cache_ ? &*cache_ : nullptr;
+  jit_ = unwrap(llvm::orc::LLJITBuilder()
+                    .setJITTargetMachineBuilder(builder)
+                    .setCompileFunctionCreator([cache](llvm::orc::JITTargetMachineBuilder jtmb)
+                                                   -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
+                      auto tm = jtmb.createTargetMachine();
+                      if (!tm) return tm.takeError();
+                      return std::make_unique<llvm::orc::TMOwningSimpleCompiler>(std::move(*tm), cache);
+                    })
+                    .create(),
+                program, "creating the JIT");
+  // Failures come back through lookup() as sh::Error; the session's own
+  // report to stderr would only repeat them.
+  jit_->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });
   // Kernels call the C math library (sinf, atan2, ...) of this process.
   auto libm = unwrap(llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(
                          jit_->getDataLayout().getGlobalPrefix()),

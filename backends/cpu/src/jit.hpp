@@ -2,9 +2,11 @@
 // Compiles a lowered module for the host CPU: the O3 pipeline with the
 // host's features, then ORC LLJIT.  The result owns the machine code.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "lower.hpp"
+#include "object_cache.hpp"
 #include "signature.hpp"
 
 namespace llvm::orc {
@@ -20,8 +22,12 @@ class Jitted {
   KernelFn entry() const { return entry_; }
   const std::string& llvm_ir() const { return llvm_ir_; }  // after optimisation
   const std::vector<const ir::Stmt*>& loops() const { return loops_; }
+  bool from_cache() const { return cache_ && cache_->hit(); }
 
  private:
+  void build(const ir::Program& program, const Options& options, bool use_cache);
+
+  std::optional<ObjectCache> cache_;  // outlives the JIT that uses it
   std::unique_ptr<llvm::orc::LLJIT> jit_;
   KernelFn entry_ = nullptr;
   std::string llvm_ir_;

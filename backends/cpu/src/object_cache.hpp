@@ -1,0 +1,36 @@
+#pragma once
+// Machine code kept on disk, so that a kernel compiled once is loaded, not
+// compiled, by later processes.  Keyed by the kernel's unoptimised LLVM IR,
+// the options, the host CPU and the LLVM version; files are written through
+// a temporary and renamed.  Where: $SH_CACHE_DIR, else $XDG_CACHE_HOME/sh,
+// else ~/.cache/sh; SH_CACHE_DIR=off turns it off.  A cache that cannot be
+// written is skipped, never an error.
+#include <llvm/ExecutionEngine/ObjectCache.h>
+
+#include <optional>
+#include <string>
+
+namespace sh::cpu {
+
+class ObjectCache : public llvm::ObjectCache {
+ public:
+  // The cache for `key`, or none when caching is off.
+  static std::optional<ObjectCache> open(const std::string& key);
+
+  void notifyObjectCompiled(const llvm::Module* m, llvm::MemoryBufferRef object) override;
+  std::unique_ptr<llvm::MemoryBuffer> getObject(const llvm::Module* m) override;
+
+  bool hit() const { return hit_; }
+  bool has_object() const;
+  void forget() const;  // removes the stored object and listing
+  // The optimised LLVM IR stored beside the object (listings on a hit).
+  std::optional<std::string> listing() const;
+  void store_listing(const std::string& ir) const;
+
+ private:
+  explicit ObjectCache(std::string path) : path_(std::move(path)) {}
+  std::string path_;  // without extension
+  bool hit_ = false;
+};
+
+}  // namespace sh::cpu
