@@ -4,6 +4,7 @@
 
 #include "sh/ir/eval.hpp"
 #include "sh/ir/printer.hpp"
+#include "sh/ir/serialize.hpp"
 #include "sh/ir/verifier.hpp"
 #include "sh/program.hpp"
 

@@ -11,10 +11,14 @@ namespace {
 
 const char kComponent[] = "xyzw";
 
+// Malformed IR gets printed too (in the verifier's messages): components
+// past w print as '?'.
+char component_name(int c) { return c >= 0 && c < 4 ? kComponent[c] : '?'; }
+
 std::string swizzle_suffix(const Swizzle& s, int width) {
   if (s.is_identity(width)) return "";
   std::string out = ".";
-  for (int i = 0; i < s.size; ++i) out += kComponent[s.index[i]];
+  for (int i = 0; i < s.size; ++i) out += component_name(s.index[i]);
   return out;
 }
 
@@ -46,13 +50,11 @@ class Printer {
 
   std::string operand(const Operand& o) {
     const Var& v = p_.var(o.var);
+    auto constant = [&](int c) { return c < 4 ? format_number(v.value[c], v.type.scalar) : std::string("?"); };
     if (v.kind == VarKind::Const && o_.inline_consts) {
-      if (o.swizzle.size == 1) return format_number(v.value[o.swizzle[0]], v.type.scalar);
+      if (o.swizzle.size == 1) return constant(o.swizzle[0]);
       std::string s = "(";
-      for (int i = 0; i < o.swizzle.size; ++i) {
-        if (i) s += ", ";
-        s += format_number(v.value[o.swizzle[i]], v.type.scalar);
-      }
+      for (int i = 0; i < o.swizzle.size; ++i) s += (i ? ", " : "") + constant(o.swizzle[i]);
       return s + ")";
     }
     return "%" + std::to_string(o.var) + swizzle_suffix(o.swizzle, v.type.width);
@@ -69,7 +71,7 @@ class Printer {
     out_ << ": " << type_name(v.type);
     if (v.kind == VarKind::Const) {
       out_ << " =";
-      for (int i = 0; i < v.type.width; ++i) out_ << " " << format_number(v.value[i], v.type.scalar);
+      for (int i = 0; i < v.type.width && i < 4; ++i) out_ << " " << format_number(v.value[i], v.type.scalar);
     }
     out_ << "\n";
   }

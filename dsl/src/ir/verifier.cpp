@@ -1,5 +1,7 @@
 #include "sh/ir/verifier.hpp"
 
+#include <stdexcept>
+
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
 
@@ -22,7 +24,13 @@ class Verifier {
  private:
   [[noreturn]] void fail(const std::string& what, const Stmt* s = nullptr) const {
     std::string msg = "program '" + p_.name + "': invalid IR: " + what;
-    if (s) msg += " in `" + print(p_, *s) + "`";
+    if (s) {
+      try {
+        msg += " in `" + print(p_, *s) + "`";
+      } catch (const std::out_of_range&) {
+        // The statement names a variable that does not exist: say so only.
+      }
+    }
     throw Error(msg);
   }
 
