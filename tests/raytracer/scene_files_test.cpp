@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include <sh/raytracer.hpp>
 
@@ -156,6 +157,30 @@ TEST_F(SceneFiles, ZeroAreaTrianglesWarn) {
 TEST_F(SceneFiles, EmptySceneIsAnError) {
   expect_error(write("empty.json", R"({"objects": []})"), {"empty.json", "objects", "nothing to trace"});
   expect_error(write("empty2.json", "{}"), {"empty2.json", "objects"});
+}
+
+TEST_F(SceneFiles, GarbledFilesAreErrorsNotCrashes) {
+  const std::string good = R"({"camera": {"eye": [0, 1, 4], "fov": 40},
+    "lights": [{"type": "point", "position": [1, 2, 3]}, {"type": "disk", "center": [0, 3, 0], "radius": 0.2}],
+    "materials": {"m": {"diffuse": [0.5, 0.5, 0.5], "reflectivity": 0.3}},
+    "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"},
+                {"type": "quad", "corner": [-2, -1, -2], "u": [0, 0, 4], "v": [4, 0, 0]}]})";
+  EXPECT_NO_THROW(sh::rt::load_scene(write("good.json", good)));
+  std::mt19937 rng(7);
+  const std::string alphabet = "{}[]\",:0123456789.-e truefalsn";
+  int errors = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text = good;
+    for (int k = 0; k < 2; ++k) text[rng() % text.size()] = alphabet[rng() % alphabet.size()];
+    std::string path = write("garbled.json", text);
+    try {
+      sh::rt::load_scene(path);
+    } catch (const sh::Error& e) {
+      ++errors;
+      EXPECT_NE(std::string(e.what()).find("garbled.json"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_GT(errors, 100);
 }
 
 TEST(BuiltinScenes, UnknownNameAndBadTriangleCount) {

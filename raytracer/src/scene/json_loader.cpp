@@ -188,6 +188,8 @@ void read_object(const Reader& r, const json& o, const std::string& at, Scene& s
   }
 }
 
+Scene read_scene(const json& j, const std::string& path);
+
 }  // namespace
 
 Scene load_scene_file(const std::string& path) {
@@ -202,6 +204,17 @@ Scene load_scene_file(const std::string& path) {
   } catch (const json::parse_error& e) {
     throw Error(path + ": " + location(text, e.byte == 0 ? 0 : e.byte - 1) + ": not valid JSON (" + e.what() + ")");
   }
+  try {
+    return read_scene(j, path);
+  } catch (const json::exception& e) {
+    // A value of the wrong JSON type where the reader did not check first.
+    throw Error(path + ": " + e.what());
+  }
+}
+
+namespace {
+
+Scene read_scene(const json& j, const std::string& path) {
   Reader r(path);
   r.only(j, "", {"camera", "lights", "materials", "objects", "background", "ambient"});
   Scene s;
@@ -227,5 +240,7 @@ Scene load_scene_file(const std::string& path) {
   validate(s, path);
   return s;
 }
+
+}  // namespace
 
 }  // namespace sh::rt
