@@ -18,7 +18,7 @@ T expected_as(double r) {
 }
 
 template <class T>
-void expect_close(const Conformance& t, bool fast, const char* fn, std::string_view bound_name, double ref, T got,
+void expect_close(bool fast, const char* fn, std::string_view bound_name, double ref, T got,
                   const std::string& where) {
   UlpBound b = ulp_bound(bound_name);
   T want = expected_as<T>(ref);
@@ -30,7 +30,6 @@ void expect_close(const Conformance& t, bool fast, const char* fn, std::string_v
   } else {
     EXPECT_LE(d, b.precise) << fn << where << ": got " << got << ", want " << want;
   }
-  (void)t;
 }
 
 template <class T, int N, class Dsl, class RefFn>
@@ -50,7 +49,7 @@ void check_unary(const Conformance& t, bool fast, const char* name, Dsl dsl, Ref
     if (fast && (!ordinary(x) || (trig && std::fabs(x) > 1e4))) continue;
     double want = ref(x);
     if (fast && !ordinary(want)) continue;
-    expect_close<T>(t, fast, name, name, want, out[k], "(" + std::to_string(x) + ") width " + std::to_string(N));
+    expect_close<T>(fast, name, name, want, out[k], "(" + std::to_string(x) + ") width " + std::to_string(N));
   }
 }
 
@@ -88,7 +87,7 @@ void check_binary(const Conformance& t, bool fast, const char* name, Dsl dsl, Re
       if (fast && (!ordinary(x) || !ordinary(b))) continue;
       double want = ref(x, b);
       if (fast && !ordinary(want)) continue;
-      expect_close<T>(t, fast, name, name, want, got,
+      expect_close<T>(fast, name, name, want, got,
                       "(" + std::to_string(x) + ", " + std::to_string(b) + ") width " + std::to_string(N));
     }
   }

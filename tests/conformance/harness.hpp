@@ -78,7 +78,4 @@ std::vector<T> spread(const std::vector<T>& values, int width, std::size_t eleme
   return out;
 }
 
-template <class T>
-using Ref = double (*)(double, double);
-
 }  // namespace conformance

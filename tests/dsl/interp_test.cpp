@@ -4,19 +4,11 @@
 
 #include <sh/sh.hpp>
 
+#include "../common/expect_error.hpp"
+
 namespace {
 
 using namespace sh;
-
-template <class F>
-void expect_error(F f, std::initializer_list<const char*> fragments) {
-  try {
-    f();
-    FAIL() << "expected sh::Error";
-  } catch (const Error& e) {
-    for (const char* s : fragments) EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << e.what();
-  }
-}
 
 TEST(CheckedMode, ReportsFirstNanAndFirstOutOfRangeRead) {
   Table1D<Attrib1f> t(3);

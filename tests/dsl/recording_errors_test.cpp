@@ -3,20 +3,11 @@
 
 #include <sh/sh.hpp>
 
+#include "../common/expect_error.hpp"
+
 namespace {
 
 using namespace sh;
-
-// Runs `record`, expects an sh::Error whose message holds each fragment.
-template <class F>
-void expect_error(F record, std::initializer_list<const char*> fragments) {
-  try {
-    record();
-    FAIL() << "expected sh::Error";
-  } catch (const Error& e) {
-    for (const char* f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
-  }
-}
 
 TEST(RecordingErrors, ElseWithoutIf) {
   expect_error([] { SH_BEGIN_PROGRAM("p1") { SH_ELSE; } SH_END; }, {"p1", "SH_ELSE without SH_IF"});

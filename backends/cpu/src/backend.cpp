@@ -73,11 +73,7 @@ class CpuBackend : public Backend {
 }  // namespace
 
 void register_backend() {
-  static const bool done = [] {
-    sh::register_backend("cpu", [] { return std::make_unique<CpuBackend>(); });
-    return true;
-  }();
-  (void)done;
+  sh::register_backend("cpu", [] { return std::make_unique<CpuBackend>(); });
 }
 
 }  // namespace sh::cpu

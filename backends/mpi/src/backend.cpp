@@ -29,11 +29,7 @@ class MpiBackend : public Backend {
 }  // namespace
 
 void register_backend() {
-  static const bool done = [] {
-    sh::register_backend("mpi", [] { return std::make_unique<MpiBackend>(); });
-    return true;
-  }();
-  (void)done;
+  sh::register_backend("mpi", [] { return std::make_unique<MpiBackend>(); });
 }
 
 }  // namespace sh::mpi

@@ -221,11 +221,7 @@ class OpenClBackend : public Backend {
 std::vector<std::string> devices() { return list_devices(); }
 
 void register_backend() {
-  static const bool done = [] {
-    sh::register_backend("opencl", [] { return std::make_unique<OpenClBackend>(); });
-    return true;
-  }();
-  (void)done;
+  sh::register_backend("opencl", [] { return std::make_unique<OpenClBackend>(); });
 }
 
 }  // namespace sh::opencl

@@ -1,6 +1,5 @@
 #include "sh/ir/op.hpp"
 
-#include <cstring>
 #include <iterator>
 
 namespace sh::ir {
@@ -38,25 +37,5 @@ const OpInfo& op_info(Op op) { return kInfo[static_cast<int>(op)]; }
 
 bool is_comparison(Op op) { return op >= Op::Lt && op <= Op::Not; }
 bool is_table_read(Op op) { return op == Op::Fetch || op == Op::Sample; }
-
-bool is_commutative(Op op) {
-  switch (op) {
-    case Op::Add: case Op::Mul: case Op::Min: case Op::Max:
-    case Op::Eq: case Op::Ne: case Op::And: case Op::Or:
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool op_from_name(const char* name, Op& out) {
-  for (std::size_t i = 0; i < std::size(kInfo); ++i) {
-    if (std::strcmp(kInfo[i].name, name) == 0) {
-      out = static_cast<Op>(i);
-      return true;
-    }
-  }
-  return false;
-}
 
 }  // namespace sh::ir

@@ -25,25 +25,11 @@ Swizzle Swizzle::identity(int width) {
   return s;
 }
 
-Swizzle Swizzle::broadcast(int component, int width) {
-  Swizzle s;
-  s.size = width;
-  for (int i = 0; i < width; ++i) s.index[i] = static_cast<std::uint8_t>(component);
-  return s;
-}
-
 bool Swizzle::is_identity(int width) const {
   if (size != width) return false;
   for (int i = 0; i < size; ++i)
     if (index[i] != i) return false;
   return true;
-}
-
-Swizzle Swizzle::after(const Swizzle& inner) const {
-  Swizzle s;
-  s.size = size;
-  for (int i = 0; i < size; ++i) s.index[i] = inner.index[index[i]];
-  return s;
 }
 
 bool Swizzle::has_repeats() const {

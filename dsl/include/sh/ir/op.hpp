@@ -36,8 +36,5 @@ inline const char* op_name(Op op) { return op_info(op).name; }
 inline int op_arity(Op op) { return op_info(op).arity; }
 bool is_comparison(Op op);  // result is a 0/1 mask
 bool is_table_read(Op op);
-bool is_commutative(Op op);
-// Looks an operation up by its printed name; returns false if there is none.
-bool op_from_name(const char* name, Op& out);
 
 }  // namespace sh::ir

@@ -32,11 +32,8 @@ struct Swizzle {
   std::array<std::uint8_t, 4> index{0, 0, 0, 0};
 
   static Swizzle identity(int width);
-  static Swizzle broadcast(int component, int width);
   bool is_identity(int width) const;
   std::uint8_t operator[](int i) const { return index[i]; }
-  // this ∘ inner: reading through `inner` then through `this`.
-  Swizzle after(const Swizzle& inner) const;
   bool has_repeats() const;
 
   // Only the first `size` indices mean anything.
