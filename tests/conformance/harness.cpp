@@ -4,16 +4,18 @@ namespace conformance {
 
 std::vector<Mode> all_modes() {
   std::vector<Mode> modes;
-  for (const std::string& b : sh::backend_names()) {
-    modes.push_back({b, sh::Precision::F32, sh::MathMode::Precise});
-    modes.push_back({b, sh::Precision::F64, sh::MathMode::Precise});
-    modes.push_back({b, sh::Precision::F32, sh::MathMode::Fast});
-  }
+  for (const std::string& b : sh::backend_names())
+    for (const sh::Backend::Variant& v : sh::find_backend(b).variants()) {
+      modes.push_back({b, v, sh::Precision::F32, sh::MathMode::Precise});
+      modes.push_back({b, v, sh::Precision::F64, sh::MathMode::Precise});
+      modes.push_back({b, v, sh::Precision::F32, sh::MathMode::Fast});
+    }
   return modes;
 }
 
 std::string describe(const Mode& m) {
-  return m.backend + "_" + (m.precision == sh::Precision::F32 ? "f32" : "f64") + "_" +
+  std::string variant = m.variant.name.empty() ? "" : m.variant.name + "_";
+  return m.backend + "_" + variant + (m.precision == sh::Precision::F32 ? "f32" : "f64") + "_" +
          (m.math == sh::MathMode::Fast ? "fast" : "precise");
 }
 

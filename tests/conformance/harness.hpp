@@ -18,6 +18,7 @@ namespace conformance {
 
 struct Mode {
   std::string backend;
+  sh::Backend::Variant variant;
   sh::Precision precision = sh::Precision::F32;
   sh::MathMode math = sh::MathMode::Precise;
 };
@@ -34,6 +35,7 @@ class Conformance : public testing::TestWithParam<Mode> {
   sh::BackendChoice choice(sh::Options o = {}) const {
     o.precision = mode().precision;
     o.math = mode().math;
+    o.settings.insert(mode().variant.settings.begin(), mode().variant.settings.end());
     return sh::backend(mode().backend, o);
   }
   sh::RunStats run(const sh::Program& p, const std::vector<std::shared_ptr<sh::detail::Buffer>>& in,

@@ -2,6 +2,9 @@
 // the kernel cache, thread counts, and errors.
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <sh/sh.hpp>
 
 namespace {
@@ -28,7 +31,27 @@ TEST(CpuBackend, ListingIsTheOptimisedLlvmIr) {
   EXPECT_NE(kernel_for(polynomial(), backend("cpu", fast))->listing().find("fast"), std::string::npos);
   Options f64;
   f64.precision = Precision::F64;
+  f64.settings["width"] = "scalar";
   EXPECT_NE(kernel_for(polynomial(), backend("cpu", f64))->listing().find("fmul double"), std::string::npos);
+  f64.settings["width"] = "8";
+  EXPECT_NE(kernel_for(polynomial(), backend("cpu", f64))->listing().find("fmul <8 x double>"), std::string::npos);
+}
+
+TEST(CpuBackend, WidthSettingPicksTheLanesAndRejectsOthers) {
+  for (const char* width : {"4", "16"}) {
+    Options o;
+    o.settings["width"] = width;
+    std::string ir = kernel_for(polynomial(), backend("cpu", o))->listing();
+    EXPECT_NE(ir.find(std::string("<") + width + " x float>"), std::string::npos) << width;
+  }
+  Options bad;
+  bad.settings["width"] = "7";
+  try {
+    kernel_for(polynomial(), backend("cpu", bad));
+    FAIL() << "width 7 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"width\" is \"7\""), std::string::npos) << e.what();
+  }
 }
 
 TEST(CpuBackend, CompilesOncePerProgramAndOptions) {
@@ -106,6 +129,51 @@ TEST(CpuBackend, TableReadsStayInsideTheBufferForAnyIndex) {
   run(p, {in}, {ra, rb}, backend("interp"));
   EXPECT_EQ(a.values(), ra.values());
   EXPECT_EQ(b.values(), rb.values());
+}
+
+// n floats that end exactly where an inaccessible page begins: a kernel
+// that reads or writes one lane past the stream's end faults.
+class GuardedFloats {
+ public:
+  explicit GuardedFloats(std::size_t n) : page_(static_cast<std::size_t>(sysconf(_SC_PAGESIZE))) {
+    std::size_t pages = (n * sizeof(float) + page_ - 1) / page_ + 1;
+    bytes_ = pages * page_;
+    base_ = static_cast<char*>(mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+    mprotect(base_ + bytes_ - page_, page_, PROT_NONE);
+    data_ = reinterpret_cast<float*>(base_ + bytes_ - page_) - n;
+  }
+  ~GuardedFloats() { munmap(base_, bytes_); }
+  float* data() { return data_; }
+
+ private:
+  std::size_t page_, bytes_ = 0;
+  char* base_ = nullptr;
+  float* data_ = nullptr;
+};
+
+TEST(CpuBackend, StreamTailTouchesNothingPastTheEnd) {
+  Program p = SH_BEGIN_PROGRAM("tail") {
+    InputAttrib3f v;
+    OutputAttrib3f r;
+    r = v * 2.0f;
+  } SH_END;
+  ir::Type vec3{ir::Scalar::F32, 3};
+  for (const char* width : {"scalar", "4", "8", "16"}) {
+    Options o;
+    o.settings["width"] = width;
+    std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
+    for (std::size_t n : {1, 5, 15, 16, 17, 35}) {
+      GuardedFloats in(3 * n), out(3 * n);
+      for (std::size_t i = 0; i < 3 * n; ++i) in.data()[i] = static_cast<float>(i);
+      RunArgs args;
+      args.count = n;
+      args.inputs.push_back({vec3, n, in.data()});
+      args.outputs.push_back({vec3, n, out.data()});
+      RunStats stats;
+      kernel->run(args, stats);
+      for (std::size_t i = 0; i < 3 * n; ++i) ASSERT_EQ(out.data()[i], 2.0f * i) << "width " << width << ", n " << n;
+    }
+  }
 }
 
 }  // namespace

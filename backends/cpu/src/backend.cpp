@@ -35,12 +35,16 @@ class CpuKernel : public Kernel {
     alignas(16) std::int64_t status[2] = {0, 0};
     KernelFn fn = jitted_.entry();
     auto n = static_cast<std::int64_t>(args.count);
+    // Threads take whole sets of lanes, so only the stream's last set is
+    // partly masked.
+    std::int64_t lanes = jitted_.lanes(), sets = (n + lanes - 1) / lanes;
     arena_.execute([&] {
       // Many more chunks than threads, so divergent elements balance out.
       std::int64_t threads = arena_.max_concurrency();
-      std::int64_t grain = std::clamp<std::int64_t>(n / (threads * 16), 16, 4096);
-      tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, grain), [&](const tbb::blocked_range<std::int64_t>& r) {
-        fn(r.begin(), r.end(), inputs.data(), outputs.data(), uniforms.data(), tables.data(), dims.data(), status);
+      std::int64_t grain = std::clamp<std::int64_t>(sets / (threads * 16), 1, 4096 / lanes);
+      tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, sets, grain), [&](const tbb::blocked_range<std::int64_t>& r) {
+        fn(r.begin() * lanes, std::min(r.end() * lanes, n), inputs.data(), outputs.data(), uniforms.data(), tables.data(),
+           dims.data(), status);
       });
     });
     if (status[0] != 0) {
@@ -64,9 +68,13 @@ class CpuBackend : public Backend {
   std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
     return std::make_unique<CpuKernel>(p, o);
   }
+  std::vector<Variant> variants() const override {
+    return {{"scalar", {{"width", "scalar"}}}, {"w4", {{"width", "4"}}}, {"w8", {{"width", "8"}}}, {"w16", {{"width", "16"}}}};
+  }
   std::vector<std::string> describe() const override {
-    return {"cpu: LLVM 15 ORC JIT for the host CPU, oneTBB with " + std::to_string(tbb::this_task_arena::max_concurrency()) +
-            " threads"};
+    return {"cpu: LLVM 15 ORC JIT for the host CPU, SPMD with " + std::to_string(lane_count(Options{})) +
+            " lanes by default (setting \"width\": scalar, 4, 8, 16), oneTBB with " +
+            std::to_string(tbb::this_task_arena::max_concurrency()) + " threads"};
   }
 };
 

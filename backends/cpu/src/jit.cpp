@@ -72,7 +72,8 @@ Jitted::Jitted(const ir::Program& program, const Options& options) {
 
 void Jitted::build(const ir::Program& program, const Options& options, bool use_cache) {
   auto context = std::make_unique<llvm::LLVMContext>();
-  Lowered lowered = lower(program, options, *context);
+  lanes_ = lane_count(options);
+  Lowered lowered = lower(program, options, lanes_, *context);
   loops_ = std::move(lowered.loops);
   llvm::Module& m = *lowered.module;
 

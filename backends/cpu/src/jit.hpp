@@ -20,6 +20,7 @@ class Jitted {
   Jitted(const ir::Program& program, const Options& options);
   ~Jitted();
   KernelFn entry() const { return entry_; }
+  int lanes() const { return lanes_; }  // elements per trip of the stream loop
   const std::string& llvm_ir() const { return llvm_ir_; }  // after optimisation
   const std::vector<const ir::Stmt*>& loops() const { return loops_; }
   bool from_cache() const { return cache_ && cache_->hit(); }
@@ -30,6 +31,7 @@ class Jitted {
   std::optional<ObjectCache> cache_;  // outlives the JIT that uses it
   std::unique_ptr<llvm::orc::LLJIT> jit_;
   KernelFn entry_ = nullptr;
+  int lanes_ = 1;
   std::string llvm_ir_;
   std::vector<const ir::Stmt*> loops_;
 };

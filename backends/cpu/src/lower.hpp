@@ -1,6 +1,7 @@
 #pragma once
 // IR -> LLVM IR.  The whole stream loop, the kernel body, its control flow
-// and its table reads become one LLVM function (signature.hpp).
+// and its table reads become one LLVM function (signature.hpp), scalar
+// (width 1) or SPMD with one SIMD lane per element (width 4, 8 or 16).
 #include <memory>
 #include <vector>
 
@@ -16,6 +17,11 @@ struct Lowered {
   std::vector<const ir::Stmt*> loops;  // by loop number, for error messages
 };
 
-Lowered lower(const ir::Program& program, const Options& options, llvm::LLVMContext& context);
+Lowered lower(const ir::Program& program, const Options& options, int width, llvm::LLVMContext& context);
+
+// The lanes a kernel runs with: the setting "width" (scalar, 4, 8, 16 or
+// auto), auto being the host's widest vectors (16 with AVX-512, 8 with AVX,
+// 4 otherwise).
+int lane_count(const Options& options);
 
 }  // namespace sh::cpu

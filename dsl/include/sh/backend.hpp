@@ -95,6 +95,14 @@ class Backend {
   virtual std::unique_ptr<Kernel> compile(const ir::Program& program, const Options& options) = 0;
   // Devices or platform in one line each, for `info`.
   virtual std::vector<std::string> describe() const { return {}; }
+  // The code-generation modes a user can pick by settings, each a different
+  // code path that the conformance suite runs (cpu: scalar and each SPMD
+  // width).  One unnamed variant with no settings by default.
+  struct Variant {
+    std::string name;
+    std::map<std::string, std::string> settings;
+  };
+  virtual std::vector<Variant> variants() const { return {{}}; }
 };
 
 // The error every backend gives when an element runs a loop past

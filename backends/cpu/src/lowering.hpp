@@ -1,0 +1,114 @@
+#pragma once
+// The state of one IR -> LLVM IR lowering, shared by its three parts:
+// lower.cpp (the stream loop, registers, inputs and outputs), flow.cpp
+// (statements and control flow) and operations.cpp (assignments, arithmetic
+// and table reads).
+//
+// Lanes: with width 1 every register is a scalar and control flow is
+// branches.  With width W > 1 the kernel is SPMD: every register is a
+// <W x T> vector, lane i holding element e + i; control flow becomes an
+// execution mask (`exec`), a side of an `if` that no lane needs is skipped,
+// and a loop runs while any lane is active.  Arithmetic is the same code
+// for both: LLVM's operations take vectors as they take scalars.
+#include <array>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <llvm/IR/IRBuilder.h>
+#include <llvm/IR/Intrinsics.h>
+
+#include "lower.hpp"
+
+namespace sh::cpu {
+
+class Lowering {
+ public:
+  Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVMContext& ctx);
+  Lowered run();
+
+ private:
+  using Value = llvm::Value;
+  using BasicBlock = llvm::BasicBlock;
+
+  bool spmd() const { return width_ > 1; }
+
+  // ---- types and constants (lower.cpp) -----------------------------------
+  llvm::Type* lanes(llvm::Type* scalar) const;  // scalar or <W x scalar>
+  llvm::Type* reg_type(ir::Scalar s) const;     // how a register component computes
+  llvm::Type* reg_type(ir::VarId v) const { return reg_type(p_.type_of(v).scalar); }
+  llvm::Type* storage_scalar(ir::Scalar s) const;  // how it lies in memory
+  Value* splat(Value* scalar);                  // a uniform value in every lane
+  Value* constant(ir::Scalar s, double v);
+  Value* from_storage(Value* x, ir::Scalar s);
+  Value* to_storage(Value* x, ir::Scalar s);
+
+  // ---- the function, the stream loop and registers (lower.cpp) -------------
+  void function();
+  void allocate_registers();
+  void clear_registers();
+  void load_inputs(Value* e, Value* tail);
+  void store_outputs(Value* e, Value* tail);
+  void full_or_tail(Value* count, const std::function<void(Value* tail)>& emit);
+  Value* pointer_at(Value* array, std::size_t k);
+  Value* element_pointer(Value* base, ir::Type t, Value* e);
+  std::array<Value*, 4> deinterleave(Value* block, int width);
+  Value* interleave(const std::array<Value*, 4>& components, int width);
+  Value* spread(Value* tail, int width);
+  Value* live_lanes(Value* count);
+
+  // ---- statements and control flow (flow.cpp) ------------------------------
+  void block(const ir::Block& body);
+  void branch(const ir::If& s);
+  void masked_branch(const ir::If& s);
+  void loop(const ir::Loop& l, const ir::Stmt& s);
+  void masked_loop(const ir::Loop& l, const ir::Stmt& s);
+  void leave(bool is_break);
+  void check_iterations(std::int64_t number, Value* count, Value* active, BasicBlock* next);
+  Value* any(Value* mask);
+  Value* exec() { return b_.CreateLoad(mask_type(), exec_); }
+  llvm::Type* mask_type() const { return lanes(llvm::Type::getInt1Ty(ctx_)); }
+  llvm::AllocaInst* entry_alloca(llvm::Type* t, const char* name);
+
+  // ---- assignments (operations.cpp) ----------------------------------------
+  Value* read(const ir::Operand& o, int i);
+  void write(ir::VarId v, int component, Value* x);
+  void assign(const ir::Assign& a);
+  Value* truthy(Value* x, ir::Scalar s);
+  Value* mask(Value* bits, llvm::Type* t);
+  Value* intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*> args);
+  Value* libm(const char* name, std::initializer_list<Value*> args);
+  Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
+  Value* compare(ir::Op op, Value* a, Value* b, bool is_float);
+  Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
+  Value* float_op(ir::Op op, Value* a, Value* b);
+  Value* int_op(ir::Op op, Value* a, Value* b);
+  void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
+
+  struct LoopState {
+    BasicBlock* exit;             // break (scalar)
+    BasicBlock* next;             // continue (scalar)
+    llvm::AllocaInst* active;     // lanes still looping (spmd)
+  };
+
+  const ir::Program& p_;
+  const Options& o_;
+  const int width_;
+  llvm::LLVMContext& ctx_;
+  std::unique_ptr<llvm::Module> module_;
+  llvm::IRBuilder<> b_;
+  llvm::Function* fn_ = nullptr;
+  Value *inputs_ = nullptr, *outputs_ = nullptr, *uniforms_ = nullptr, *tables_ = nullptr, *dims_ = nullptr,
+        *status_ = nullptr;
+  llvm::AllocaInst* element_ = nullptr;
+  llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
+  int masked_depth_ = 0;              // spmd: inside an if or loop, writes keep inactive lanes
+  std::vector<Value*> input_base_, output_base_, table_base_;
+  std::vector<std::array<Value*, 3>> table_dims_;
+  std::vector<std::array<Value*, 4>> slots_;
+  std::vector<bool> ssa_;
+  std::vector<LoopState> loop_stack_;
+  std::vector<const ir::Stmt*> loops_;
+};
+
+}  // namespace sh::cpu

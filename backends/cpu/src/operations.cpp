@@ -1,0 +1,222 @@
+// Assignments: operations component by component, and table reads.  The
+// same code serves scalar and SPMD kernels: constants are made in the
+// value's own type, so they are splats where the value is a vector.
+#include "lowering.hpp"
+
+namespace sh::cpu {
+
+using llvm::Value;
+
+Value* Lowering::read(const ir::Operand& o, int i) {
+  int c = o.swizzle[o.width() == 1 ? 0 : i];
+  if (ssa_[o.var]) return slots_[o.var][c];
+  return b_.CreateLoad(reg_type(o.var), slots_[o.var][c]);
+}
+
+// Inside an if or a loop, lanes that are not running keep their value.  At
+// the top level every lane runs, and lanes past the stream's end are never
+// stored, so a plain store is right there.
+void Lowering::write(ir::VarId v, int component, Value* x) {
+  Value* slot = slots_[v][component];
+  if (spmd() && masked_depth_ > 0) x = b_.CreateSelect(exec(), x, b_.CreateLoad(reg_type(v), slot));
+  b_.CreateStore(x, slot);
+}
+
+void Lowering::assign(const ir::Assign& a) {
+  std::array<Value*, 4> result{};
+  if (ir::is_table_read(a.op)) {
+    table_read(a, result);
+  } else {
+    ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
+    for (int i = 0; i < a.mask.size; ++i) {
+      Value* x[3] = {nullptr, nullptr, nullptr};
+      for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = read(a.args[k], i);
+      result[i] = operation(a.op, from, to, x[0], x[1], x[2]);
+    }
+  }
+  for (int i = 0; i < a.mask.size; ++i) write(a.dest, a.mask[i], result[i]);
+}
+
+Value* Lowering::truthy(Value* x, ir::Scalar s) {
+  if (ir::is_float(s)) return b_.CreateFCmpOGT(x, llvm::ConstantFP::get(x->getType(), 0.0));
+  return b_.CreateICmpSGT(x, llvm::ConstantInt::get(x->getType(), 0));
+}
+
+Value* Lowering::mask(Value* bits, llvm::Type* t) {
+  return t->isIntOrIntVectorTy() ? b_.CreateZExt(bits, t) : b_.CreateUIToFP(bits, t);
+}
+
+Value* Lowering::intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*> args) {
+  llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), id, {(*args.begin())->getType()});
+  return b_.CreateCall(f, args);
+}
+
+// A C math library function, in the precision of x; called lane by lane.
+Value* Lowering::libm(const char* name, std::initializer_list<Value*> args) {
+  llvm::Type* t = (*args.begin())->getType();
+  llvm::Type* scalar = t->getScalarType();
+  std::string symbol = scalar->isFloatTy() ? std::string(name) + "f" : name;
+  std::vector<llvm::Type*> params(args.size(), scalar);
+  llvm::FunctionCallee f = module_->getOrInsertFunction(symbol, llvm::FunctionType::get(scalar, params, false));
+  if (!t->isVectorTy()) return b_.CreateCall(f, args);
+  Value* result = llvm::PoisonValue::get(t);
+  for (int lane = 0; lane < width_; ++lane) {
+    std::vector<Value*> lane_args;
+    for (Value* a : args) lane_args.push_back(b_.CreateExtractElement(a, static_cast<std::uint64_t>(lane)));
+    result = b_.CreateInsertElement(result, b_.CreateCall(f, lane_args), static_cast<std::uint64_t>(lane));
+  }
+  return result;
+}
+
+Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c) {
+  using ir::Op;
+  llvm::Type* t = a->getType();
+  switch (op) {
+    case Op::Mov: return a;
+    case Op::Cast: return cast(a, from, to);
+    case Op::Lt: case Op::Le: case Op::Gt: case Op::Ge: case Op::Eq: case Op::Ne:
+      return mask(compare(op, a, b, ir::is_float(from)), t);
+    case Op::And: return mask(b_.CreateAnd(truthy(a, from), truthy(b, from)), t);
+    case Op::Or: return mask(b_.CreateOr(truthy(a, from), truthy(b, from)), t);
+    case Op::Not: return mask(b_.CreateNot(truthy(a, from)), t);
+    case Op::Cond: return b_.CreateSelect(truthy(a, from), b, c);
+    default: break;
+  }
+  return ir::is_float(from) ? float_op(op, a, b) : int_op(op, a, b);
+}
+
+Value* Lowering::compare(ir::Op op, Value* a, Value* b, bool is_float) {
+  using P = llvm::CmpInst::Predicate;
+  static const std::pair<P, P> kPredicates[] = {
+      {P::FCMP_OLT, P::ICMP_SLT}, {P::FCMP_OLE, P::ICMP_SLE}, {P::FCMP_OGT, P::ICMP_SGT},
+      {P::FCMP_OGE, P::ICMP_SGE}, {P::FCMP_OEQ, P::ICMP_EQ},  {P::FCMP_UNE, P::ICMP_NE}};
+  auto [fp, ip] = kPredicates[static_cast<int>(op) - static_cast<int>(ir::Op::Lt)];
+  return is_float ? b_.CreateFCmp(fp, a, b) : b_.CreateICmp(ip, a, b);
+}
+
+Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {
+  llvm::Type* t = reg_type(to);
+  if (to == ir::Scalar::Bool) return mask(truthy(a, from), t);
+  if (to == ir::Scalar::I32) {
+    if (!ir::is_float(from)) return a;
+    // NaN gives 0 and out-of-range values saturate, by definition.
+    llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), llvm::Intrinsic::fptosi_sat, {t, a->getType()});
+    return b_.CreateCall(f, {a});
+  }
+  if (!ir::is_float(from)) return b_.CreateSIToFP(a, t);
+  if (a->getType() == t) return a;
+  return t->getScalarType()->isDoubleTy() ? b_.CreateFPExt(a, t) : b_.CreateFPTrunc(a, t);
+}
+
+Value* Lowering::float_op(ir::Op op, Value* a, Value* b) {
+  using ir::Op;
+  namespace I = llvm::Intrinsic;
+  llvm::Type* t = a->getType();
+  Value* one = llvm::ConstantFP::get(t, 1.0);
+  switch (op) {
+    case Op::Add: return b_.CreateFAdd(a, b);
+    case Op::Sub: return b_.CreateFSub(a, b);
+    case Op::Mul: return b_.CreateFMul(a, b);
+    case Op::Div: return b_.CreateFDiv(a, b);
+    case Op::Mod: return b_.CreateFRem(a, b);
+    case Op::Neg: return b_.CreateFNeg(a);
+    case Op::Min: return intrinsic(I::minnum, {a, b});
+    case Op::Max: return intrinsic(I::maxnum, {a, b});
+    case Op::Abs: return intrinsic(I::fabs, {a});
+    case Op::Sign: {
+      Value* zero = llvm::ConstantFP::get(t, 0.0);
+      Value* neg = b_.CreateSelect(b_.CreateFCmpOLT(a, zero), llvm::ConstantFP::get(t, -1.0), a);
+      return b_.CreateSelect(b_.CreateFCmpOGT(a, zero), one, neg);
+    }
+    case Op::Floor: return intrinsic(I::floor, {a});
+    case Op::Ceil: return intrinsic(I::ceil, {a});
+    case Op::Round: return intrinsic(I::round, {a});
+    case Op::Sqrt: return intrinsic(I::sqrt, {a});
+    case Op::Rsqrt: return b_.CreateFDiv(one, intrinsic(I::sqrt, {a}));
+    case Op::Rcp: return b_.CreateFDiv(one, a);
+    case Op::Pow: return intrinsic(I::pow, {a, b});
+    case Op::Exp: return intrinsic(I::exp, {a});
+    case Op::Exp2: return intrinsic(I::exp2, {a});
+    case Op::Log: return intrinsic(I::log, {a});
+    case Op::Log2: return intrinsic(I::log2, {a});
+    case Op::Sin: return intrinsic(I::sin, {a});
+    case Op::Cos: return intrinsic(I::cos, {a});
+    case Op::Tan: return libm("tan", {a});
+    case Op::Asin: return libm("asin", {a});
+    case Op::Acos: return libm("acos", {a});
+    case Op::Atan: return libm("atan", {a});
+    case Op::Atan2: return libm("atan2", {a, b});
+    default: return llvm::UndefValue::get(t);
+  }
+}
+
+Value* Lowering::int_op(ir::Op op, Value* a, Value* b) {
+  using ir::Op;
+  namespace I = llvm::Intrinsic;
+  llvm::Type* t = a->getType();
+  auto number = [t](std::int64_t v) { return llvm::ConstantInt::get(t, static_cast<std::uint64_t>(v)); };
+  Value* zero = number(0);
+  switch (op) {
+    case Op::Add: return b_.CreateAdd(a, b);
+    case Op::Sub: return b_.CreateSub(a, b);
+    case Op::Mul: return b_.CreateMul(a, b);
+    case Op::Div: case Op::Mod: {
+      // x / 0 and x % 0 give 0; INT_MIN / -1 wraps to INT_MIN (divide by 1).
+      Value* by_zero = b_.CreateICmpEQ(b, zero);
+      Value* overflow = b_.CreateAnd(b_.CreateICmpEQ(a, number(INT32_MIN)), b_.CreateICmpEQ(b, number(-1)));
+      Value* safe = b_.CreateSelect(b_.CreateOr(by_zero, overflow), number(1), b);
+      Value* r = op == Op::Div ? b_.CreateSDiv(a, safe) : b_.CreateSRem(a, safe);
+      if (op == Op::Mod) r = b_.CreateSelect(overflow, zero, r);
+      return b_.CreateSelect(by_zero, zero, r);
+    }
+    case Op::Neg: return b_.CreateNeg(a);
+    case Op::Abs: {
+      llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), I::abs, {t});
+      return b_.CreateCall(f, {a, b_.getFalse()});
+    }
+    case Op::Sign: {
+      Value* neg = b_.CreateSelect(b_.CreateICmpSLT(a, zero), number(-1), zero);
+      return b_.CreateSelect(b_.CreateICmpSGT(a, zero), number(1), neg);
+    }
+    case Op::Min: return intrinsic(I::smin, {a, b});
+    case Op::Max: return intrinsic(I::smax, {a, b});
+    case Op::Floor: case Op::Ceil: case Op::Round: return a;
+    default: return llvm::UndefValue::get(t);
+  }
+}
+
+// Clamps exactly as sh::fetch_index / sample_index do.  In SPMD kernels a
+// read is a gather over the running lanes.
+void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
+  const ir::TableDecl& t = p_.tables[a.table];
+  const ir::Operand& coord = a.args[0];
+  ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
+  llvm::Type* i64 = lanes(b_.getInt64Ty());
+  Value* flat = llvm::ConstantInt::get(i64, 0);
+  Value* stride = llvm::ConstantInt::get(i64, 1);
+  for (int d = 0; d < t.rank; ++d) {
+    Value* dim = splat(table_dims_[a.table][d]);
+    Value* i = read(coord, d);
+    if (a.op == ir::Op::Sample) {
+      Value* scaled = b_.CreateFMul(i, b_.CreateSIToFP(dim, i->getType()));
+      i = cast(intrinsic(llvm::Intrinsic::floor, {scaled}), coord_scalar, ir::Scalar::I32);
+    }
+    Value* lowest = intrinsic(llvm::Intrinsic::smax, {i, llvm::ConstantInt::get(i->getType(), 0)});
+    Value* clamped = intrinsic(llvm::Intrinsic::smin, {lowest, b_.CreateSub(dim, llvm::ConstantInt::get(dim->getType(), 1))});
+    flat = b_.CreateAdd(flat, b_.CreateMul(b_.CreateZExt(clamped, i64), stride));
+    stride = b_.CreateMul(stride, b_.CreateZExt(dim, i64));
+  }
+  Value* base = table_base_[a.table];
+  llvm::Type* scalar = storage_scalar(t.element.scalar);
+  llvm::Align align(scalar->getPrimitiveSizeInBits() / 8);
+  for (int c = 0; c < t.element.width; ++c) {
+    Value* index = b_.CreateAdd(b_.CreateMul(flat, llvm::ConstantInt::get(i64, t.element.width)), llvm::ConstantInt::get(i64, c));
+    Value* at = b_.CreateInBoundsGEP(scalar, base, index);
+    Value* x = spmd() ? static_cast<Value*>(b_.CreateMaskedGather(lanes(scalar), at, align, exec(),
+                                                                  llvm::Constant::getNullValue(lanes(scalar))))
+                      : b_.CreateLoad(scalar, at);
+    result[c] = from_storage(x, t.element.scalar);
+  }
+}
+
+}  // namespace sh::cpu
