@@ -1,6 +1,7 @@
-// DSL kernels on the cpu backend against the same kernels hand-written in
-// C++ (built -O3 -march=native), on one thread and on all, and the JIT's
-// compile latency.  Ratios go in BENCHMARKS.md.
+// DSL kernels on the cpu backend, scalar and SPMD at each width, against
+// the same kernels hand-written in scalar C++ (built -O3 -march=native), on
+// one thread and on all, and the JIT's compile latency.  Arguments: threads,
+// then lanes (1 = scalar).  Ratios go in BENCHMARKS.md.
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -15,10 +16,16 @@ constexpr std::size_t kSaxpyN = 1 << 22;
 constexpr int kMandelbrotSize = 512;
 constexpr std::size_t kRays = 1 << 16;
 
-Options with_threads(int threads) {
+// Floating-point operations per Mandelbrot iteration as recorded: z*z's
+// three products and two sums, 2*x*y + c's two products and a sum, the
+// loop test's |z|^2 (two products, a sum) and the counter's increment.
+constexpr double kMandelbrotFlopsPerIteration = 11;
+
+BackendChoice cpu_with(const benchmark::State& state) {
   Options o;
-  o.threads = threads;
-  return o;
+  o.threads = static_cast<int>(state.range(0));
+  o.settings["width"] = state.range(1) == 1 ? "scalar" : std::to_string(state.range(1));
+  return backend("cpu", o);
 }
 
 // Runs body(begin, end) over n elements on `threads` threads (0 = all).
@@ -35,7 +42,7 @@ void BM_saxpy_dsl(benchmark::State& state) {
   Attrib1f a = 2.5f;
   Program p = bench::saxpy_program(a);
   Channel<Attrib1f> x(std::vector<float>(kSaxpyN, 1.0f)), y(std::vector<float>(kSaxpyN, 2.0f)), r(kSaxpyN);
-  BackendChoice cpu = backend("cpu", with_threads(static_cast<int>(state.range(0))));
+  BackendChoice cpu = cpu_with(state);
   run(p, {x, y}, {r}, cpu);
   for (auto _ : state) run(p, {x, y}, {r}, cpu);
   state.SetItemsProcessed(state.iterations() * kSaxpyN);
@@ -55,20 +62,29 @@ void BM_mandelbrot_dsl(benchmark::State& state) {
   Program p = bench::mandelbrot_program();
   Channel<Attrib2f> c(bench::mandelbrot_coordinates(kMandelbrotSize));
   Channel<Attrib1f> shade;
-  BackendChoice cpu = backend("cpu", with_threads(static_cast<int>(state.range(0))));
+  BackendChoice cpu = cpu_with(state);
   run(p, {c}, {shade}, cpu);
+  double iterations = 0;
+  for (float i : shade.values()) iterations += i;
   for (auto _ : state) run(p, {c}, {shade}, cpu);
   state.SetItemsProcessed(state.iterations() * kMandelbrotSize * kMandelbrotSize);
+  state.counters["flops"] = benchmark::Counter(kMandelbrotFlopsPerIteration * iterations * static_cast<double>(state.iterations()),
+                                               benchmark::Counter::kIsRate);
 }
 
 void BM_mandelbrot_cpp(benchmark::State& state) {
   std::vector<float> c = bench::mandelbrot_coordinates(kMandelbrotSize), shade(c.size() / 2);
+  bench::mandelbrot_cpp(c.data(), shade.data(), 0, shade.size());
+  double iterations = 0;
+  for (float i : shade) iterations += i;
   for (auto _ : state) {
     hand_parallel(static_cast<int>(state.range(0)), shade.size(),
                   [&](std::size_t b, std::size_t e) { bench::mandelbrot_cpp(c.data(), shade.data(), b, e); });
     benchmark::DoNotOptimize(shade.data());
   }
   state.SetItemsProcessed(state.iterations() * shade.size());
+  state.counters["flops"] = benchmark::Counter(kMandelbrotFlopsPerIteration * iterations * static_cast<double>(state.iterations()),
+                                               benchmark::Counter::kIsRate);
 }
 
 void BM_triangles_dsl(benchmark::State& state) {
@@ -79,7 +95,7 @@ void BM_triangles_dsl(benchmark::State& state) {
   Channel<Point3f> o(s.origins);
   Channel<Vector3f> d(s.directions);
   Channel<Attrib1f> t;
-  BackendChoice cpu = backend("cpu", with_threads(static_cast<int>(state.range(0))));
+  BackendChoice cpu = cpu_with(state);
   run(p, {o, d}, {t}, cpu);
   for (auto _ : state) run(p, {o, d}, {t}, cpu);
   state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
@@ -99,7 +115,9 @@ void BM_triangles_cpp(benchmark::State& state) {
 // Optimisation passes + lowering + LLVM O3 + machine code, uncached.
 void compile_latency(benchmark::State& state, const Program& p) {
   Backend& cpu = find_backend("cpu");
-  for (auto _ : state) benchmark::DoNotOptimize(cpu.compile(optimize(p.ir()), Options{}));
+  Options o;
+  o.settings["width"] = state.range(0) == 1 ? "scalar" : std::to_string(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(cpu.compile(optimize(p.ir()), o));
 }
 
 void BM_compile_saxpy(benchmark::State& state) {
@@ -114,13 +132,19 @@ void BM_compile_triangles(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_saxpy_dsl)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+// Every width on one thread; scalar and the host's width on two.
+void widths(benchmark::internal::Benchmark* b) {
+  for (int lanes : {1, 4, 8, 16}) b->Args({1, lanes});
+  b->Args({2, 1})->Args({2, 16})->ArgNames({"threads", "lanes"});
+}
+
+BENCHMARK(BM_saxpy_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_saxpy_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_mandelbrot_dsl)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_mandelbrot_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_mandelbrot_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_triangles_dsl)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_triangles_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_triangles_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_compile_saxpy)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_compile_mandelbrot)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_compile_triangles)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_compile_saxpy)->Arg(1)->Arg(16)->ArgName("lanes")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_compile_mandelbrot)->Arg(1)->Arg(16)->ArgName("lanes")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_compile_triangles)->Arg(1)->Arg(16)->ArgName("lanes")->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

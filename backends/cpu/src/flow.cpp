@@ -14,9 +14,9 @@ void Lowering::block(const ir::Block& body) {
     if (auto* a = std::get_if<ir::Assign>(&s.node)) {
       assign(*a);
     } else if (auto* i = std::get_if<ir::If>(&s.node)) {
-      spmd() ? masked_branch(*i) : branch(*i);
+      spmd() && facts_.divergent.at(&s) ? masked_branch(s, *i) : branch(*i);
     } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
-      spmd() ? masked_loop(*l, s) : loop(*l, s);
+      spmd() && facts_.divergent.at(&s) ? masked_loop(*l, s) : loop(*l, s);
     } else {
       leave(std::holds_alternative<ir::Break>(s.node));
       return;
@@ -26,7 +26,7 @@ void Lowering::block(const ir::Block& body) {
 
 void Lowering::leave(bool is_break) {
   const LoopState& l = loop_stack_.back();
-  if (!spmd()) {
+  if (!l.active) {
     b_.CreateBr(is_break ? l.exit : l.next);
     // Whatever the enclosing statements emit next is unreachable.
     b_.SetInsertPoint(BasicBlock::Create(ctx_, "after.leave", fn_));
@@ -58,16 +58,25 @@ void Lowering::branch(const ir::If& s) {
   b_.SetInsertPoint(join);
 }
 
+void Lowering::enter_masked(const ir::Stmt& s) {
+  VarSet keep = facts_.live_at_rejoin.at(&s);
+  if (!keep_.empty())
+    for (std::size_t v = 0; v < keep.size(); ++v) keep[v] = keep[v] || keep_.back()[v];
+  keep_.push_back(std::move(keep));
+}
+
+void Lowering::leave_masked() { keep_.pop_back(); }
+
 // Each side runs under its share of the lanes, and is skipped when that
 // share is empty.  Afterwards the lanes that finished either side go on:
 // lanes that broke or continued inside it do not.
-void Lowering::masked_branch(const ir::If& s) {
+void Lowering::masked_branch(const ir::Stmt& s, const ir::If& i) {
   Value* before = exec();
-  Value* cond = truthy(read(s.cond, 0), p_.type_of(s.cond.var).scalar);
-  ++masked_depth_;
+  Value* cond = widen(truthy(read(i.cond, 0), p_.type_of(i.cond.var).scalar));
+  enter_masked(s);
   Value* finished = nullptr;
-  for (auto [body, lanes] : {std::pair{&s.then_body, b_.CreateAnd(before, cond)},
-                             std::pair{&s.else_body, b_.CreateAnd(before, b_.CreateNot(cond))}}) {
+  for (auto [body, lanes] : {std::pair{&i.then_body, b_.CreateAnd(before, cond)},
+                             std::pair{&i.else_body, b_.CreateAnd(before, b_.CreateNot(cond))}}) {
     b_.CreateStore(lanes, exec_);
     if (!body->empty()) {
       BasicBlock* run = BasicBlock::Create(ctx_, "side", fn_);
@@ -80,7 +89,7 @@ void Lowering::masked_branch(const ir::If& s) {
     }
     finished = finished ? b_.CreateOr(finished, exec()) : exec();
   }
-  --masked_depth_;
+  leave_masked();
   b_.CreateStore(finished, exec_);
 }
 
@@ -153,7 +162,7 @@ void Lowering::masked_loop(const ir::Loop& l, const ir::Stmt& s) {
   Value* entered = exec();
   b_.CreateStore(b_.getInt64(0), count);
   b_.CreateStore(entered, active);
-  ++masked_depth_;
+  enter_masked(s);
 
   BasicBlock* top = BasicBlock::Create(ctx_, "loop.top", fn_);
   BasicBlock* test = BasicBlock::Create(ctx_, "loop.test", fn_);
@@ -170,7 +179,7 @@ void Lowering::masked_loop(const ir::Loop& l, const ir::Stmt& s) {
   run_active();
   block(l.header);
   Value* staying = b_.CreateAnd(b_.CreateLoad(mask_type(), active),
-                                truthy(read(l.cond, 0), p_.type_of(l.cond.var).scalar));
+                                widen(truthy(read(l.cond, 0), p_.type_of(l.cond.var).scalar)));
   b_.CreateStore(staying, active);
   b_.CreateCondBr(any(staying), l.test_at_top ? body : top, exit);
 
@@ -187,7 +196,7 @@ void Lowering::masked_loop(const ir::Loop& l, const ir::Stmt& s) {
   b_.CreateBr(l.test_at_top ? top : test);
 
   b_.SetInsertPoint(exit);
-  --masked_depth_;
+  leave_masked();
   b_.CreateStore(entered, exec_);
 }
 

@@ -11,7 +11,9 @@ using llvm::BasicBlock;
 using llvm::Value;
 
 Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVMContext& ctx)
-    : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {}
+    : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {
+  if (spmd()) facts_ = analyse_spmd(p);
+}
 
 Lowered Lowering::run() {
   if (o_.math == MathMode::Fast) b_.setFastMathFlags(llvm::FastMathFlags::getFast());
@@ -22,13 +24,13 @@ Lowered Lowering::run() {
 // ---- types and constants -----------------------------------------------------
 
 llvm::Type* Lowering::lanes(llvm::Type* scalar) const {
-  return spmd() ? llvm::FixedVectorType::get(scalar, static_cast<unsigned>(width_)) : scalar;
+  return llvm::FixedVectorType::get(scalar, static_cast<unsigned>(width_));
 }
 
-llvm::Type* Lowering::reg_type(ir::Scalar s) const {
+llvm::Type* Lowering::scalar_type(ir::Scalar s) const {
   bool single = s == ir::Scalar::F32 && o_.precision == Precision::F32;
-  if (!ir::is_float(s)) return lanes(llvm::Type::getInt32Ty(ctx_));
-  return lanes(single ? llvm::Type::getFloatTy(ctx_) : llvm::Type::getDoubleTy(ctx_));
+  if (!ir::is_float(s)) return llvm::Type::getInt32Ty(ctx_);
+  return single ? llvm::Type::getFloatTy(ctx_) : llvm::Type::getDoubleTy(ctx_);
 }
 
 llvm::Type* Lowering::storage_scalar(ir::Scalar s) const {
@@ -44,17 +46,18 @@ Value* Lowering::splat(Value* scalar) {
 }
 
 Value* Lowering::constant(ir::Scalar s, double v) {
-  llvm::Type* t = reg_type(s);
-  if (t->isIntOrIntVectorTy()) return llvm::ConstantInt::get(t, static_cast<std::uint32_t>(static_cast<std::int32_t>(v)));
+  llvm::Type* t = scalar_type(s);
+  if (t->isIntegerTy()) return llvm::ConstantInt::get(t, static_cast<std::uint32_t>(static_cast<std::int32_t>(v)));
   return llvm::ConstantFP::get(t, v);
 }
 
 Value* Lowering::from_storage(Value* x, ir::Scalar s) {
-  return x->getType() == reg_type(s) ? x : b_.CreateFPExt(x, reg_type(s));
+  llvm::Type* t = reg_type(s, x->getType()->isVectorTy());
+  return x->getType() == t ? x : b_.CreateFPExt(x, t);
 }
 
 Value* Lowering::to_storage(Value* x, ir::Scalar s) {
-  llvm::Type* t = lanes(storage_scalar(s));
+  llvm::Type* t = x->getType()->isVectorTy() ? lanes(storage_scalar(s)) : storage_scalar(s);
   return x->getType() == t ? x : b_.CreateFPTrunc(x, t);
 }
 
@@ -134,9 +137,8 @@ void Lowering::allocate_registers() {
     ssa_[v] = true;
     for (int c = 0; c < p_.type_of(v).width; ++c) {
       Value* d = b_.CreateLoad(b_.getDoubleTy(), b_.CreateConstInBoundsGEP1_64(b_.getDoubleTy(), uniforms_, 4 * u + c));
-      llvm::Type* t = reg_type(s)->getScalarType();
-      Value* x = t->isDoubleTy() ? d : t->isFloatTy() ? b_.CreateFPTrunc(d, t) : b_.CreateFPToSI(d, t);
-      slots_[v][c] = splat(x);
+      llvm::Type* t = scalar_type(s);
+      slots_[v][c] = t->isDoubleTy() ? d : t->isFloatTy() ? b_.CreateFPTrunc(d, t) : b_.CreateFPToSI(d, t);
     }
   }
   for (std::size_t v = 0; v < p_.vars.size(); ++v) {
@@ -147,7 +149,7 @@ void Lowering::allocate_registers() {
       for (int c = 0; c < var.type.width; ++c) slots_[v][c] = constant(var.type.scalar, var.value[c]);
       continue;
     }
-    for (int c = 0; c < var.type.width; ++c) slots_[v][c] = b_.CreateAlloca(reg_type(var.type.scalar));
+    for (int c = 0; c < var.type.width; ++c) slots_[v][c] = b_.CreateAlloca(var_type(static_cast<ir::VarId>(v)));
   }
 }
 
@@ -156,7 +158,7 @@ void Lowering::clear_registers() {
   for (std::size_t v = 0; v < p_.vars.size(); ++v)
     if (!ssa_[v])
       for (int c = 0; c < p_.vars[v].type.width; ++c)
-        b_.CreateStore(llvm::Constant::getNullValue(reg_type(static_cast<ir::VarId>(v))), slots_[v][c]);
+        b_.CreateStore(llvm::Constant::getNullValue(var_type(static_cast<ir::VarId>(v))), slots_[v][c]);
 }
 
 Value* Lowering::live_lanes(Value* count) {
@@ -262,7 +264,7 @@ void Lowering::store_outputs(Value* e, Value* tail) {
     Value* at = element_pointer(output_base_[o], t, e);
     std::array<Value*, 4> components{};
     for (int c = 0; c < t.width; ++c)
-      components[c] = to_storage(b_.CreateLoad(reg_type(v), slots_[v][c]), t.scalar);
+      components[c] = to_storage(b_.CreateLoad(var_type(v), slots_[v][c]), t.scalar);
     if (!spmd()) {
       for (int c = 0; c < t.width; ++c)
         b_.CreateStore(components[c], b_.CreateConstInBoundsGEP1_64(scalar, at, static_cast<std::uint64_t>(c)));

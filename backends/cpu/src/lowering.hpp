@@ -19,6 +19,7 @@
 #include <llvm/IR/Intrinsics.h>
 
 #include "lower.hpp"
+#include "spmd_analysis.hpp"
 
 namespace sh::cpu {
 
@@ -34,11 +35,14 @@ class Lowering {
   bool spmd() const { return width_ > 1; }
 
   // ---- types and constants (lower.cpp) -----------------------------------
-  llvm::Type* lanes(llvm::Type* scalar) const;  // scalar or <W x scalar>
-  llvm::Type* reg_type(ir::Scalar s) const;     // how a register component computes
-  llvm::Type* reg_type(ir::VarId v) const { return reg_type(p_.type_of(v).scalar); }
+  bool varying(ir::VarId v) const { return spmd() && facts_.varying[v]; }
+  llvm::Type* lanes(llvm::Type* scalar) const;  // <W x scalar>
+  llvm::Type* scalar_type(ir::Scalar s) const;  // how one component computes
+  llvm::Type* reg_type(ir::Scalar s, bool vary) const { return vary ? lanes(scalar_type(s)) : scalar_type(s); }
+  llvm::Type* var_type(ir::VarId v) const { return reg_type(p_.type_of(v).scalar, varying(v)); }
   llvm::Type* storage_scalar(ir::Scalar s) const;  // how it lies in memory
   Value* splat(Value* scalar);                  // a uniform value in every lane
+  Value* widen(Value* x) { return x->getType()->isVectorTy() ? x : splat(x); }
   Value* constant(ir::Scalar s, double v);
   Value* from_storage(Value* x, ir::Scalar s);
   Value* to_storage(Value* x, ir::Scalar s);
@@ -60,7 +64,9 @@ class Lowering {
   // ---- statements and control flow (flow.cpp) ------------------------------
   void block(const ir::Block& body);
   void branch(const ir::If& s);
-  void masked_branch(const ir::If& s);
+  void masked_branch(const ir::Stmt& s, const ir::If& i);
+  void enter_masked(const ir::Stmt& s);
+  void leave_masked();
   void loop(const ir::Loop& l, const ir::Stmt& s);
   void masked_loop(const ir::Loop& l, const ir::Stmt& s);
   void leave(bool is_break);
@@ -102,7 +108,10 @@ class Lowering {
         *status_ = nullptr;
   llvm::AllocaInst* element_ = nullptr;
   llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
-  int masked_depth_ = 0;              // spmd: inside an if or loop, writes keep inactive lanes
+  SpmdFacts facts_;
+  // spmd, inside masked ifs and loops: the variables whose inactive lanes
+  // must keep their values, innermost last.
+  std::vector<VarSet> keep_;
   std::vector<Value*> input_base_, output_base_, table_base_;
   std::vector<std::array<Value*, 3>> table_dims_;
   std::vector<std::array<Value*, 4>> slots_;

@@ -10,15 +10,16 @@ using llvm::Value;
 Value* Lowering::read(const ir::Operand& o, int i) {
   int c = o.swizzle[o.width() == 1 ? 0 : i];
   if (ssa_[o.var]) return slots_[o.var][c];
-  return b_.CreateLoad(reg_type(o.var), slots_[o.var][c]);
+  return b_.CreateLoad(var_type(o.var), slots_[o.var][c]);
 }
 
-// Inside an if or a loop, lanes that are not running keep their value.  At
-// the top level every lane runs, and lanes past the stream's end are never
-// stored, so a plain store is right there.
+// Under a mask, lanes that are not running keep their value where some
+// lane may read it later (spmd_analysis.hpp).  Outside masks every lane
+// runs, and lanes past the stream's end are never stored.
 void Lowering::write(ir::VarId v, int component, Value* x) {
   Value* slot = slots_[v][component];
-  if (spmd() && masked_depth_ > 0) x = b_.CreateSelect(exec(), x, b_.CreateLoad(reg_type(v), slot));
+  if (varying(v)) x = widen(x);
+  if (varying(v) && !keep_.empty() && keep_.back()[v]) x = b_.CreateSelect(exec(), x, b_.CreateLoad(var_type(v), slot));
   b_.CreateStore(x, slot);
 }
 
@@ -30,7 +31,7 @@ void Lowering::assign(const ir::Assign& a) {
     ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
     for (int i = 0; i < a.mask.size; ++i) {
       Value* x[3] = {nullptr, nullptr, nullptr};
-      for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = read(a.args[k], i);
+      for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = varying(a.dest) ? widen(read(a.args[k], i)) : read(a.args[k], i);
       result[i] = operation(a.op, from, to, x[0], x[1], x[2]);
     }
   }
@@ -95,7 +96,7 @@ Value* Lowering::compare(ir::Op op, Value* a, Value* b, bool is_float) {
 }
 
 Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {
-  llvm::Type* t = reg_type(to);
+  llvm::Type* t = reg_type(to, a->getType()->isVectorTy());
   if (to == ir::Scalar::Bool) return mask(truthy(a, from), t);
   if (to == ir::Scalar::I32) {
     if (!ir::is_float(from)) return a;
@@ -185,18 +186,19 @@ Value* Lowering::int_op(ir::Op op, Value* a, Value* b) {
   }
 }
 
-// Clamps exactly as sh::fetch_index / sample_index do.  In SPMD kernels a
-// read is a gather over the running lanes.
+// Clamps exactly as sh::fetch_index / sample_index do.  A varying read is a
+// gather over the running lanes; a uniform one is one load.
 void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   const ir::TableDecl& t = p_.tables[a.table];
   const ir::Operand& coord = a.args[0];
   ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
-  llvm::Type* i64 = lanes(b_.getInt64Ty());
+  bool gather = varying(a.dest);
+  llvm::Type* i64 = gather ? lanes(b_.getInt64Ty()) : b_.getInt64Ty();
   Value* flat = llvm::ConstantInt::get(i64, 0);
   Value* stride = llvm::ConstantInt::get(i64, 1);
   for (int d = 0; d < t.rank; ++d) {
-    Value* dim = splat(table_dims_[a.table][d]);
-    Value* i = read(coord, d);
+    Value* dim = gather ? splat(table_dims_[a.table][d]) : table_dims_[a.table][d];
+    Value* i = gather ? widen(read(coord, d)) : read(coord, d);
     if (a.op == ir::Op::Sample) {
       Value* scaled = b_.CreateFMul(i, b_.CreateSIToFP(dim, i->getType()));
       i = cast(intrinsic(llvm::Intrinsic::floor, {scaled}), coord_scalar, ir::Scalar::I32);
@@ -212,7 +214,7 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   for (int c = 0; c < t.element.width; ++c) {
     Value* index = b_.CreateAdd(b_.CreateMul(flat, llvm::ConstantInt::get(i64, t.element.width)), llvm::ConstantInt::get(i64, c));
     Value* at = b_.CreateInBoundsGEP(scalar, base, index);
-    Value* x = spmd() ? static_cast<Value*>(b_.CreateMaskedGather(lanes(scalar), at, align, exec(),
+    Value* x = gather ? static_cast<Value*>(b_.CreateMaskedGather(lanes(scalar), at, align, exec(),
                                                                   llvm::Constant::getNullValue(lanes(scalar))))
                       : b_.CreateLoad(scalar, at);
     result[c] = from_storage(x, t.element.scalar);

@@ -1,0 +1,167 @@
+#include "spmd_analysis.hpp"
+
+namespace sh::cpu {
+namespace {
+
+bool add(VarSet& to, const VarSet& from) {
+  bool changed = false;
+  for (std::size_t v = 0; v < to.size(); ++v)
+    if (from[v] && !to[v]) changed = to[v] = true;
+  return changed;
+}
+
+// ---- uniformity ---------------------------------------------------------------
+
+// A forward walk repeated until no variable turns varying: a write is
+// varying if an operand is, or if it happens where lanes may disagree.
+class Uniformity {
+ public:
+  Uniformity(const ir::Program& p, SpmdFacts& facts) : p_(p), f_(facts) {}
+
+  void run() {
+    f_.varying.assign(p_.vars.size(), false);
+    for (ir::VarId v : p_.inputs) f_.varying[v] = true;
+    for (ir::VarId v : p_.outputs) f_.varying[v] = true;
+    do changed_ = false, block(p_.body, false);
+    while (changed_);
+  }
+
+ private:
+  bool varying(const ir::Operand& o) const { return f_.varying[o.var]; }
+
+  void mark(ir::VarId v) {
+    if (!f_.varying[v]) changed_ = f_.varying[v] = true;
+  }
+
+  void block(const ir::Block& b, bool divergent) {
+    for (const ir::Stmt& s : b) {
+      if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+        bool any = divergent;
+        for (const ir::Operand& o : a->args) any = any || varying(o);
+        if (any) mark(a->dest);
+      } else if (auto* i = std::get_if<ir::If>(&s.node)) {
+        bool d = divergent || varying(i->cond);
+        f_.divergent[&s] = varying(i->cond);
+        block(i->then_body, d);
+        block(i->else_body, d);
+      } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+        // Lanes leave at different iterations if the test differs between
+        // them or a break or continue is taken by some lanes only.
+        bool d = divergent || varying(l->cond) || jumps_under_varying_if(l->body, false) ||
+                 jumps_under_varying_if(l->update, false);
+        f_.divergent[&s] = d;
+        block(l->header, d);
+        block(l->body, d);
+        block(l->update, d);
+      }
+    }
+  }
+
+  // Breaks and continues of this loop (not of loops nested in it).
+  bool jumps_under_varying_if(const ir::Block& b, bool under) const {
+    for (const ir::Stmt& s : b) {
+      if (std::holds_alternative<ir::Break>(s.node) || std::holds_alternative<ir::Continue>(s.node)) {
+        if (under) return true;
+      } else if (auto* i = std::get_if<ir::If>(&s.node)) {
+        bool u = under || varying(i->cond);
+        if (jumps_under_varying_if(i->then_body, u) || jumps_under_varying_if(i->else_body, u)) return true;
+      }
+    }
+    return false;
+  }
+
+  const ir::Program& p_;
+  SpmdFacts& f_;
+  bool changed_ = false;
+};
+
+// ---- liveness at rejoin points --------------------------------------------------
+
+// Backward liveness on the structured body, per lane (a lane follows the
+// scalar program); loops iterate to a fixed point.  Each if and loop records
+// what is live where its inactive lanes wait.
+class RejoinLiveness {
+ public:
+  RejoinLiveness(const ir::Program& p, SpmdFacts& facts) : p_(p), f_(facts) {}
+
+  void run() {
+    VarSet at_end(p_.vars.size(), false);
+    for (ir::VarId v : p_.outputs) at_end[v] = true;
+    block(p_.body, at_end);
+  }
+
+ private:
+  struct Targets {
+    VarSet exit, update;
+  };
+
+  void use(VarSet& live, const ir::Operand& o) const { live[o.var] = true; }
+
+  VarSet block(const ir::Block& b, VarSet live) {
+    for (auto s = b.rbegin(); s != b.rend(); ++s) live = statement(*s, std::move(live));
+    return live;
+  }
+
+  VarSet statement(const ir::Stmt& s, VarSet live) {
+    if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+      if (a->mask.size == p_.type_of(a->dest).width) live[a->dest] = false;
+      for (const ir::Operand& o : a->args) use(live, o);
+      return live;
+    }
+    if (auto* i = std::get_if<ir::If>(&s.node)) {
+      f_.live_at_rejoin[&s] = live;
+      VarSet in = block(i->then_body, live);
+      add(in, block(i->else_body, live));
+      use(in, i->cond);
+      return in;
+    }
+    if (auto* l = std::get_if<ir::Loop>(&s.node)) return loop(s, *l, std::move(live));
+    return std::holds_alternative<ir::Break>(s.node) ? loops_.back().exit : loops_.back().update;
+  }
+
+  VarSet loop(const ir::Stmt& s, const ir::Loop& l, VarSet exit) {
+    VarSet top(exit.size(), false);
+    VarSet update_in;
+    for (bool changed = true; changed;) {
+      VarSet after_test = exit;
+      use(after_test, l.cond);
+      VarSet test_in, body_in;
+      if (l.test_at_top) {
+        update_in = block(l.update, top);
+        loops_.push_back({exit, update_in});
+        body_in = block(l.body, update_in);
+        loops_.pop_back();
+        add(after_test, body_in);
+        test_in = block(l.header, after_test);
+        changed = add(top, test_in);
+      } else {
+        add(after_test, top);
+        test_in = block(l.header, after_test);
+        update_in = block(l.update, test_in);
+        loops_.push_back({exit, update_in});
+        body_in = block(l.body, update_in);
+        loops_.pop_back();
+        changed = add(top, body_in);
+      }
+    }
+    VarSet rejoin = exit;
+    add(rejoin, update_in);
+    f_.live_at_rejoin[&s] = rejoin;
+    return top;
+  }
+
+  const ir::Program& p_;
+  SpmdFacts& f_;
+  std::vector<Targets> loops_;
+};
+
+}  // namespace
+
+SpmdFacts analyse_spmd(const ir::Program& p) {
+  SpmdFacts facts;
+  Uniformity(p, facts).run();
+  RejoinLiveness(p, facts).run();
+  return facts;
+}
+
+}  // namespace sh::cpu
