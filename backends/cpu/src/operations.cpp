@@ -43,8 +43,11 @@ Value* Lowering::truthy(Value* x, ir::Scalar s) {
   return b_.CreateICmpSGT(x, llvm::ConstantInt::get(x->getType(), 0));
 }
 
+// 0/1 in type t.  For floats a select, not uitofp: LLVM folds a later
+// truthy() test of a select of constants back to the bits, not of uitofp.
 Value* Lowering::mask(Value* bits, llvm::Type* t) {
-  return t->isIntOrIntVectorTy() ? b_.CreateZExt(bits, t) : b_.CreateUIToFP(bits, t);
+  if (t->isIntOrIntVectorTy()) return b_.CreateZExt(bits, t);
+  return b_.CreateSelect(bits, llvm::ConstantFP::get(t, 1.0), llvm::ConstantFP::get(t, 0.0));
 }
 
 Value* Lowering::intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*> args) {

@@ -144,10 +144,21 @@ class RejoinLiveness {
         changed = add(top, body_in);
       }
     }
+    // Lanes that left wait at the exit; lanes that continued, at the update.
     VarSet rejoin = exit;
-    add(rejoin, update_in);
+    if (continues(l.body)) add(rejoin, update_in);
     f_.live_at_rejoin[&s] = rejoin;
     return top;
+  }
+
+  // A continue of this loop (not of one nested in it).
+  static bool continues(const ir::Block& b) {
+    for (const ir::Stmt& s : b) {
+      if (std::holds_alternative<ir::Continue>(s.node)) return true;
+      if (auto* i = std::get_if<ir::If>(&s.node))
+        if (continues(i->then_body) || continues(i->else_body)) return true;
+    }
+    return false;
   }
 
   const ir::Program& p_;
