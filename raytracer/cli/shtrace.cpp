@@ -27,6 +27,7 @@ struct Common {
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;
+  std::vector<std::string> settings;  // KEY=VALUE for the backend
 };
 
 void add_common(CLI::App* app, Common& c) {
@@ -38,6 +39,8 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--precision", c.precision, "f32 or f64")->check(CLI::IsMember({"f32", "f64"}))->capture_default_str();
   app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
   app->add_option("--threads", c.threads, "CPU threads (0: all)")->capture_default_str();
+  app->add_option("--set", c.settings, "backend setting KEY=VALUE, repeatable (cpu: width=scalar|4|8|16; mpi: chunk=N, "
+                  "schedule=dynamic|static)");
   app->add_option("--samples", c.samples, "shadow rays per disk light and shading point")
       ->capture_default_str()->check(CLI::Range(1, kMaxShadowSamples));
   app->add_option("--pattern", c.pattern, "disk sample pattern: random or pseudo")
@@ -74,6 +77,11 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.options.precision = c.precision == "f64" ? Precision::F64 : Precision::F32;
   s.options.math = c.math == "fast" ? MathMode::Fast : MathMode::Precise;
   s.options.threads = c.threads;
+  for (const std::string& kv : c.settings) {
+    auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error("--set: expected KEY=VALUE, got '" + kv + "'");
+    s.options.settings[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
   s.shadow_samples = c.samples;
   s.pattern = parse_pattern(c.pattern);
   s.grid_density = c.grid_density;
@@ -128,10 +136,11 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   return 0;
 }
 
-// Primary rays of the scene's camera, made by the raygen kernel.
+// Primary rays of the scene's camera, made by the raygen kernel, in the
+// renderer's 4x4-tile order (the same rays for every backend and Embree).
 std::pair<std::vector<float>, std::vector<float>> primary_rays(sh::rt::Renderer& r, int w, int h) {
   Program raygen = raygen_program(r.tables());
-  Channel<Attrib2f> pixels(pixel_centres(w, h));
+  Channel<Attrib2f> pixels(pixel_centres_in_tiles(w, h));
   Channel<Point3f> o;
   Channel<Vector3f> d;
   Channel<Attrib2f> pixel;
@@ -140,16 +149,16 @@ std::pair<std::vector<float>, std::vector<float>> primary_rays(sh::rt::Renderer&
 }
 
 // Mrays/s of the intersector kernel alone on the given rays (warm).
-double intersect_rate(sh::rt::Renderer& r, const std::string& b, const std::vector<float>& origins,
+double intersect_rate(sh::rt::Renderer& r, const BackendChoice& b, const std::vector<float>& origins,
                       const std::vector<float>& directions, int repeats) {
   Program p = intersector_program(r.tables());
   Channel<Point3f> o(origins);
   Channel<Vector3f> d(directions);
   Channel<Attrib1f> t;
   Channel<Attrib1i> tri;
-  run(p, {o, d}, {t, tri}, backend(b));
+  run(p, {o, d}, {t, tri}, b);
   double ms = 0;
-  for (int i = 0; i < repeats; ++i) ms += run(p, {o, d}, {t, tri}, backend(b)).run_ms;
+  for (int i = 0; i < repeats; ++i) ms += run(p, {o, d}, {t, tri}, b).run_ms;
   return origins.size() / 3.0 * repeats / (ms * 1e3);
 }
 
@@ -165,28 +174,43 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
               reference.grid().dims[2], reference.grid().build_ms, reference.grid().bytes() / 1048576.0);
   Image ref = reference.render();
   auto [origins, directions] = primary_rays(reference, w, h);
-  std::printf("%-8s %11s %11s %13s %15s %11s %9s\n", "backend", "compile ms", "render ms", "render Mrays/s",
+  std::printf("%-11s %11s %11s %13s %15s %11s %9s\n", "backend", "compile ms", "render ms", "render Mrays/s",
               "intersect Mrays/s", "max error", "PSNR dB");
-  double cpu_intersect = 0;
+  // Each backend in each of its variants (cpu: scalar and every SPMD width).
+  double default_cpu = 0;
   for (const std::string& b : backends) {
     if (b == "mpi") continue;
-    Renderer r(scene, settings_for(c, b));
-    RenderReport first, second;
-    r.render(&first);
-    Image img = r.render(&second);  // warm: the kernel is cached
-    float max_error = 0;
-    for (std::size_t i = 0; i < img.rgb.size(); ++i)
-      max_error = std::max(max_error, std::fabs(std::clamp(img.rgb[i], 0.f, 1.f) - std::clamp(ref.rgb[i], 0.f, 1.f)));
-    double rate = intersect_rate(r, b, origins, directions, b == "interp" ? 1 : 5);
-    if (b == "cpu") cpu_intersect = rate;
-    std::printf("%-8s %11.1f %11.1f %13.2f %15.2f %11.5f %9.1f\n", b.c_str(), first.compile_ms, second.render_ms,
-                second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img));
+    for (const Backend::Variant& v : find_backend(b).variants()) {
+      RenderSettings s = settings_for(c, b);
+      s.options.settings.insert(v.settings.begin(), v.settings.end());
+      Renderer r(scene, s);
+      RenderReport first, second;
+      r.render(&first);
+      Image img = r.render(&second);  // warm: the kernel is cached
+      float max_error = 0;
+      for (std::size_t i = 0; i < img.rgb.size(); ++i)
+        max_error = std::max(max_error, std::fabs(std::clamp(img.rgb[i], 0.f, 1.f) - std::clamp(ref.rgb[i], 0.f, 1.f)));
+      double rate = intersect_rate(r, BackendChoice{b, s.options}, origins, directions, b == "interp" ? 1 : 5);
+      std::string name = v.name.empty() ? b : b + ":" + v.name;
+      std::printf("%-11s %11.1f %11.1f %13.2f %15.2f %11.5f %9.1f\n", name.c_str(), first.compile_ms, second.render_ms,
+                  second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img));
+    }
+    if (b == "cpu") default_cpu = intersect_rate(reference, BackendChoice{"cpu", settings_for(c, "cpu").options}, origins,
+                                                 directions, 5);
   }
-  shtrace::AnchorResult embree = shtrace::embree_primary_rays(scene, origins, directions, 5);
-  std::printf("%-8s %11s %11s %13s %15.2f\n", "embree", "-", "-", "-", embree.mrays_per_s);
-  if (cpu_intersect > 0)
-    std::printf("cpu intersector / Embree rtcIntersect1 on the same %zu primary rays: %.3fx\n", origins.size() / 3,
-                cpu_intersect / embree.mrays_per_s);
+  std::vector<std::pair<int, double>> embree;
+  for (int packet : {1, 4, 8, 16}) {
+    shtrace::AnchorResult a = shtrace::embree_primary_rays(scene, origins, directions, 5, packet);
+    std::string name = packet == 1 ? "embree:1" : "embree:" + std::to_string(packet);
+    if (a.mrays_per_s > 0) std::printf("%-11s %11s %11s %13s %15.2f\n", name.c_str(), "-", "-", "-", a.mrays_per_s);
+    else std::printf("%-11s  rtcIntersect%d: not native on this CPU\n", name.c_str(), packet);
+    embree.emplace_back(packet, a.mrays_per_s);
+  }
+  if (default_cpu > 0)
+    for (auto [packet, rate] : embree)
+      if (rate > 0)
+        std::printf("cpu (default width) intersector / Embree rtcIntersect%d on the same %zu primary rays: %.3fx\n", packet,
+                    origins.size() / 3, default_cpu / rate);
   return 0;
 }
 

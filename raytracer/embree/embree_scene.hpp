@@ -18,6 +18,12 @@ class EmbreeScene {
   // rtcIntersect1 from o along d for t in [t_near, inf): the filled ray hit.
   RTCRayHit intersect(Vec3 o, Vec3 d, float t_near = 0) const;
 
+  // rtcIntersect4/8/16 on up to `packet` rays (origins and directions as
+  // x,y,z triples, t from 0); geometry ids land in hit (-1: none).  The
+  // packet size must be one Embree supports on this CPU (supports_packet).
+  bool supports_packet(int packet) const;
+  void intersect_packet(int packet, int count, const float* origins, const float* directions, int* hit) const;
+
  private:
   RTCDevice device_;
   RTCScene scene_;

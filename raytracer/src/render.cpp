@@ -18,6 +18,19 @@ std::vector<float> pixel_centres(int width, int height) {
   return c;
 }
 
+std::vector<float> pixel_centres_in_tiles(int width, int height, int tile) {
+  std::vector<float> c;
+  c.reserve(static_cast<std::size_t>(width) * height * 2);
+  for (int ty = 0; ty < height; ty += tile)
+    for (int tx = 0; tx < width; tx += tile)
+      for (int y = ty; y < std::min(ty + tile, height); ++y)
+        for (int x = tx; x < std::min(tx + tile, width); ++x) {
+          c.push_back(x + 0.5f);
+          c.push_back(y + 0.5f);
+        }
+  return c;
+}
+
 Renderer::Renderer(Scene scene, RenderSettings settings)
     : scene_(std::move(scene)), settings_(std::move(settings)) {
   if (settings_.width < 1 || settings_.height < 1 || settings_.width > 32768 || settings_.height > 32768)
@@ -45,13 +58,15 @@ Image Renderer::render(RenderReport* report) {
   image.triangle.resize(pixels);
   BackendChoice choice = backend(settings_.backend, settings_.options);
   bool show = settings_.progress && isatty(fileno(stderr));
-  // Bands of rows: the progress line moves, and no buffer is the whole image.
-  int band = std::max(1, std::min(image.height, static_cast<int>((1 << 18) / image.width)));
+  // Bands of rows (whole tiles high): the progress line moves, and no
+  // buffer is the whole image.
+  constexpr int kTile = 4;
+  int band = std::max(kTile, std::min(image.height, static_cast<int>((1 << 18) / image.width)) / kTile * kTile);
   RenderReport r;
   auto t0 = std::chrono::steady_clock::now();
   for (int y0 = 0; y0 < image.height; y0 += band) {
     int rows = std::min(band, image.height - y0);
-    std::vector<float> centres = pixel_centres(image.width, rows);
+    std::vector<float> centres = pixel_centres_in_tiles(image.width, rows, kTile);
     for (std::size_t i = 1; i < centres.size(); i += 2) centres[i] += static_cast<float>(y0);
     Channel<Attrib2f> in(centres);
     Channel<Color3f> color;
@@ -60,10 +75,13 @@ Image Renderer::render(RenderReport* report) {
     RunStats s = run(program_, {in}, {color, distance, triangle}, choice);
     r.backend = s.backend;
     r.compile_ms += s.compile_ms;
-    std::size_t at = static_cast<std::size_t>(y0) * image.width;
-    std::copy(color.data(), color.data() + color.size() * 3, image.rgb.begin() + static_cast<long>(at * 3));
-    std::copy(distance.data(), distance.data() + distance.size(), image.distance.begin() + static_cast<long>(at));
-    std::copy(triangle.data(), triangle.data() + triangle.size(), image.triangle.begin() + static_cast<long>(at));
+    // Element k is the pixel whose centre it was given.
+    for (std::size_t k = 0; k < distance.size(); ++k) {
+      std::size_t at = static_cast<std::size_t>(centres[2 * k + 1]) * image.width + static_cast<std::size_t>(centres[2 * k]);
+      std::copy(color.data() + 3 * k, color.data() + 3 * k + 3, image.rgb.begin() + static_cast<long>(3 * at));
+      image.distance[at] = distance[k];
+      image.triangle[at] = triangle[k];
+    }
     if (show) std::fprintf(stderr, "\rrendering on %s: %3d%%", s.backend.c_str(), 100 * (y0 + rows) / image.height);
   }
   if (show) std::fprintf(stderr, "\n");

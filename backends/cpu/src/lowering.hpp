@@ -90,6 +90,7 @@ class Lowering {
   Value* float_op(ir::Op op, Value* a, Value* b);
   Value* int_op(ir::Op op, Value* a, Value* b);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
+  std::array<Value*, 4> same_or_gather(Value* flat, const std::function<std::array<Value*, 4>(Value*, bool)>& element);
 
   struct LoopState {
     BasicBlock* exit;             // break (scalar)

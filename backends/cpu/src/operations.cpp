@@ -3,8 +3,11 @@
 // value's own type, so they are splats where the value is a vector.
 #include "lowering.hpp"
 
+#include <functional>
+
 namespace sh::cpu {
 
+using llvm::BasicBlock;
 using llvm::Value;
 
 Value* Lowering::read(const ir::Operand& o, int i) {
@@ -190,15 +193,18 @@ Value* Lowering::int_op(ir::Op op, Value* a, Value* b) {
 }
 
 // Clamps exactly as sh::fetch_index / sample_index do.  A varying read is a
-// gather over the running lanes; a uniform one is one load.
+// gather over the running lanes, indexed in 32 bits (the kernel refuses
+// bigger tables) so that it is one gather instruction per 16 lanes, not
+// two; a uniform read is one load.
 void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   const ir::TableDecl& t = p_.tables[a.table];
   const ir::Operand& coord = a.args[0];
   ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
   bool gather = varying(a.dest);
-  llvm::Type* i64 = gather ? lanes(b_.getInt64Ty()) : b_.getInt64Ty();
-  Value* flat = llvm::ConstantInt::get(i64, 0);
-  Value* stride = llvm::ConstantInt::get(i64, 1);
+  llvm::Type* index_type = gather ? lanes(b_.getInt32Ty()) : b_.getInt64Ty();
+  auto index_of = [&](Value* i32) { return gather ? i32 : b_.CreateZExt(i32, index_type); };
+  Value* flat = llvm::ConstantInt::get(index_type, 0);
+  Value* stride = llvm::ConstantInt::get(index_type, 1);
   for (int d = 0; d < t.rank; ++d) {
     Value* dim = gather ? splat(table_dims_[a.table][d]) : table_dims_[a.table][d];
     Value* i = gather ? widen(read(coord, d)) : read(coord, d);
@@ -208,20 +214,61 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
     }
     Value* lowest = intrinsic(llvm::Intrinsic::smax, {i, llvm::ConstantInt::get(i->getType(), 0)});
     Value* clamped = intrinsic(llvm::Intrinsic::smin, {lowest, b_.CreateSub(dim, llvm::ConstantInt::get(dim->getType(), 1))});
-    flat = b_.CreateAdd(flat, b_.CreateMul(b_.CreateZExt(clamped, i64), stride));
-    stride = b_.CreateMul(stride, b_.CreateZExt(dim, i64));
+    flat = b_.CreateAdd(flat, b_.CreateMul(index_of(clamped), stride));
+    stride = b_.CreateMul(stride, index_of(dim));
   }
   Value* base = table_base_[a.table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   llvm::Align align(scalar->getPrimitiveSizeInBits() / 8);
-  for (int c = 0; c < t.element.width; ++c) {
-    Value* index = b_.CreateAdd(b_.CreateMul(flat, llvm::ConstantInt::get(i64, t.element.width)), llvm::ConstantInt::get(i64, c));
-    Value* at = b_.CreateInBoundsGEP(scalar, base, index);
-    Value* x = gather ? static_cast<Value*>(b_.CreateMaskedGather(lanes(scalar), at, align, exec(),
-                                                                  llvm::Constant::getNullValue(lanes(scalar))))
-                      : b_.CreateLoad(scalar, at);
-    result[c] = from_storage(x, t.element.scalar);
+  auto element = [&](Value* flat_index, bool as_gather) {
+    std::array<Value*, 4> values{};
+    for (int c = 0; c < t.element.width; ++c) {
+      Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_index->getType(), t.element.width)),
+                                  llvm::ConstantInt::get(flat_index->getType(), c));
+      Value* at = b_.CreateInBoundsGEP(scalar, base, index);
+      values[c] = as_gather ? static_cast<Value*>(b_.CreateMaskedGather(lanes(scalar), at, align, exec(), llvm::Constant::getNullValue(lanes(scalar))))
+                            : b_.CreateLoad(scalar, at);
+    }
+    return values;
+  };
+  std::array<Value*, 4> raw = gather ? same_or_gather(flat, element) : element(flat, false);
+  for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
+}
+
+// Gathers cost a load per lane.  Where every running lane reads the same
+// element (coherent rays in one grid cell, say) one load serves them all:
+// checked at run time, per table read.
+std::array<Value*, 4> Lowering::same_or_gather(Value* flat,
+                                               const std::function<std::array<Value*, 4>(Value*, bool)>& element) {
+  Value* running = exec();
+  Value* bits = b_.CreateBitCast(running, b_.getIntNTy(static_cast<unsigned>(width_)));
+  Value* first = b_.CreateAnd(b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getTrue()),
+                              llvm::ConstantInt::get(bits->getType(), width_ - 1));
+  Value* index = b_.CreateExtractElement(flat, first);
+  Value* same = b_.CreateOr(b_.CreateICmpEQ(flat, splat(index)), b_.CreateNot(running));
+  BasicBlock* one = BasicBlock::Create(ctx_, "read.same", fn_);
+  BasicBlock* many = BasicBlock::Create(ctx_, "read.gather", fn_);
+  BasicBlock* join = BasicBlock::Create(ctx_, "read.done", fn_);
+  b_.CreateCondBr(b_.CreateAndReduce(same), one, many);
+  b_.SetInsertPoint(one);
+  std::array<Value*, 4> loaded = element(index, false);
+  for (Value*& x : loaded)
+    if (x) x = splat(x);
+  BasicBlock* one_end = b_.GetInsertBlock();
+  b_.CreateBr(join);
+  b_.SetInsertPoint(many);
+  std::array<Value*, 4> gathered = element(flat, true);
+  BasicBlock* many_end = b_.GetInsertBlock();
+  b_.CreateBr(join);
+  b_.SetInsertPoint(join);
+  std::array<Value*, 4> joined{};
+  for (int c = 0; c < 4 && loaded[c]; ++c) {
+    llvm::PHINode* phi = b_.CreatePHI(loaded[c]->getType(), 2);
+    phi->addIncoming(loaded[c], one_end);
+    phi->addIncoming(gathered[c], many_end);
+    joined[c] = phi;
   }
+  return joined;
 }
 
 }  // namespace sh::cpu

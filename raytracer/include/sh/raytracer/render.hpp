@@ -63,6 +63,11 @@ class Renderer {
 
 // The pixel centres of a width x height image, row by row from the top.
 std::vector<float> pixel_centres(int width, int height);
+// The same centres in square tiles of `tile` x `tile` pixels (row by row
+// inside a tile, tiles row by row): neighbouring stream elements, which the
+// cpu backend runs side by side in SIMD lanes, then look at neighbouring
+// pixels and tend to walk the same grid cells.
+std::vector<float> pixel_centres_in_tiles(int width, int height, int tile = 4);
 
 // Writes through a temporary file renamed into place; throws sh::Error.
 void write_png(const std::string& path, const Image& image);
