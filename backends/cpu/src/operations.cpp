@@ -237,12 +237,13 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
 
 // Gathers cost a load per lane.  Where every running lane reads the same
 // element (coherent rays in one grid cell, say) one load serves them all:
-// checked at run time, per table read.
+// checked at run time, per table read.  With no lane running (statements
+// after every lane broke out) lane 0's clamped index is read, harmlessly.
 std::array<Value*, 4> Lowering::same_or_gather(Value* flat,
                                                const std::function<std::array<Value*, 4>(Value*, bool)>& element) {
   Value* running = exec();
   Value* bits = b_.CreateBitCast(running, b_.getIntNTy(static_cast<unsigned>(width_)));
-  Value* first = b_.CreateAnd(b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getTrue()),
+  Value* first = b_.CreateAnd(b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getFalse()),
                               llvm::ConstantInt::get(bits->getType(), width_ - 1));
   Value* index = b_.CreateExtractElement(flat, first);
   Value* same = b_.CreateOr(b_.CreateICmpEQ(flat, splat(index)), b_.CreateNot(running));
