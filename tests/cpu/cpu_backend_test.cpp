@@ -176,6 +176,34 @@ TEST(CpuBackend, StreamTailTouchesNothingPastTheEnd) {
   }
 }
 
+TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
+  Table1D<Attrib1f> t(1);
+  Program p = SH_BEGIN_PROGRAM("big_table") {
+    InputAttrib1i i;
+    OutputAttrib1f r;
+    r = t[i];
+  } SH_END;
+  Options o;
+  o.settings["width"] = "8";
+  std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
+  float one = 1.0f;
+  std::int32_t index = 0;
+  RunArgs args;
+  args.count = 1;
+  args.inputs.push_back({ir::Type{ir::Scalar::I32, 1}, 1, &index});
+  args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, 1, &one});
+  // Described as 2^32 values; refused before any is read.
+  args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 1, {1 << 16, 1 << 16, 1}, &one, 1, 1});
+  RunStats stats;
+  try {
+    kernel->run(args, stats);
+    FAIL() << "a table of 2^32 values was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("4294967296 values"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("width=scalar"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 
 #include <filesystem>
