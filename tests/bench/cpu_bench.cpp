@@ -21,10 +21,24 @@ constexpr std::size_t kRays = 1 << 16;
 // loop test's |z|^2 (two products, a sum) and the counter's increment.
 constexpr double kMandelbrotFlopsPerIteration = 11;
 
-BackendChoice cpu_with(const benchmark::State& state) {
+// The rate of Mandelbrot's floating-point operations over the benchmark's
+// iterations, from the per-pixel iteration counts one run produced.
+void count_mandelbrot_flops(benchmark::State& state, const std::vector<float>& shade) {
+  double iterations = 0;
+  for (float i : shade) iterations += i;
+  state.counters["flops"] = benchmark::Counter(kMandelbrotFlopsPerIteration * iterations * static_cast<double>(state.iterations()),
+                                               benchmark::Counter::kIsRate);
+}
+
+Options with_lanes(std::int64_t lanes) {
   Options o;
+  o.settings["width"] = lanes == 1 ? "scalar" : std::to_string(lanes);
+  return o;
+}
+
+BackendChoice cpu_with(const benchmark::State& state) {
+  Options o = with_lanes(state.range(1));
   o.threads = static_cast<int>(state.range(0));
-  o.settings["width"] = state.range(1) == 1 ? "scalar" : std::to_string(state.range(1));
   return backend("cpu", o);
 }
 
@@ -64,27 +78,20 @@ void BM_mandelbrot_dsl(benchmark::State& state) {
   Channel<Attrib1f> shade;
   BackendChoice cpu = cpu_with(state);
   run(p, {c}, {shade}, cpu);
-  double iterations = 0;
-  for (float i : shade.values()) iterations += i;
   for (auto _ : state) run(p, {c}, {shade}, cpu);
   state.SetItemsProcessed(state.iterations() * kMandelbrotSize * kMandelbrotSize);
-  state.counters["flops"] = benchmark::Counter(kMandelbrotFlopsPerIteration * iterations * static_cast<double>(state.iterations()),
-                                               benchmark::Counter::kIsRate);
+  count_mandelbrot_flops(state, shade.values());
 }
 
 void BM_mandelbrot_cpp(benchmark::State& state) {
   std::vector<float> c = bench::mandelbrot_coordinates(kMandelbrotSize), shade(c.size() / 2);
-  bench::mandelbrot_cpp(c.data(), shade.data(), 0, shade.size());
-  double iterations = 0;
-  for (float i : shade) iterations += i;
   for (auto _ : state) {
     hand_parallel(static_cast<int>(state.range(0)), shade.size(),
                   [&](std::size_t b, std::size_t e) { bench::mandelbrot_cpp(c.data(), shade.data(), b, e); });
     benchmark::DoNotOptimize(shade.data());
   }
   state.SetItemsProcessed(state.iterations() * shade.size());
-  state.counters["flops"] = benchmark::Counter(kMandelbrotFlopsPerIteration * iterations * static_cast<double>(state.iterations()),
-                                               benchmark::Counter::kIsRate);
+  count_mandelbrot_flops(state, shade);
 }
 
 void BM_triangles_dsl(benchmark::State& state) {
@@ -115,8 +122,7 @@ void BM_triangles_cpp(benchmark::State& state) {
 // Optimisation passes + lowering + LLVM O3 + machine code, uncached.
 void compile_latency(benchmark::State& state, const Program& p) {
   Backend& cpu = find_backend("cpu");
-  Options o;
-  o.settings["width"] = state.range(0) == 1 ? "scalar" : std::to_string(state.range(0));
+  Options o = with_lanes(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(cpu.compile(optimize(p.ir()), o));
 }
 

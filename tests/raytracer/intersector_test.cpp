@@ -4,6 +4,8 @@
 // tolerance.
 #include <gtest/gtest.h>
 
+#include <embree_scene.hpp>
+
 #include "helpers.hpp"
 
 namespace {
@@ -24,6 +26,29 @@ void expect_agreement(const sh::rt::Scene& scene, std::size_t n, unsigned seed) 
 TEST(IntersectorAgainstEmbree, Cornell) { expect_agreement(sh::rt::builtin_scene("cornell"), 100000, 1); }
 TEST(IntersectorAgainstEmbree, Spheres) { expect_agreement(sh::rt::builtin_scene("spheres"), 100000, 2); }
 TEST(IntersectorAgainstEmbree, Procedural) { expect_agreement(sh::rt::builtin_scene("procedural", 20000), 100000, 3); }
+
+// The benchmarks' Embree anchor traces packets: they must find what single
+// rays find, a partly filled last packet included.
+TEST(EmbreeAnchor, PacketsFindWhatSingleRaysFind) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("spheres");
+  sh::rt::EmbreeScene embree(scene, "threads=1");
+  rt_test::Rays rays = rt_test::random_rays(scene, 1003, 4);
+  std::size_t n = rays.origins.size() / 3, hits = 0;
+  for (int packet : {4, 8, 16}) {
+    if (!embree.supports_packet(packet)) continue;
+    for (std::size_t i = 0; i < n; i += static_cast<std::size_t>(packet)) {
+      int count = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(packet), n - i)), found[16];
+      embree.intersect_packet(packet, count, &rays.origins[3 * i], &rays.directions[3 * i], found);
+      for (int j = 0; j < count; ++j) {
+        RTCRayHit single = embree.intersect(rays.origin(i + j), rays.direction(i + j));
+        int expected = single.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(single.hit.primID);
+        ASSERT_EQ(found[j], expected) << "ray " << i + j << ", packets of " << packet;
+        hits += expected >= 0;
+      }
+    }
+  }
+  EXPECT_GT(hits, 0u);
+}
 
 TEST(Grid, TriangleBoxOverlapIsExact) {
   using sh::rt::Vec3;

@@ -28,8 +28,9 @@ class CpuKernel : public Kernel {
     for (const auto& u : args.uniforms) uniforms.insert(uniforms.end(), u.begin(), u.end());
     std::vector<const void*> tables;
     std::vector<std::int32_t> dims;
-    for (std::size_t i = 0; i < args.tables.size(); ++i) check_gather_range(args.tables[i], i);
-    for (const TableView& t : args.tables) {
+    for (std::size_t i = 0; i < args.tables.size(); ++i) {
+      const TableView& t = args.tables[i];
+      check_gather_range(t, i);
       tables.push_back(t.data);
       dims.insert(dims.end(), t.dims.begin(), t.dims.end());
     }
@@ -56,6 +57,7 @@ class CpuKernel : public Kernel {
 
   std::string listing() const override { return jitted_.llvm_ir(); }
 
+ private:
   // SPMD gathers index tables in 32 bits.
   void check_gather_range(const TableView& t, std::size_t i) const {
     std::size_t values = t.bytes() / ir::storage_bytes(t.element.scalar);
@@ -64,7 +66,6 @@ class CpuKernel : public Kernel {
                   " values; the cpu backend's SPMD kernels index at most 2^31 - 1 of a table: run it with width=scalar");
   }
 
- private:
   ir::Program program_;  // the loops in error messages point into it
   Options options_;
   Jitted jitted_;

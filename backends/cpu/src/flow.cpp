@@ -14,9 +14,9 @@ void Lowering::block(const ir::Block& body) {
     if (auto* a = std::get_if<ir::Assign>(&s.node)) {
       assign(*a);
     } else if (auto* i = std::get_if<ir::If>(&s.node)) {
-      spmd() && facts_.divergent.at(&s) ? masked_branch(s, *i) : branch(*i);
+      spmd() && facts_.divergent.at(&s) ? masked_branch(*i, s) : branch(*i);
     } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
-      spmd() && facts_.divergent.at(&s) ? masked_loop(*l, s) : loop(*l, s);
+      loop(*l, s, spmd() && facts_.divergent.at(&s));
     } else {
       leave(std::holds_alternative<ir::Break>(s.node));
       return;
@@ -40,6 +40,14 @@ void Lowering::leave(bool is_break) {
 
 Value* Lowering::any(Value* mask) { return b_.CreateOrReduce(mask); }
 
+// The lowest lane set in the mask; the lane count where none is.
+Value* Lowering::first_lane(Value* mask) {
+  Value* bits = b_.CreateBitCast(mask, b_.getIntNTy(static_cast<unsigned>(width_)));
+  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getFalse());
+}
+
+Value* Lowering::condition(const ir::Operand& cond) { return truthy(read(cond, 0), p_.type_of(cond.var).scalar); }
+
 llvm::AllocaInst* Lowering::entry_alloca(llvm::Type* t, const char* name) {
   llvm::IRBuilder<> entry(&fn_->getEntryBlock(), fn_->getEntryBlock().begin());
   return entry.CreateAlloca(t, nullptr, name);
@@ -49,7 +57,7 @@ void Lowering::branch(const ir::If& s) {
   BasicBlock* then_bb = BasicBlock::Create(ctx_, "then", fn_);
   BasicBlock* else_bb = BasicBlock::Create(ctx_, "else", fn_);
   BasicBlock* join = BasicBlock::Create(ctx_, "endif", fn_);
-  b_.CreateCondBr(truthy(read(s.cond, 0), p_.type_of(s.cond.var).scalar), then_bb, else_bb);
+  b_.CreateCondBr(condition(s.cond), then_bb, else_bb);
   for (auto [bb, body] : {std::pair{then_bb, &s.then_body}, std::pair{else_bb, &s.else_body}}) {
     b_.SetInsertPoint(bb);
     block(*body);
@@ -70,9 +78,9 @@ void Lowering::leave_masked() { keep_.pop_back(); }
 // Each side runs under its share of the lanes, and is skipped when that
 // share is empty.  Afterwards the lanes that finished either side go on:
 // lanes that broke or continued inside it do not.
-void Lowering::masked_branch(const ir::Stmt& s, const ir::If& i) {
+void Lowering::masked_branch(const ir::If& i, const ir::Stmt& s) {
   Value* before = exec();
-  Value* cond = widen(truthy(read(i.cond, 0), p_.type_of(i.cond.var).scalar));
+  Value* cond = widen(condition(i.cond));
   enter_masked(s);
   Value* finished = nullptr;
   for (auto [body, lanes] : {std::pair{&i.then_body, b_.CreateAnd(before, cond)},
@@ -104,11 +112,7 @@ void Lowering::check_iterations(std::int64_t number, Value* count, Value* active
 
   b_.SetInsertPoint(runaway);
   Value* element = b_.CreateLoad(i64, element_);
-  if (active) {
-    Value* bits = b_.CreateBitCast(active, b_.getIntNTy(static_cast<unsigned>(width_)));
-    Value* lane = b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getFalse());
-    element = b_.CreateAdd(element, b_.CreateZExt(lane, i64));
-  }
+  if (active) element = b_.CreateAdd(element, b_.CreateZExt(first_lane(active), i64));
   for (auto [slot, x] : {std::pair{0, static_cast<Value*>(b_.getInt64(number + 1))}, std::pair{1, element}}) {
     auto* store = b_.CreateStore(x, b_.CreateConstInBoundsGEP1_64(i64, status_, slot));
     store->setAtomic(llvm::AtomicOrdering::Monotonic);
@@ -118,12 +122,24 @@ void Lowering::check_iterations(std::int64_t number, Value* count, Value* active
 }
 
 // top -> [test ->] body -> update -> [test ->] top ..., the test before or
-// after the body as the loop says.
-void Lowering::loop(const ir::Loop& l, const ir::Stmt& s) {
+// after the body as the loop says.  A masked loop runs while any lane is
+// active: the test retires the lanes whose condition failed, every part
+// runs for the lanes still looping, and every lane that entered leaves at
+// the exit.
+void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   std::int64_t number = static_cast<std::int64_t>(loops_.size());
   loops_.push_back(&s);
   llvm::AllocaInst* count = entry_alloca(b_.getInt64Ty(), "iterations");
   b_.CreateStore(b_.getInt64(0), count);
+  llvm::AllocaInst* active = masked ? entry_alloca(mask_type(), "active") : nullptr;
+  Value* entered = masked ? exec() : nullptr;
+  if (masked) {
+    b_.CreateStore(entered, active);
+    enter_masked(s);
+  }
+  auto run_active = [&] {
+    if (masked) b_.CreateStore(b_.CreateLoad(mask_type(), active), exec_);
+  };
 
   BasicBlock* top = BasicBlock::Create(ctx_, "loop.top", fn_);
   BasicBlock* test = BasicBlock::Create(ctx_, "loop.test", fn_);
@@ -133,55 +149,18 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s) {
   b_.CreateBr(top);
 
   b_.SetInsertPoint(top);
-  check_iterations(number, count, nullptr, l.test_at_top ? test : body);
-
-  b_.SetInsertPoint(test);
-  block(l.header);
-  b_.CreateCondBr(truthy(read(l.cond, 0), p_.type_of(l.cond.var).scalar), l.test_at_top ? body : top, exit);
-
-  b_.SetInsertPoint(body);
-  loop_stack_.push_back({exit, update, nullptr});
-  block(l.body);
-  loop_stack_.pop_back();
-  b_.CreateBr(update);
-
-  b_.SetInsertPoint(update);
-  block(l.update);
-  b_.CreateBr(l.test_at_top ? top : test);
-
-  b_.SetInsertPoint(exit);
-}
-
-// The same shape, run while any lane is active; the test retires the lanes
-// whose condition failed.  Every lane that entered leaves at the exit.
-void Lowering::masked_loop(const ir::Loop& l, const ir::Stmt& s) {
-  std::int64_t number = static_cast<std::int64_t>(loops_.size());
-  loops_.push_back(&s);
-  llvm::AllocaInst* count = entry_alloca(b_.getInt64Ty(), "iterations");
-  llvm::AllocaInst* active = entry_alloca(mask_type(), "active");
-  Value* entered = exec();
-  b_.CreateStore(b_.getInt64(0), count);
-  b_.CreateStore(entered, active);
-  enter_masked(s);
-
-  BasicBlock* top = BasicBlock::Create(ctx_, "loop.top", fn_);
-  BasicBlock* test = BasicBlock::Create(ctx_, "loop.test", fn_);
-  BasicBlock* body = BasicBlock::Create(ctx_, "loop.body", fn_);
-  BasicBlock* update = BasicBlock::Create(ctx_, "loop.update", fn_);
-  BasicBlock* exit = BasicBlock::Create(ctx_, "loop.exit", fn_);
-  auto run_active = [&] { b_.CreateStore(b_.CreateLoad(mask_type(), active), exec_); };
-  b_.CreateBr(top);
-
-  b_.SetInsertPoint(top);
-  check_iterations(number, count, b_.CreateLoad(mask_type(), active), l.test_at_top ? test : body);
+  check_iterations(number, count, masked ? b_.CreateLoad(mask_type(), active) : nullptr, l.test_at_top ? test : body);
 
   b_.SetInsertPoint(test);
   run_active();
   block(l.header);
-  Value* staying = b_.CreateAnd(b_.CreateLoad(mask_type(), active),
-                                widen(truthy(read(l.cond, 0), p_.type_of(l.cond.var).scalar)));
-  b_.CreateStore(staying, active);
-  b_.CreateCondBr(any(staying), l.test_at_top ? body : top, exit);
+  Value* go_on = condition(l.cond);
+  if (masked) {
+    Value* staying = b_.CreateAnd(b_.CreateLoad(mask_type(), active), widen(go_on));
+    b_.CreateStore(staying, active);
+    go_on = any(staying);
+  }
+  b_.CreateCondBr(go_on, l.test_at_top ? body : top, exit);
 
   b_.SetInsertPoint(body);
   run_active();
@@ -196,8 +175,10 @@ void Lowering::masked_loop(const ir::Loop& l, const ir::Stmt& s) {
   b_.CreateBr(l.test_at_top ? top : test);
 
   b_.SetInsertPoint(exit);
-  leave_masked();
-  b_.CreateStore(entered, exec_);
+  if (masked) {
+    leave_masked();
+    b_.CreateStore(entered, exec_);
+  }
 }
 
 }  // namespace sh::cpu

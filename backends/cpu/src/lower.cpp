@@ -246,10 +246,9 @@ void Lowering::load_inputs(Value* e, Value* tail) {
         components[c] = b_.CreateLoad(scalar, b_.CreateConstInBoundsGEP1_64(scalar, at, static_cast<std::uint64_t>(c)));
     } else {
       auto* block_type = llvm::FixedVectorType::get(scalar, static_cast<unsigned>(width_ * t.width));
-      llvm::Align align(scalar->getPrimitiveSizeInBits() / 8);
-      Value* block = tail ? static_cast<Value*>(b_.CreateMaskedLoad(block_type, at, align, spread(tail, t.width),
+      Value* block = tail ? static_cast<Value*>(b_.CreateMaskedLoad(block_type, at, alignment(scalar), spread(tail, t.width),
                                                                     llvm::Constant::getNullValue(block_type)))
-                          : b_.CreateAlignedLoad(block_type, at, align);
+                          : b_.CreateAlignedLoad(block_type, at, alignment(scalar));
       components = deinterleave(block, t.width);
     }
     for (int c = 0; c < t.width; ++c) b_.CreateStore(from_storage(components[c], t.scalar), slots_[v][c]);
@@ -271,9 +270,8 @@ void Lowering::store_outputs(Value* e, Value* tail) {
       continue;
     }
     Value* block = interleave(components, t.width);
-    llvm::Align align(scalar->getPrimitiveSizeInBits() / 8);
-    if (tail) b_.CreateMaskedStore(block, at, align, spread(tail, t.width));
-    else b_.CreateAlignedStore(block, at, align);
+    if (tail) b_.CreateMaskedStore(block, at, alignment(scalar), spread(tail, t.width));
+    else b_.CreateAlignedStore(block, at, alignment(scalar));
   }
 }
 

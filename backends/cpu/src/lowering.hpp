@@ -5,11 +5,12 @@
 // and table reads).
 //
 // Lanes: with width 1 every register is a scalar and control flow is
-// branches.  With width W > 1 the kernel is SPMD: every register is a
-// <W x T> vector, lane i holding element e + i; control flow becomes an
-// execution mask (`exec`), a side of an `if` that no lane needs is skipped,
-// and a loop runs while any lane is active.  Arithmetic is the same code
-// for both: LLVM's operations take vectors as they take scalars.
+// branches.  With width W > 1 the kernel is SPMD: a varying register is a
+// <W x T> vector, lane i holding element e + i, a uniform one stays scalar
+// (spmd_analysis.hpp); divergent control flow narrows an execution mask
+// (`exec`), a side of an `if` that no lane needs is skipped, and a loop
+// runs while any lane is active.  Arithmetic is the same code for both:
+// LLVM's operations take vectors as they take scalars.
 #include <array>
 #include <functional>
 #include <memory>
@@ -64,14 +65,15 @@ class Lowering {
   // ---- statements and control flow (flow.cpp) ------------------------------
   void block(const ir::Block& body);
   void branch(const ir::If& s);
-  void masked_branch(const ir::Stmt& s, const ir::If& i);
+  void masked_branch(const ir::If& i, const ir::Stmt& s);
   void enter_masked(const ir::Stmt& s);
   void leave_masked();
-  void loop(const ir::Loop& l, const ir::Stmt& s);
-  void masked_loop(const ir::Loop& l, const ir::Stmt& s);
+  void loop(const ir::Loop& l, const ir::Stmt& s, bool masked);
   void leave(bool is_break);
   void check_iterations(std::int64_t number, Value* count, Value* active, BasicBlock* next);
+  Value* condition(const ir::Operand& cond);  // the i1 (or lanes of i1) an if or loop tests
   Value* any(Value* mask);
+  Value* first_lane(Value* mask);
   Value* exec() { return b_.CreateLoad(mask_type(), exec_); }
   llvm::Type* mask_type() const { return lanes(llvm::Type::getInt1Ty(ctx_)); }
   llvm::AllocaInst* entry_alloca(llvm::Type* t, const char* name);
@@ -90,12 +92,13 @@ class Lowering {
   Value* float_op(ir::Op op, Value* a, Value* b);
   Value* int_op(ir::Op op, Value* a, Value* b);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
+  llvm::Align alignment(llvm::Type* scalar) const { return llvm::Align(scalar->getPrimitiveSizeInBits() / 8); }
   std::array<Value*, 4> same_or_gather(Value* flat, const std::function<std::array<Value*, 4>(Value*, bool)>& element);
 
   struct LoopState {
-    BasicBlock* exit;             // break (scalar)
-    BasicBlock* next;             // continue (scalar)
-    llvm::AllocaInst* active;     // lanes still looping (spmd)
+    BasicBlock* exit;          // break, in a loop that branches
+    BasicBlock* next;          // continue, likewise
+    llvm::AllocaInst* active;  // a masked loop's lanes still looping; null where it branches
   };
 
   const ir::Program& p_;

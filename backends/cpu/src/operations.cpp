@@ -21,7 +21,6 @@ Value* Lowering::read(const ir::Operand& o, int i) {
 // runs, and lanes past the stream's end are never stored.
 void Lowering::write(ir::VarId v, int component, Value* x) {
   Value* slot = slots_[v][component];
-  if (varying(v)) x = widen(x);
   if (varying(v) && !keep_.empty() && keep_.back()[v]) x = b_.CreateSelect(exec(), x, b_.CreateLoad(var_type(v), slot));
   b_.CreateStore(x, slot);
 }
@@ -219,15 +218,18 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   }
   Value* base = table_base_[a.table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
-  llvm::Align align(scalar->getPrimitiveSizeInBits() / 8);
   auto element = [&](Value* flat_index, bool as_gather) {
     std::array<Value*, 4> values{};
     for (int c = 0; c < t.element.width; ++c) {
-      Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_index->getType(), t.element.width)),
-                                  llvm::ConstantInt::get(flat_index->getType(), c));
+      llvm::Type* flat_type = flat_index->getType();
+      Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_type, t.element.width)),
+                                  llvm::ConstantInt::get(flat_type, c));
       Value* at = b_.CreateInBoundsGEP(scalar, base, index);
-      values[c] = as_gather ? static_cast<Value*>(b_.CreateMaskedGather(lanes(scalar), at, align, exec(), llvm::Constant::getNullValue(lanes(scalar))))
-                            : b_.CreateLoad(scalar, at);
+      if (as_gather)
+        values[c] = b_.CreateMaskedGather(lanes(scalar), at, alignment(scalar), exec(),
+                                          llvm::Constant::getNullValue(lanes(scalar)));
+      else
+        values[c] = b_.CreateLoad(scalar, at);
     }
     return values;
   };
@@ -242,9 +244,8 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
 std::array<Value*, 4> Lowering::same_or_gather(Value* flat,
                                                const std::function<std::array<Value*, 4>(Value*, bool)>& element) {
   Value* running = exec();
-  Value* bits = b_.CreateBitCast(running, b_.getIntNTy(static_cast<unsigned>(width_)));
-  Value* first = b_.CreateAnd(b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getFalse()),
-                              llvm::ConstantInt::get(bits->getType(), width_ - 1));
+  Value* first = first_lane(running);
+  first = b_.CreateAnd(first, llvm::ConstantInt::get(first->getType(), width_ - 1));
   Value* index = b_.CreateExtractElement(flat, first);
   Value* same = b_.CreateOr(b_.CreateICmpEQ(flat, splat(index)), b_.CreateNot(running));
   BasicBlock* one = BasicBlock::Create(ctx_, "read.same", fn_);
