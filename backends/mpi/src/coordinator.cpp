@@ -4,9 +4,11 @@
 
 #include <chrono>
 #include <map>
+#include <set>
 
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
+#include "sh/waves.hpp"
 #include "wire.hpp"
 
 namespace sh::mpi {
@@ -24,6 +26,12 @@ std::map<std::uint64_t, std::uint64_t>& tables_sent() {
   return sent;
 }
 
+// Refiners whose seed the serving ranks have (each rank then builds its own).
+std::set<std::uint64_t>& refiners_sent() {
+  static std::set<std::uint64_t> sent;
+  return sent;
+}
+
 class Coordinator : public Kernel {
  public:
   Coordinator(const ir::Program& p, const Options& o) : program_(p), schedule_(schedule_of(o)), chunk_(chunk_of(o)) {
@@ -36,16 +44,34 @@ class Coordinator : public Kernel {
     if (ranks_ > 1) compile_everywhere(local, o.local_backend);
   }
 
-  void run(const RunArgs& args, RunStats& stats) override {
+  void run(const RunArgs& args, RunStats& stats) override { spread(args, nullptr, stats); }
+
+  // Each rank runs its chunks in waves with a refiner of its own: rank 0
+  // with the caller's, the others with one started from its seed.
+  void run_waves(const RunArgs& args, const Waves& waves, RunStats& stats) override { spread(args, &waves, stats); }
+
+  std::string listing() const override { return local_->listing(); }
+
+ private:
+  struct Schedule {
+    const RunArgs& args;
+    std::size_t chunk;
+    std::size_t next;
+    std::string error;
+    std::size_t outstanding;
+    const Waves* waves;
+  };
+
+  void spread(const RunArgs& args, const Waves* waves, RunStats& stats) {
     Traffic t;
-    if (ranks_ > 1) broadcast(run_command(args), t);
+    if (ranks_ > 1) broadcast(run_command(args, waves), t);
     PartStats mine;
     mine.part = 0;
     // Dynamic: many more chunks than ranks (16 each unless a size is set);
     // static: one contiguous share per rank.
     std::size_t shares = schedule_ == "static" ? ranks_ : 16 * ranks_;
     std::size_t chunk = chunk_ > 0 && schedule_ != "static" ? chunk_ : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
-    Schedule s{args, chunk, 0, {}, 0};
+    Schedule s{args, chunk, 0, {}, 0, waves};
     std::size_t served = 0;  // serving ranks that have been told they are done
     std::vector<PartStats> parts{};
     int waiting_stats = ranks_ - 1;
@@ -76,7 +102,7 @@ class Coordinator : public Kernel {
       std::string message = receive(MPI_ANY_SOURCE, MPI_ANY_TAG, t, &source, &tag);
       mine.idle_s += seconds_since(idle);
       if (tag == kStats) {
-        parts.push_back(Unpacker(message).get<PartStats>());
+        take_stats(message, parts, stats);
         --waiting_stats;
         continue;
       }
@@ -84,24 +110,26 @@ class Coordinator : public Kernel {
       if (tag == kFailed && s.error.empty()) s.error = "rank " + std::to_string(source) + ": " + message;
       served += hand_out(s, source, t);
     }
-    while (waiting_stats-- > 0) parts.push_back(Unpacker(receive(MPI_ANY_SOURCE, kStats, t)).get<PartStats>());
+    while (waiting_stats-- > 0) take_stats(receive(MPI_ANY_SOURCE, kStats, t), parts, stats);
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
+    if (waves) stats.refined.insert(stats.refined.begin(), waves->refiner->summary());
+    for (const PartStats& p : parts) {
+      stats.waves += p.waves;
+      stats.resumed += p.resumed;
+    }
     stats.parts = std::move(parts);
     if (!s.error.empty()) throw Error("mpi backend: " + s.error);
   }
 
-  std::string listing() const override { return local_->listing(); }
-
- private:
-  struct Schedule {
-    const RunArgs& args;
-    std::size_t chunk;
-    std::size_t next;
-    std::string error;
-    std::size_t outstanding;
-  };
+  // A serving rank's stats, and with waves its refiner's summary, in rank
+  // order after rank 0's.
+  static void take_stats(const std::string& message, std::vector<PartStats>& parts, RunStats& stats) {
+    Unpacker u(message);
+    parts.push_back(u.get<PartStats>());
+    if (u.get<bool>()) stats.refined.push_back(u.text());
+  }
 
   void compile_everywhere(const Options& local, const std::string& local_backend) {
     Options sent = local;
@@ -123,7 +151,7 @@ class Coordinator : public Kernel {
 
   // The command every serving rank receives: the kernel, and the tables
   // and uniforms that changed since they last got them.
-  std::string run_command(const RunArgs& args) {
+  std::string run_command(const RunArgs& args, const Waves* waves) {
     Packer p;
     p.put(Command::Run).put(id_);
     for (const TableView& table : args.tables) {
@@ -140,7 +168,18 @@ class Coordinator : public Kernel {
     if (changed)
       for (const auto& u : args.uniforms) p.put(u);
     uniforms_sent_ = args.uniforms;
+    p.put(waves != nullptr);
+    if (waves) pack_waves(p, *waves);
     return p.bytes();
+  }
+
+  static void pack_waves(Packer& p, const Waves& w) {
+    p.put(w.refiner->id());
+    bool fresh = refiners_sent().insert(w.refiner->id()).second;
+    p.put(fresh);
+    if (fresh) p.put(w.refiner->kind()).put(w.refiner->seed());
+    p.put(w.request_output).put(w.max_waves).put(static_cast<std::uint64_t>(w.carried.size()));
+    for (const auto& [out, in] : w.carried) p.put(out).put(in);
   }
 
   // Gives `rank` the next chunk, or tells it the run is over (returns 1).
@@ -182,8 +221,13 @@ class Coordinator : public Kernel {
     for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
     for (BufferView& b : slice.outputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
     try {
-      RunStats ignored;
-      local_->run(slice, ignored);
+      RunStats run;
+      if (s.waves)
+        run_in_waves(*local_, slice, *s.waves, run);
+      else
+        local_->run(slice, run);
+      mine.waves += run.waves;
+      mine.resumed += run.resumed;
       mine.elements += n;
       if (piece == s.chunk || (begin + n) % s.chunk == 0 || begin + n == s.args.count) ++mine.chunks;
     } catch (const std::exception& e) {

@@ -6,9 +6,11 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
+#include "sh/waves.hpp"
 #include "wire.hpp"
 #include "world.hpp"
 
@@ -77,6 +79,9 @@ class Worker {
       for (auto& value : k.uniforms) value = u.get<std::array<double, 4>>();
     }
     args.uniforms = k.uniforms;
+    std::optional<Waves> waves;
+    std::string refusal;  // a refiner this process cannot make: each chunk fails with it
+    if (u.get<bool>()) waves = receive_waves(u, refusal);
     send({}, 0, kReady, t);
     for (;;) {
       auto idle = Clock::now();
@@ -84,13 +89,43 @@ class Worker {
       std::string message = receive(0, MPI_ANY_TAG, t, nullptr, &tag);
       stats.idle_s += std::chrono::duration<double>(Clock::now() - idle).count();
       if (tag == kDone) break;
-      compute(k, args, message, stats, t);
+      if (!refusal.empty())
+        send(refusal, 0, kFailed, t);
+      else
+        compute(k, args, waves ? &*waves : nullptr, message, stats, t);
     }
     stats.bytes_sent = t.sent;
     stats.bytes_received = t.received;
     Packer p;
-    p.put(stats);
+    p.put(stats).put(waves.has_value() && refusal.empty());
+    if (waves && refusal.empty()) p.put(waves->refiner->summary());
     send(p.bytes(), 0, kStats, t);
+  }
+
+  // This rank's refiner persists across runs: what it built for earlier
+  // chunks serves later ones.
+  Waves receive_waves(Unpacker& u, std::string& refusal) {
+    Waves w;
+    auto id = u.get<std::uint64_t>();
+    if (u.get<bool>()) {
+      std::string kind = u.text(), seed = u.text();
+      try {
+        refiners_[id] = make_refiner(kind, seed);
+      } catch (const std::exception& e) {
+        refusal = e.what();
+      }
+    }
+    auto it = refiners_.find(id);
+    if (it == refiners_.end() && refusal.empty()) refusal = "no refiner for this run";
+    w.refiner = it == refiners_.end() ? nullptr : it->second.get();
+    w.request_output = u.get<int>();
+    w.max_waves = u.get<int>();
+    auto n = u.get<std::uint64_t>();
+    for (std::uint64_t i = 0; i < n; ++i) {
+      int out = u.get<int>();
+      w.carried.emplace_back(out, u.get<int>());
+    }
+    return w;
   }
 
   void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args) {
@@ -108,7 +143,8 @@ class Worker {
     }
   }
 
-  void compute(const LocalKernel& k, RunArgs args, const std::string& message, PartStats& stats, Traffic& t) {
+  void compute(const LocalKernel& k, RunArgs args, const Waves* waves, const std::string& message, PartStats& stats,
+               Traffic& t) {
     Unpacker u(message);
     auto begin = u.get<std::uint64_t>();
     args.count = u.get<std::uint64_t>();
@@ -127,8 +163,13 @@ class Worker {
     }
     auto busy = Clock::now();
     try {
-      RunStats ignored;
-      k.kernel->run(args, ignored);
+      RunStats run;
+      if (waves)
+        run_in_waves(*k.kernel, args, *waves, run);
+      else
+        k.kernel->run(args, run);
+      stats.waves += run.waves;
+      stats.resumed += run.resumed;
     } catch (const std::exception& e) {
       send(e.what(), 0, kFailed, t);
       return;
@@ -149,6 +190,7 @@ class Worker {
   int rank_ = 0;
   std::map<std::uint64_t, LocalKernel> kernels_;
   std::map<std::uint64_t, Table> tables_;
+  std::map<std::uint64_t, std::unique_ptr<Refiner>> refiners_;
 };
 
 }  // namespace

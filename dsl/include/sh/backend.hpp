@@ -68,6 +68,7 @@ struct PartStats {
   std::size_t elements = 0, chunks = 0;
   double busy_s = 0, idle_s = 0;
   std::size_t bytes_sent = 0, bytes_received = 0;
+  std::size_t waves = 0, resumed = 0;  // see RunStats
 };
 
 struct RunStats {
@@ -78,12 +79,20 @@ struct RunStats {
   std::size_t elements = 0;
   std::vector<std::string> diagnostics;  // checked mode findings
   std::vector<PartStats> parts;          // per rank (or device), where the backend has them
+  // Runs in waves (waves.hpp): waves after the first, element runs they
+  // took, and per part the refiner's summary of what it has built.
+  std::size_t waves = 0, resumed = 0;
+  std::vector<std::string> refined;
 };
+
+struct Waves;
 
 class Kernel {
  public:
   virtual ~Kernel() = default;
   virtual void run(const RunArgs& args, RunStats& stats) = 0;
+  // Runs in waves (waves.hpp), by default all on this process.
+  virtual void run_waves(const RunArgs& args, const Waves& waves, RunStats& stats);
   // What the kernel became (LLVM IR, OpenCL C, ...), for --dump options.
   virtual std::string listing() const { return {}; }
 };

@@ -14,3 +14,4 @@
 #include "sh/print.hpp"
 #include "sh/program.hpp"
 #include "sh/table.hpp"
+#include "sh/waves.hpp"

@@ -9,6 +9,7 @@
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
 #include "sh/passes.hpp"
+#include "sh/waves.hpp"
 
 namespace sh {
 namespace {
@@ -174,18 +175,56 @@ std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& 
   return cached_kernel(program, resolve(choice), choice.options, ignored);
 }
 
-RunStats run(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
-             const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice) {
+namespace {
+
+void check_waves(const ir::Program& p, const Waves& w) {
+  if (!w.refiner) throw Error("program '" + p.name + "': running in waves needs a refiner");
+  auto output = [&](int k) {
+    if (k < 0 || static_cast<std::size_t>(k) >= p.outputs.size())
+      throw Error(describe_slot(p, "output", static_cast<std::size_t>(std::max(k, 0))) + " named for waves does not exist (" +
+                  std::to_string(p.outputs.size()) + " outputs)");
+    return p.type_of(p.outputs[k]);
+  };
+  if (output(w.request_output) != ir::Type{ir::Scalar::I32, 1})
+    throw Error(describe_slot(p, "output", w.request_output) + " holds the requests of waves, so it must be int1, not " +
+                ir::type_name(output(w.request_output)));
+  for (const auto& [out, in] : w.carried) {
+    if (in < 0 || static_cast<std::size_t>(in) >= p.inputs.size())
+      throw Error(describe_slot(p, "input", static_cast<std::size_t>(std::max(in, 0))) + " named as carried does not exist");
+    if (output(out) != p.type_of(p.inputs[in]))
+      throw Error(describe_slot(p, "output", out) + " is carried into input " + std::to_string(in) + " of another type");
+  }
+}
+
+RunStats run_with(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+                  const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice,
+                  const Waves* waves) {
   RunStats stats;
   stats.backend = resolve(choice);
   RunArgs args = bind_arguments(program, inputs, outputs);
+  if (waves) check_waves(program.ir(), *waves);
   std::shared_ptr<Kernel> kernel = cached_kernel(program, stats.backend, choice.options, stats);
   stats.elements = args.count;
   if (args.count == 0) return stats;
   auto t0 = std::chrono::steady_clock::now();
-  kernel->run(args, stats);
+  if (waves)
+    kernel->run_waves(args, *waves, stats);
+  else
+    kernel->run(args, stats);
   stats.run_ms = ms_since(t0);
   return stats;
+}
+
+}  // namespace
+
+RunStats run(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+             const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice) {
+  return run_with(program, inputs, outputs, choice, nullptr);
+}
+
+RunStats run(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+             const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const Waves& waves, const BackendChoice& choice) {
+  return run_with(program, inputs, outputs, choice, &waves);
 }
 
 }  // namespace sh

@@ -1,0 +1,150 @@
+#include "sh/waves.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+#include "sh/error.hpp"
+
+namespace sh {
+namespace {
+
+struct Refiners {
+  std::mutex mutex;
+  std::map<std::string, RefinerFactory> factories;
+};
+
+Refiners& refiners() {
+  static Refiners r;
+  return r;
+}
+
+std::size_t element_bytes(const BufferView& b) { return static_cast<std::size_t>(b.type.width) * ir::storage_bytes(b.type.scalar); }
+
+// The elements of a run still waiting: where each one's results belong in
+// the caller's streams, and the gathered inputs they run on next.
+class Stopped {
+ public:
+  // Elements whose request (output `request` of `args`) is >= 0; `at`
+  // maps them back to the caller's positions.
+  void collect(const RunArgs& args, int request, const std::vector<std::size_t>& at) {
+    const auto* r = static_cast<const std::int32_t*>(args.outputs[request].data);
+    positions_.clear();
+    requests_.clear();
+    for (std::size_t i = 0; i < args.count; ++i)
+      if (r[i] >= 0) {
+        positions_.push_back(at.empty() ? i : at[i]);
+        requests_.push_back(r[i]);
+      }
+  }
+  bool empty() const { return positions_.empty(); }
+  const std::vector<std::size_t>& positions() const { return positions_; }
+  std::vector<std::int32_t> distinct_requests() const {
+    std::vector<std::int32_t> d = requests_;
+    std::sort(d.begin(), d.end());
+    d.erase(std::unique(d.begin(), d.end()), d.end());
+    return d;
+  }
+
+ private:
+  std::vector<std::size_t> positions_;
+  std::vector<std::int32_t> requests_;
+};
+
+// The stopped elements' arguments: inputs gathered from the caller's
+// streams (carried ones from its outputs), outputs into scratch space.
+RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_t>& at, std::vector<std::string>& scratch) {
+  RunArgs c = full;
+  c.count = at.size();
+  scratch.clear();
+  scratch.reserve(full.inputs.size() + full.outputs.size());
+  auto gathered = [&](const BufferView& from) {
+    std::size_t n = element_bytes(from);
+    scratch.emplace_back(at.size() * n, '\0');
+    char* to = scratch.back().data();
+    for (std::size_t k = 0; k < at.size(); ++k) std::memcpy(to + k * n, static_cast<const char*>(from.data) + at[k] * n, n);
+    return BufferView{from.type, at.size(), to};
+  };
+  for (std::size_t i = 0; i < full.inputs.size(); ++i) {
+    auto carried = std::find_if(w.carried.begin(), w.carried.end(), [&](const auto& p) { return p.second == static_cast<int>(i); });
+    c.inputs[i] = gathered(carried == w.carried.end() ? full.inputs[i] : full.outputs[carried->first]);
+  }
+  for (BufferView& out : c.outputs) {
+    scratch.emplace_back(at.size() * element_bytes(out), '\0');
+    out = BufferView{out.type, at.size(), scratch.back().data()};
+  }
+  return c;
+}
+
+void scatter(const RunArgs& part, const RunArgs& full, const std::vector<std::size_t>& at) {
+  for (std::size_t o = 0; o < full.outputs.size(); ++o) {
+    std::size_t n = element_bytes(full.outputs[o]);
+    for (std::size_t k = 0; k < at.size(); ++k)
+      std::memcpy(static_cast<char*>(full.outputs[o].data) + at[k] * n, static_cast<const char*>(part.outputs[o].data) + k * n, n);
+  }
+}
+
+}  // namespace
+
+Refiner::Refiner() {
+  static std::atomic<std::uint64_t> next{1};
+  id_ = next++;
+}
+
+void register_refiner(const std::string& kind, RefinerFactory factory) {
+  Refiners& r = refiners();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  r.factories[kind] = std::move(factory);
+}
+
+std::unique_ptr<Refiner> make_refiner(const std::string& kind, const std::string& seed) {
+  Refiners& r = refiners();
+  RefinerFactory f;
+  {
+    std::lock_guard<std::mutex> lock(r.mutex);
+    auto it = r.factories.find(kind);
+    if (it == r.factories.end()) throw Error("no refiner of kind '" + kind + "' is registered in this process");
+    f = it->second;
+  }
+  return f(seed);
+}
+
+std::uint64_t refined_table_id() {
+  static std::atomic<std::uint64_t> next{1};
+  return (std::uint64_t{1} << 63) | next++;
+}
+
+void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats& stats) {
+  RunArgs all = args;
+  w.refiner->bind(all.tables);
+  kernel.run(all, stats);
+  Stopped stopped;
+  stopped.collect(all, w.request_output, {});
+  std::vector<std::string> scratch;
+  while (!stopped.empty()) {
+    std::vector<std::int32_t> requests = stopped.distinct_requests();
+    if (w.refiner->refine(requests) == 0)
+      throw Error("running in waves: the " + w.refiner->kind() + " refiner built nothing for request " +
+                  std::to_string(requests.front()) + " (element " + std::to_string(stopped.positions().front()) +
+                  "), which would stop it forever");
+    if (++stats.waves > static_cast<std::size_t>(w.max_waves))
+      throw Error("running in waves: still " + std::to_string(stopped.positions().size()) + " elements stopped after " +
+                  std::to_string(w.max_waves) + " waves");
+    w.refiner->bind(all.tables);
+    std::vector<std::size_t> at = stopped.positions();
+    RunArgs part = gather(all, w, at, scratch);
+    kernel.run(part, stats);
+    scatter(part, all, at);
+    stats.resumed += at.size();
+    stopped.collect(part, w.request_output, at);
+  }
+}
+
+void Kernel::run_waves(const RunArgs& args, const Waves& waves, RunStats& stats) {
+  run_in_waves(*this, args, waves, stats);
+  stats.refined = {waves.refiner->summary()};
+}
+
+}  // namespace sh

@@ -1,0 +1,144 @@
+// Running in waves: elements stop at table entries not built yet, a
+// refiner builds what they asked for, and they resume from their carried
+// state.  Every backend (and every rank of mpi) must give the same sums
+// while each element takes exactly its own steps.
+#include <algorithm>
+#include <set>
+
+#include "harness.hpp"
+
+namespace conformance {
+namespace {
+
+constexpr int kEntries = 997;
+constexpr int kChain = 5;  // entries each element adds up
+constexpr const char* kKind = "conformance.squares";
+
+std::int32_t square_plus_one(std::int32_t k) { return k * k + 1; }
+
+// Builds entries of a table on request (k*k + 1; -1 marks "not built").
+class LazySquares : public sh::Refiner {
+ public:
+  explicit LazySquares(std::uint64_t stands_for) : stands_for_(stands_for), values_(kEntries, -1) {}
+  std::string kind() const override { return kKind; }
+  std::string seed() const override { return std::to_string(stands_for_); }
+  void bind(std::vector<sh::TableView>& tables) const override {
+    for (sh::TableView& t : tables)
+      if (t.id == stands_for_ || t.id == own_id_) {
+        t.data = values_.data();
+        t.id = own_id_;
+        t.version = version_;
+      }
+  }
+  std::size_t refine(const std::vector<std::int32_t>& requests) override {
+    std::size_t built = 0;
+    for (std::int32_t r : requests)
+      if (r >= 0 && r < kEntries && values_[r] < 0) {
+        values_[r] = square_plus_one(r);
+        ++built;
+      }
+    version_ += built > 0;
+    return built;
+  }
+  std::string summary() const override { return std::to_string(std::count_if(values_.begin(), values_.end(), [](int v) { return v >= 0; })); }
+
+ private:
+  std::uint64_t stands_for_;
+  std::uint64_t own_id_ = sh::refined_table_id();
+  std::uint64_t version_ = 1;
+  std::vector<std::int32_t> values_;
+};
+
+// Every process of an mpi job registers it before serving.
+const bool registered = [] {
+  sh::register_refiner(kKind, [](const std::string& seed) { return std::make_unique<LazySquares>(std::stoull(seed)); });
+  return true;
+}();
+
+TEST_P(Conformance, WavesResumeStoppedElementsUntilTheTableHasWhatTheyNeed) {
+  ASSERT_TRUE(registered);
+  sh::Table1D<sh::Attrib1i> values(kEntries);
+  values.name("squares").assign(std::vector<std::int32_t>(kEntries, -1));
+  sh::Program p = SH_BEGIN_PROGRAM("lazy squares") {
+    sh::InputAttrib1i first;
+    sh::InputAttrib3i resume;  // next step, sum so far, steps taken
+    sh::OutputAttrib1i request;
+    sh::OutputAttrib3i state;
+    sh::Attrib1i step = resume(0), sum = resume(1), taken = resume(2);
+    request = -1;
+    SH_WHILE(step < kChain) {
+      sh::Attrib1i at = (first * 3 + step * 7) % kEntries;
+      sh::Attrib1i v = values[at];
+      request = sh::cond(v < 0, at, request);
+      SH_BREAK(v < 0);
+      sum += v;
+      step += 1;
+      taken += 1;
+    } SH_ENDWHILE;
+    state = sh::join(sh::join(step, sum), taken);
+  } SH_END;
+
+  const std::size_t n = 1500;
+  std::vector<std::int32_t> firsts(n), zeros(3 * n, 0);
+  for (std::size_t i = 0; i < n; ++i) firsts[i] = static_cast<std::int32_t>((i * 37) % kEntries);
+  sh::Channel<sh::Attrib1i> first(firsts), request;
+  sh::Channel<sh::Attrib3i> resume(zeros), state;
+  LazySquares refiner(values.storage()->id);
+  sh::Waves waves{&refiner, 0, {{1, 1}}};
+  sh::RunStats stats = sh::run(p, {first, resume}, {request, state}, waves, choice());
+
+  std::set<int> needed;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int32_t want = 0;
+    for (int s = 0; s < kChain; ++s) {
+      int at = (firsts[i] * 3 + s * 7) % kEntries;
+      want += square_plus_one(at);
+      needed.insert(at);
+    }
+    ASSERT_EQ(request[i], -1) << "element " << i;
+    ASSERT_EQ(state[3 * i], kChain) << "element " << i;
+    EXPECT_EQ(state[3 * i + 1], want) << "element " << i;
+    EXPECT_EQ(state[3 * i + 2], kChain) << "element " << i << " repeated steps instead of resuming";
+  }
+  EXPECT_GE(stats.waves, 1u);
+  EXPECT_GT(stats.resumed, 0u);
+  // Each process built only entries some element needed; together all of them.
+  ASSERT_FALSE(stats.refined.empty());
+  std::size_t built = 0;
+  for (const std::string& s : stats.refined) built += std::stoul(s);
+  EXPECT_GE(built, needed.size());
+  EXPECT_LE(built, needed.size() * stats.refined.size());
+  if (stats.refined.size() == 1) {
+    EXPECT_EQ(std::stoul(stats.refined[0]), needed.size());
+  }
+
+  // A second run finds everything built on this process: no wave at all
+  // where one process did all the work.
+  sh::Channel<sh::Attrib1i> request2;
+  sh::Channel<sh::Attrib3i> state2;
+  sh::RunStats again = sh::run(p, {first, resume}, {request2, state2}, waves, choice());
+  if (stats.refined.size() == 1) {
+    EXPECT_EQ(again.waves, 0u);
+  }
+  for (std::size_t i = 0; i < 3 * n; ++i) ASSERT_EQ(state2[i], state[i]);
+}
+
+TEST_P(Conformance, WavesRefuseARequestOutputThatIsNotAnInt) {
+  sh::Program p = SH_BEGIN_PROGRAM("bad waves") {
+    sh::InputAttrib1f x;
+    sh::OutputAttrib1f y;
+    y = x;
+  } SH_END;
+  sh::Channel<sh::Attrib1f> x(std::vector<float>{1, 2}), y;
+  LazySquares refiner(0);
+  try {
+    sh::run(p, {x}, {y}, sh::Waves{&refiner, 0, {}}, choice());
+    FAIL() << "a float request output was accepted";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("output 0 holds the requests of waves, so it must be int1"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace conformance
