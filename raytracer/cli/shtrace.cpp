@@ -9,6 +9,7 @@
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
 
+#include "accel_compare.hpp"
 #include "embree_anchor.hpp"
 #include "tradeoff.hpp"
 
@@ -24,6 +25,8 @@ struct Common {
   int samples = 16;
   std::string pattern = "random";
   double grid_density = 2.0;
+  std::string accel = "grid";
+  OctreeLimits octree;
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;
@@ -46,6 +49,12 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--pattern", c.pattern, "disk sample pattern: random or pseudo")
       ->check(CLI::IsMember({"random", "pseudo"}))->capture_default_str();
   app->add_option("--grid-density", c.grid_density, "grid cells per triangle")->capture_default_str()->check(CLI::Range(0.01, 64.0));
+  app->add_option("--accel", c.accel, "accelerator: grid, octree (built before tracing) or lazy-octree (built where rays go)")
+      ->check(CLI::IsMember({"grid", "octree", "lazy-octree"}))->capture_default_str();
+  app->add_option("--octree-depth", c.octree.max_depth, "octree depth limit")
+      ->capture_default_str()->check(CLI::Range(0, kMaxOctreeDepth));
+  app->add_option("--leaf-size", c.octree.leaf_size, "octree: most triangles in a leaf above the depth limit")
+      ->capture_default_str()->check(CLI::Range(1, 1 << 20));
 }
 
 std::pair<int, int> parse_size(const std::string& s) {
@@ -85,6 +94,8 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.shadow_samples = c.samples;
   s.pattern = parse_pattern(c.pattern);
   s.grid_density = c.grid_density;
+  s.accel = parse_accel(c.accel);
+  s.octree = c.octree;
   return s;
 }
 
@@ -101,9 +112,8 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   s.specialise = !general;
   s.progress = true;
   Renderer r(std::move(scene), s);
-  std::printf("scene %s: %zu triangles, grid %dx%dx%d (%.1f ms, %.1f MiB); kernel leaves out: %s\n", r.scene().name.c_str(),
-              r.scene().mesh.triangles(), r.grid().dims[0], r.grid().dims[1], r.grid().dims[2], r.grid().build_ms,
-              r.grid().bytes() / 1048576.0, r.features().left_out().c_str());
+  std::printf("scene %s: %zu triangles, %s; kernel leaves out: %s\n", r.scene().name.c_str(), r.scene().mesh.triangles(),
+              r.describe_accelerator().c_str(), r.features().left_out().c_str());
   if (dump_ir) std::printf("%s\n-- after the passes --\n%s", print(r.program()).c_str(), print_optimized(r.program()).c_str());
   if (analyze) {
     for (const Program& k : {raygen_program(r.tables()), intersector_program(r.tables()), r.program()})
@@ -133,6 +143,7 @@ int render_command(const Common& c, const std::string& backend_name, const std::
               frames > 1 ? " (best warm frame)" : "", report.rays / (report.render_ms * 1e3), 1000.0 / report.render_ms,
               std::filesystem::absolute(output).c_str());
   if (!aov.empty()) std::printf("aov: %s_distance.pfm, %s_triangle.pfm\n", aov.c_str(), aov.c_str());
+  shtrace::print_lazy_builds(report);
   return 0;
 }
 
@@ -151,14 +162,13 @@ std::pair<std::vector<float>, std::vector<float>> primary_rays(sh::rt::Renderer&
 // Mrays/s of the intersector kernel alone on the given rays (warm).
 double intersect_rate(sh::rt::Renderer& r, const BackendChoice& b, const std::vector<float>& origins,
                       const std::vector<float>& directions, int repeats) {
-  Program p = intersector_program(r.tables());
-  Channel<Point3f> o(origins);
-  Channel<Vector3f> d(directions);
-  Channel<Attrib1f> t;
-  Channel<Attrib1i> tri;
-  run(p, {o, d}, {t, tri}, b);
+  r.intersect(origins, directions, b);
   double ms = 0;
-  for (int i = 0; i < repeats; ++i) ms += run(p, {o, d}, {t, tri}, b).run_ms;
+  for (int i = 0; i < repeats; ++i) {
+    RunStats s;
+    r.intersect(origins, directions, b, &s);
+    ms += s.run_ms;
+  }
   return origins.size() / 3.0 * repeats / (ms * 1e3);
 }
 
@@ -169,9 +179,8 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
   RenderSettings ref_settings = settings_for(c, "interp");
   ref_settings.options.precision = Precision::F64;
   Renderer reference(scene, ref_settings);
-  std::printf("scene %s, %s, %zu triangles, grid %dx%dx%d built in %.1f ms (%.2f MiB); reference: interp f64\n",
-              scene.name.c_str(), c.size.c_str(), scene.mesh.triangles(), reference.grid().dims[0], reference.grid().dims[1],
-              reference.grid().dims[2], reference.grid().build_ms, reference.grid().bytes() / 1048576.0);
+  std::printf("scene %s, %s, %zu triangles, %s; reference: interp f64\n", scene.name.c_str(), c.size.c_str(),
+              scene.mesh.triangles(), reference.describe_accelerator().c_str());
   Image ref = reference.render();
   auto [origins, directions] = primary_rays(reference, w, h);
   std::printf("%-11s %11s %11s %13s %15s %11s %9s\n", "backend", "compile ms", "render ms", "render Mrays/s",
@@ -259,6 +268,13 @@ int main(int argc, char** argv) {
   trade->add_option("--backends", tradeoff_options.backends, "backends, comma-separated (default: cpu and opencl)")->delimiter(',');
   trade->add_option("--out", tradeoff_options.out, "writes OUT.csv, OUT.gp and OUT.png")->capture_default_str();
 
+  std::string view = "full";
+  CLI::App* accel = app.add_subcommand("accel", "grid, octree and lazy octree on one scene: memory, build, trace, first image");
+  add_common(accel, common);
+  accel->add_option("--backend", backend_name, "backend to trace on (default: SH_BACKEND, else cpu)");
+  accel->add_option("--view", view, "full, or half (turned to one side, narrower)")->check(CLI::IsMember({"full", "half"}))
+      ->capture_default_str();
+
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -269,6 +285,7 @@ int main(int argc, char** argv) {
     if (render->parsed())
       return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general, analyze, frames);
     if (bench->parsed()) return bench_command(common, bench_backends);
+    if (accel->parsed()) return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
     if (trade->parsed()) {
       std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);
       return shtrace::tradeoff(tradeoff_options);

@@ -39,8 +39,22 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   if (settings_.reflections < 0 || settings_.reflections > 64)
     throw Error("reflection depth must be 0..64, got " + std::to_string(settings_.reflections));
   validate(scene_, scene_.name);
-  grid_ = build_grid(scene_, settings_.grid_density);
-  tables_ = std::make_unique<SceneTables>(scene_, grid_);
+  switch (settings_.accel) {
+    case Accel::Grid:
+      grid_ = build_grid(scene_, settings_.grid_density);
+      tables_ = std::make_unique<SceneTables>(scene_, *grid_);
+      break;
+    case Accel::Octree:
+    case Accel::LazyOctree: {
+      bool lazy = settings_.accel == Accel::LazyOctree;
+      octree_ = std::make_shared<Octree>(lazy ? Octree::lazy(scene_, settings_.octree) : Octree::full(scene_, settings_.octree));
+      tables_ = std::make_unique<SceneTables>(scene_, *octree_, lazy);
+      if (lazy)
+        refiner_ = std::make_unique<OctreeRefiner>(octree_, tables_->octree->nodes.storage()->id,
+                                                   tables_->octree->triangles.storage()->id);
+      break;
+    }
+  }
   tables_->set_samples(settings_.pattern, settings_.shadow_samples, settings_.seed);
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
   tables_->set_reflection_depth(settings_.reflections);
@@ -63,18 +77,16 @@ Image Renderer::render(RenderReport* report) {
   constexpr int kTile = 4;
   int band = std::max(kTile, std::min(image.height, static_cast<int>((1 << 18) / image.width)) / kTile * kTile);
   RenderReport r;
+  double built_before = octree_ ? octree_->build_ms() : 0;
   auto t0 = std::chrono::steady_clock::now();
   for (int y0 = 0; y0 < image.height; y0 += band) {
     int rows = std::min(band, image.height - y0);
     std::vector<float> centres = pixel_centres_in_tiles(image.width, rows, kTile);
     for (std::size_t i = 1; i < centres.size(); i += 2) centres[i] += static_cast<float>(y0);
-    Channel<Attrib2f> in(centres);
     Channel<Color3f> color;
     Channel<Attrib1f> distance;
     Channel<Attrib1i> triangle;
-    RunStats s = run(program_, {in}, {color, distance, triangle}, choice);
-    r.backend = s.backend;
-    r.compile_ms += s.compile_ms;
+    trace_band(centres, color, distance, triangle, choice, r);
     // Element k is the pixel whose centre it was given.
     for (std::size_t k = 0; k < distance.size(); ++k) {
       std::size_t at = static_cast<std::size_t>(centres[2 * k + 1]) * image.width + static_cast<std::size_t>(centres[2 * k]);
@@ -82,14 +94,88 @@ Image Renderer::render(RenderReport* report) {
       image.distance[at] = distance[k];
       image.triangle[at] = triangle[k];
     }
-    if (show) std::fprintf(stderr, "\rrendering on %s: %3d%%", s.backend.c_str(), 100 * (y0 + rows) / image.height);
+    if (show) std::fprintf(stderr, "\rrendering on %s: %3d%%", r.backend.c_str(), 100 * (y0 + rows) / image.height);
   }
   if (show) std::fprintf(stderr, "\n");
   r.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - r.compile_ms;
   r.rays = pixels;
+  if (octree_) r.build_ms = octree_->build_ms() - built_before;
   if (report) *report = r;
   return image;
 }
+
+void Renderer::count(const RunStats& s, RenderReport& r) const {
+  r.backend = s.backend;
+  r.compile_ms += s.compile_ms;
+  r.waves += s.waves;
+  r.resumed += s.resumed;
+  if (!s.refined.empty()) r.refined = s.refined;
+}
+
+// Over a lazy octree the tracer runs in waves; a stopped pixel starts over
+// (its shading state is not kept), so primary rays, which resume, first
+// build what they see.
+void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& color, Channel<Attrib1f>& distance,
+                          Channel<Attrib1i>& triangle, const BackendChoice& choice, RenderReport& r) {
+  Channel<Attrib2f> in(centres);
+  if (!refiner_) {
+    count(run(program_, {in}, {color, distance, triangle}, choice), r);
+    return;
+  }
+  build_where_primary_rays_go(in, choice, r);
+  Channel<Attrib1i> request;
+  count(run(program_, {in}, {color, distance, triangle, request}, Waves{refiner_.get(), 3, {}}, choice), r);
+}
+
+void Renderer::build_where_primary_rays_go(const Channel<Attrib2f>& centres, const BackendChoice& choice, RenderReport& r) {
+  Channel<Point3f> o;
+  Channel<Vector3f> d;
+  Channel<Attrib2f> pixel;
+  count(run(raygen_program(*tables_), {centres}, {o, d, pixel}, choice), r);
+  std::vector<float> origins(o.data(), o.data() + 3 * o.size()), directions(d.data(), d.data() + 3 * d.size());
+  RunStats s;
+  intersect(origins, directions, choice, &s);
+  count(s, r);
+}
+
+Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<float>& directions,
+                         const BackendChoice& choice, RunStats* stats) {
+  Program p = intersector_program(*tables_);
+  Channel<Point3f> o(origins);
+  Channel<Vector3f> d(directions);
+  Channel<Attrib1f> t;
+  Channel<Attrib1i> tri;
+  RunStats s;
+  if (refiner_) {
+    std::vector<float> from_entry(4 * o.size(), -1.0f);
+    for (std::size_t i = 3; i < from_entry.size(); i += 4) from_entry[i] = 1e30f;
+    Channel<Attrib4f> resume(from_entry), resume_out;
+    Channel<Attrib1i> resume_triangle(std::vector<std::int32_t>(o.size(), -1)), request, resume_triangle_out;
+    s = run(p, {o, d, resume, resume_triangle}, {t, tri, request, resume_out, resume_triangle_out},
+            Waves{refiner_.get(), 2, {{3, 2}, {4, 3}}}, choice);
+  } else {
+    s = run(p, {o, d}, {t, tri}, choice);
+  }
+  if (stats) *stats = s;
+  return {t.values(), tri.values()};
+}
+
+std::string Renderer::describe_accelerator() const {
+  char line[256];
+  if (grid_) {
+    std::snprintf(line, sizeof line, "grid %dx%dx%d (%.1f ms, %.2f MiB)", grid_->dims[0], grid_->dims[1], grid_->dims[2],
+                  grid_->build_ms, grid_->bytes() / 1048576.0);
+  } else {
+    std::snprintf(line, sizeof line, "%s depth %d, leaves of %d: %zu nodes (%.1f ms, %.2f MiB%s)", accel_name(settings_.accel),
+                  octree_->limits().max_depth, octree_->limits().leaf_size, octree_->nodes().size(), octree_->build_ms(),
+                  octree_->bytes() / 1048576.0, refiner_ ? ", built so far" : "");
+  }
+  return line;
+}
+
+double Renderer::accelerator_build_ms() const { return grid_ ? grid_->build_ms : octree_->build_ms(); }
+
+std::size_t Renderer::accelerator_bytes() const { return grid_ ? grid_->bytes() : octree_->bytes() + octree_->pending_bytes(); }
 
 double share_within(const Image& a, const Image& b, float tolerance) {
   if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");

@@ -40,10 +40,35 @@ std::string Features::left_out() const {
   return out.empty() ? "nothing" : out;
 }
 
-SceneTables::SceneTables(const Scene& scene, const Grid& grid)
-    : cell_start(grid.dims[0], grid.dims[1], grid.dims[2]),
-      cell_triangles(at_least_one(grid.cell_triangles.size())),
-      v0(at_least_one(scene.mesh.triangles())),
+GridTables::GridTables(const Grid& g)
+    : cell_start(g.dims[0], g.dims[1], g.dims[2]), cell_triangles(at_least_one(g.cell_triangles.size())) {
+  cell_start.name("cell_start").assign(g.cell_start);
+  cell_triangles.name("cell_triangles").assign(g.cell_triangles);
+  lo = Attrib3f(g.lo.x, g.lo.y, g.lo.z);
+  cell = Attrib3f(g.cell.x, g.cell.y, g.cell.z);
+  dims = Attrib3f(static_cast<float>(g.dims[0]), static_cast<float>(g.dims[1]), static_cast<float>(g.dims[2]));
+}
+
+OctreeTables::OctreeTables(const Octree& tree, bool is_lazy)
+    : nodes(at_least_one(tree.nodes().size())), triangles(at_least_one(tree.triangles().size())), lazy(is_lazy) {
+  nodes.name("octree_nodes").assign(tree.nodes());
+  triangles.name("octree_triangles").assign(tree.triangles());
+  Vec3 f = tree.finest_cell();
+  lo = Attrib3f(tree.bounds().lo.x, tree.bounds().lo.y, tree.bounds().lo.z);
+  finest_cell = Attrib3f(f.x, f.y, f.z);
+  resolution = static_cast<float>(tree.resolution());
+}
+
+SceneTables::SceneTables(const Scene& scene, const Grid& g) : SceneTables(scene, Box{g.lo, g.hi}) {
+  grid = std::make_unique<GridTables>(g);
+}
+
+SceneTables::SceneTables(const Scene& scene, const Octree& tree, bool lazy) : SceneTables(scene, tree.bounds()) {
+  octree = std::make_unique<OctreeTables>(tree, lazy);
+}
+
+SceneTables::SceneTables(const Scene& scene, const Box& bounds)
+    : v0(at_least_one(scene.mesh.triangles())),
       e1(at_least_one(scene.mesh.triangles())),
       e2(at_least_one(scene.mesh.triangles())),
       normals(at_least_one(scene.mesh.normals.size())),
@@ -53,12 +78,6 @@ SceneTables::SceneTables(const Scene& scene, const Grid& grid)
       lights(at_least_one(2 * scene.lights.size())),
       disks(at_least_one(4 * scene.disk_lights.size())),
       samples(kMaxShadowSamples) {
-  cell_start.name("cell_start").assign(grid.cell_start);
-  cell_triangles.name("cell_triangles").assign(grid.cell_triangles);
-  grid_lo = Attrib3f(grid.lo.x, grid.lo.y, grid.lo.z);
-  grid_cell = Attrib3f(grid.cell.x, grid.cell.y, grid.cell.z);
-  grid_dims = Attrib3f(static_cast<float>(grid.dims[0]), static_cast<float>(grid.dims[1]), static_cast<float>(grid.dims[2]));
-
   const Mesh& m = scene.mesh;
   std::vector<Vec3> first(m.triangles()), edge1(m.triangles()), edge2(m.triangles());
   for (std::size_t t = 0; t < m.triangles(); ++t) {
@@ -100,7 +119,7 @@ SceneTables::SceneTables(const Scene& scene, const Grid& grid)
   background = Attrib3f(scene.background.x, scene.background.y, scene.background.z);
   // Secondary rays leave a surface this far along its normal (and at least
   // a few ulps of the hit point's coordinates, see the tracer).
-  surface_offset = std::max(length(grid.hi - grid.lo) * 1e-5f, std::numeric_limits<float>::min());
+  surface_offset = std::max(length(bounds.hi - bounds.lo) * 1e-5f, std::numeric_limits<float>::min());
   max_bounces = 0.0f;
   set_camera(scene.camera, 1, 1);
 }

@@ -48,7 +48,7 @@ Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const
 }
 
 // Direct light from every point light the point sees: Phong, shadowed.
-Color3f direct(const SceneTables& s, const Surface& x, const Vector3f& view) {
+Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
   Point3f from = lift(s, x);
   SH_FOR(Attrib1i l = 0, l < s.light_count, l += 1) {
@@ -61,7 +61,7 @@ Color3f direct(const SceneTables& s, const Surface& x, const Vector3f& view) {
       Attrib1f t;
       Attrib1i blocker;
       Attrib2f uv;
-      Attrib1f shadowed = intersect(s, from, dir, dist, t, blocker, uv);
+      Attrib1f shadowed = intersect(from, dir, dist, t, blocker, uv);
       sum += (1.0f - shadowed) * phong(x, view, dir, facing) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;
@@ -72,7 +72,8 @@ Color3f direct(const SceneTables& s, const Surface& x, const Vector3f& view) {
 // of shadow rays to its sample points that reach it.  The samples are
 // turned by a per-pixel angle so the pattern does not repeat in the
 // penumbra.
-Color3f soft_direct(const SceneTables& s, const Surface& x, const Vector3f& view, const Attrib2f& turn) {
+Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view,
+                    const Attrib2f& turn) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
   Point3f from = lift(s, x);
   SH_FOR(Attrib1i l = 0, l < s.disk_count, l += 1) {
@@ -90,7 +91,7 @@ Color3f soft_direct(const SceneTables& s, const Surface& x, const Vector3f& view
         Attrib1f t;
         Attrib1i blocker;
         Attrib2f uv;
-        reached += 1.0f - intersect(s, from, to_sample / dist, dist, t, blocker, uv);
+        reached += 1.0f - intersect(from, to_sample / dist, dist, t, blocker, uv);
       } SH_ENDFOR;
       sum += reached / s.sample_count.cast<float>() * phong(x, view, dir, facing) * color;
     } SH_ENDIF;
@@ -140,13 +141,14 @@ Program tracer_program(const SceneTables& s, Features f) {
     Color3f weight = ConstColor3f(1.0f, 1.0f, 1.0f);
     Attrib1f first = 1.0f;
     Attrib2f turn = f.soft_shadows ? pixel_turn(pixel) : Attrib2f(1.0f, 0.0f);
+    Intersector intersect(s);
 
     // One bounce: shade the hit, or add the background and stop.
     auto bounce = [&](bool in_loop) {
       Attrib1f t;
       Attrib1i tri;
       Attrib2f uv;
-      Attrib1f hit = intersect(s, o, d, ConstAttrib1f(1e30f), t, tri, uv);
+      Attrib1f hit = intersect(o, d, ConstAttrib1f(1e30f), t, tri, uv);
       distance = cond(first && hit, t, distance);
       triangle = cond(first && hit, tri, triangle);
       first = 0.0f;
@@ -156,8 +158,8 @@ Program tracer_program(const SceneTables& s, Features f) {
       } SH_ELSE {
         Surface x = surface_at(s, o, d, t, tri, uv, f);
         Color3f local = s.ambient * x.diffuse;
-        if (f.shadows) local += direct(s, x, -d);
-        if (f.soft_shadows) local += soft_direct(s, x, -d, turn);
+        if (f.shadows) local += direct(s, intersect, x, -d);
+        if (f.soft_shadows) local += soft_direct(s, intersect, x, -d, turn);
         if (f.reflections) {
           color += weight * (1.0f - x.reflectivity) * local;
           weight *= x.reflectivity;
@@ -174,6 +176,10 @@ Program tracer_program(const SceneTables& s, Features f) {
       SH_FOR(Attrib1f b = 0.0f, b <= s.max_bounces, b += 1.0f) { bounce(true); } SH_ENDFOR;
     } else {
       bounce(false);
+    }
+    if (s.octree && s.octree->lazy) {
+      OutputAttrib1i request;
+      request = intersect.request();
     }
   } SH_END;
 }

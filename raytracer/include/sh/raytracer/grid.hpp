@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sh/raytracer/scene.hpp"
+#include "sh/raytracer/accelerator.hpp"
 
 namespace sh::rt {
 
@@ -25,9 +25,5 @@ struct Grid {
 // Resolution: about `cells_per_triangle` cells per triangle, cells as cubic
 // as the bounds allow, at most 512 along an axis.
 Grid build_grid(const Scene& scene, double cells_per_triangle = 2.0);
-
-// Does the triangle overlap the axis-aligned box?  (Separating axes: the
-// box's three, the triangle's normal, and the nine edge cross products.)
-bool triangle_overlaps_box(Vec3 a, Vec3 b, Vec3 c, Vec3 box_lo, Vec3 box_hi);
 
 }  // namespace sh::rt

@@ -1,16 +1,19 @@
 #pragma once
 // The tracer's kernels, written in the DSL after the seed: ray generation,
-// the intersector (scene-box entry, 3D-DDA walk of the grid, ray-triangle
-// tests in each cell, a hit counting only inside the current cell) and the
+// the intersector (scene-box entry, a walk of the accelerator's cells front
+// to back -- the grid's 3D-DDA or the octree's leaves --, ray-triangle tests
+// in each cell, a hit counting only inside the current cell) and the
 // tracer (shadow rays to each light, Phong with interpolated normals and
 // colours, reflections to a set depth, ambient, background).  The scene
 // reaches them as tables and uniforms, so one compiled kernel serves every
 // scene with the same features.
+#include <memory>
 #include <string>
 
 #include <sh/dsl.hpp>
 
 #include "sh/raytracer/grid.hpp"
+#include "sh/raytracer/octree.hpp"
 #include "sh/raytracer/sampling.hpp"
 #include "sh/raytracer/scene.hpp"
 
@@ -30,20 +33,37 @@ struct Features {
   std::string left_out() const;  // "shadows (no lights), ..." or "nothing"
 };
 
+struct GridTables {
+  explicit GridTables(const Grid& grid);
+  Table3D<Attrib1i> cell_start;
+  Table1D<Attrib1i> cell_triangles;
+  Attrib3f lo, cell, dims;
+};
+
+// A lazy octree's tables are what was built when they were made; running
+// in waves, its refiner shows the kernels what has been built since.
+struct OctreeTables {
+  OctreeTables(const Octree& tree, bool lazy);
+  Table1D<Attrib1i> nodes, triangles;
+  Attrib3f lo, finest_cell;
+  Attrib1f resolution;
+  bool lazy;
+};
+
 // The scene as tables and uniforms.  Build it outside any program.
 class SceneTables {
  public:
   SceneTables(const Scene& scene, const Grid& grid);
+  SceneTables(const Scene& scene, const Octree& tree, bool lazy);
   void set_camera(const Camera& c, int width, int height);
   void set_reflection_depth(int depth) { max_bounces = static_cast<float>(depth); }
   void set_light_count(int n) { light_count = n; }
   // The disk samples every shading point uses (rotated per pixel).
   void set_samples(SamplePattern pattern, int n, unsigned seed);
 
-  // Grid.
-  Table3D<Attrib1i> cell_start;
-  Table1D<Attrib1i> cell_triangles;
-  Attrib3f grid_lo, grid_cell, grid_dims;
+  // The accelerator: one of the two.
+  std::unique_ptr<GridTables> grid;
+  std::unique_ptr<OctreeTables> octree;
   // Triangles: first vertex and two edges (for the intersection), vertex
   // normals and colours (three per triangle), material per triangle.
   Table1D<Attrib3f> v0, e1, e2, normals, colors;
@@ -66,16 +86,48 @@ class SceneTables {
   Attrib3f eye, forward, right, up;
   Attrib2f image_size;
   Attrib1f tan_half_fov;
+
+ private:
+  SceneTables(const Scene& scene, const Box& bounds);
 };
 
-// Traces o + t d for t in (0, t_limit): 1 where something is hit, with the
-// nearest t, its triangle and barycentrics.  A C++ function inlined into
-// whichever kernel calls it, as the seed's intersector is.
-Attrib1f intersect(const SceneTables& s, const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t,
-                   Attrib1i& triangle, Attrib2f& uv);
+// Where a ray's walk of an octree is: the finest-level cell it visits next
+// (x < 0: where it enters) and the nearest hit so far.
+struct WalkState {
+  Attrib3f cell;
+  Attrib1f best;
+  Attrib1i triangle;
+  Attrib2f uv;
+};
 
-Program raygen_program(const SceneTables& s);       // pixel centre -> origin, direction, pixel centre
-Program intersector_program(const SceneTables& s);  // origin, direction -> t, triangle
-Program tracer_program(const SceneTables& s, Features f);  // origin, direction, pixel -> colour, t, triangle
+// Traces rays inside a program being recorded: C++ inlined into whichever
+// kernel calls it, as the seed's intersector is.  Over a lazy octree the
+// first ray that reaches an unbuilt node stops and leaves the node in
+// request(); the calls after it do nothing (the element runs again once
+// the node is built).
+class Intersector {
+ public:
+  explicit Intersector(const SceneTables& s);
+  // o + t d for t in (0, t_limit): 1 where something is hit, with the
+  // nearest t, its triangle and barycentrics.
+  Attrib1f operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t, Attrib1i& triangle,
+                      Attrib2f& uv);
+  // Goes on from `state` (a lazy octree's resumable walk).
+  void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state);
+  const Attrib1i& request() const { return request_; }
+
+ private:
+  const SceneTables& s_;
+  Attrib1i request_;
+};
+
+Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direction, pixel centre
+// origin, direction -> t, triangle; over a lazy octree also a resumable
+// walk: origin, direction, resume (cell, best t), resume triangle -> t,
+// triangle, request, resume, resume triangle (see lazy_intersector_waves).
+Program intersector_program(const SceneTables& s);
+// origin, direction, pixel -> colour, t, triangle (and request, over a lazy
+// octree; a stopped pixel starts over in the next wave).
+Program tracer_program(const SceneTables& s, Features f);
 
 }  // namespace sh::rt

@@ -1,8 +1,10 @@
 #pragma once
-// How a scene is traced: the grid is built on the host, the scene becomes
-// tables and uniforms, and one program (the tracer composed with ray
-// generation) runs over the stream of pixel centres on a backend.
+// How a scene is traced: the accelerator (grid, octree, or an octree built
+// lazily while tracing) is made on the host, the scene becomes tables and
+// uniforms, and one program (the tracer composed with ray generation) runs
+// over the stream of pixel centres on a backend.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +12,7 @@
 
 #include "sh/raytracer/grid.hpp"
 #include "sh/raytracer/kernels.hpp"
+#include "sh/raytracer/octree_refiner.hpp"
 #include "sh/raytracer/scene.hpp"
 
 namespace sh::rt {
@@ -30,7 +33,9 @@ struct RenderSettings {
   int shadow_samples = 16;     // per disk light and shading point
   SamplePattern pattern = SamplePattern::Random;
   unsigned seed = 1;           // of the sample set
+  Accel accel = Accel::Grid;
   double grid_density = 2.0;   // grid cells per triangle
+  OctreeLimits octree;
   bool progress = false;       // a progress line on stderr (when it is a terminal)
 };
 
@@ -39,24 +44,51 @@ struct RenderReport {
   double compile_ms = 0;  // zero when the kernel came from the cache
   double render_ms = 0;
   std::size_t rays = 0;   // primary rays
+  // A lazy octree: waves after the first, element runs they took, time
+  // spent building nodes (inside render_ms), and what each part (rank 0
+  // first) holds afterwards (OctreeSummary).
+  std::size_t waves = 0, resumed = 0;
+  double build_ms = 0;
+  std::vector<std::string> refined;
+};
+
+struct Hits {
+  std::vector<float> t;                 // -1 where nothing is hit
+  std::vector<std::int32_t> triangle;   // -1 where nothing is hit
 };
 
 class Renderer {
  public:
   Renderer(Scene scene, RenderSettings settings);
   Image render(RenderReport* report = nullptr);
+  // The intersector alone on rays (3 floats each), in waves over a lazy
+  // octree.
+  Hits intersect(const std::vector<float>& origins, const std::vector<float>& directions, const BackendChoice& choice,
+                 RunStats* stats = nullptr);
 
   const Scene& scene() const { return scene_; }
-  const Grid& grid() const { return grid_; }
+  Accel accel() const { return settings_.accel; }
+  const Grid* grid() const { return grid_ ? &*grid_ : nullptr; }
+  const Octree* octree() const { return octree_.get(); }
+  std::string describe_accelerator() const;  // kind, size, build time, memory
+  double accelerator_build_ms() const;  // before rendering (a lazy octree: its root)
+  std::size_t accelerator_bytes() const;
   const Features& features() const { return features_; }
   const Program& program() const { return program_; }
   SceneTables& tables() { return *tables_; }
 
  private:
+  void trace_band(const std::vector<float>& centres, Channel<Color3f>& color, Channel<Attrib1f>& distance,
+                  Channel<Attrib1i>& triangle, const BackendChoice& choice, RenderReport& r);
+  void build_where_primary_rays_go(const Channel<Attrib2f>& centres, const BackendChoice& choice, RenderReport& r);
+  void count(const RunStats& s, RenderReport& r) const;
+
   Scene scene_;
   RenderSettings settings_;
-  Grid grid_;
+  std::optional<Grid> grid_;
+  std::shared_ptr<Octree> octree_;
   std::unique_ptr<SceneTables> tables_;
+  std::unique_ptr<OctreeRefiner> refiner_;  // a lazy octree's
   Features features_;
   Program program_;
 };

@@ -1,0 +1,97 @@
+#pragma once
+// The octree of the lazy-octree seed, built on the host and handed to the
+// kernels as two tables.  Statically it is built entirely before tracing;
+// lazily it starts as an unbuilt root and grows only where rays ask (see
+// sh/waves.hpp: a ray that reaches an unbuilt node stops and reports it,
+// the host builds every reported node, the ray resumes).
+//
+// One int per node:
+//   v >= 1   an inner node; its children are nodes v .. v+7, child x + 2y + 4z
+//   v == 0   not built yet: its triangles are known, its children are not
+//   v == -1  an empty leaf
+//   v <= -2  a leaf whose triangles are listed in `triangles` from -v-2, ended by -1
+// A node is built into eight children at once; a child with no triangles is
+// an empty leaf, one at the depth limit or with at most `leaf_size`
+// triangles a leaf, any other one is left unbuilt.  Nodes are placed in
+// integer coordinates of the finest level (2^max_depth cells per axis), so
+// the kernels find the leaf holding a point exactly.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "sh/raytracer/accelerator.hpp"
+
+namespace sh::rt {
+
+struct OctreeLimits {
+  int max_depth = 10;  // 0 .. kMaxOctreeDepth
+  int leaf_size = 8;   // a node with at most this many triangles is a leaf
+};
+inline constexpr int kMaxOctreeDepth = 19;  // keys pack level and three 19-bit coordinates
+
+class Octree {
+ public:
+  // An unbuilt root over the triangles (3 positions each) in `bounds`.
+  Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits);
+  static Octree lazy(const Scene& scene, OctreeLimits limits);
+  static Octree full(const Scene& scene, OctreeLimits limits);  // built to the leaves, level by level
+
+  // Builds the listed nodes that are still unbuilt (in parallel); the rest
+  // are ignored.  Returns how many were built.
+  std::size_t build(const std::vector<std::int32_t>& nodes);
+  void build_everything();
+  std::vector<std::int32_t> unbuilt() const;
+
+  const std::vector<std::int32_t>& nodes() const { return nodes_; }
+  const std::vector<std::int32_t>& triangles() const { return triangles_; }
+  const Box& bounds() const { return bounds_; }
+  const OctreeLimits& limits() const { return limits_; }
+  const std::vector<Vec3>& positions() const { return positions_; }
+  int resolution() const { return 1 << limits_.max_depth; }  // finest cells per axis
+  Vec3 finest_cell() const;
+
+  // Nodes built on request (not counting the root made at construction),
+  // each as a key of its level and place: the same node has the same key in
+  // every process.
+  const std::vector<std::uint64_t>& built_keys() const { return built_keys_; }
+  std::size_t bytes() const;          // the two tables
+  std::size_t pending_bytes() const;  // triangle lists kept for unbuilt nodes
+  double build_ms() const { return build_ms_; }
+
+ private:
+  struct Place {
+    int level = 0;
+    std::array<int, 3> corner{0, 0, 0};  // finest-level coordinates
+  };
+  struct Pending {
+    Place place;
+    std::vector<std::int32_t> candidates;
+  };
+  using Children = std::array<std::vector<std::int32_t>, 8>;
+
+  Children split(const Pending& node) const;
+  std::int32_t settle(Place place, std::vector<std::int32_t>& list, std::int32_t index);
+  Place child(Place parent, int which) const;
+  static std::uint64_t key(Place p);
+
+  std::vector<Vec3> positions_;
+  Box bounds_;
+  OctreeLimits limits_;
+  std::vector<std::int32_t> nodes_;
+  std::vector<std::int32_t> triangles_;
+  std::unordered_map<std::int32_t, Pending> pending_;
+  std::vector<std::uint64_t> built_keys_;
+  double build_ms_ = 0;
+};
+
+// Nodes built by several parts (ranks) of one render and how many of them
+// more than one part built: the overlap of lazy builds.
+struct BuildOverlap {
+  std::vector<std::size_t> per_part;
+  std::size_t distinct = 0, shared = 0;  // built by any part; by two or more
+};
+BuildOverlap build_overlap(const std::vector<std::vector<std::uint64_t>>& keys_per_part);
+
+}  // namespace sh::rt

@@ -1,0 +1,146 @@
+#include "sh/raytracer/octree.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "sh/error.hpp"
+
+namespace sh::rt {
+
+Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
+    : positions_(std::move(positions)), bounds_(bounds), limits_(limits) {
+  auto t0 = std::chrono::steady_clock::now();
+  if (limits_.max_depth < 0 || limits_.max_depth > kMaxOctreeDepth)
+    throw Error("octree depth limit must be 0.." + std::to_string(kMaxOctreeDepth) + ", got " +
+                std::to_string(limits_.max_depth));
+  if (limits_.leaf_size < 1) throw Error("octree leaf size must be at least 1, got " + std::to_string(limits_.leaf_size));
+  std::vector<std::int32_t> all(positions_.size() / 3);
+  for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  nodes_.push_back(0);
+  triangles_.push_back(-1);  // a table is never empty
+  nodes_[0] = settle(Place{}, all, 0);
+  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Octree Octree::lazy(const Scene& scene, OctreeLimits limits) {
+  return Octree(scene.mesh.positions, accelerator_bounds(scene), limits);
+}
+
+Octree Octree::full(const Scene& scene, OctreeLimits limits) {
+  Octree tree = lazy(scene, limits);
+  tree.build_everything();
+  return tree;
+}
+
+Vec3 Octree::finest_cell() const {
+  float n = static_cast<float>(resolution());
+  Vec3 extent = bounds_.hi - bounds_.lo;
+  return {extent.x / n, extent.y / n, extent.z / n};
+}
+
+Octree::Place Octree::child(Place parent, int which) const {
+  int half = resolution() >> (parent.level + 1);
+  Place c{parent.level + 1, parent.corner};
+  for (int a = 0; a < 3; ++a) c.corner[a] += (which >> a & 1) * half;
+  return c;
+}
+
+std::uint64_t Octree::key(Place p) {
+  auto field = [](int v) { return static_cast<std::uint64_t>(v) & ((1u << kMaxOctreeDepth) - 1); };
+  return static_cast<std::uint64_t>(p.level) << 57 | field(p.corner[0]) << 38 | field(p.corner[1]) << 19 | field(p.corner[2]);
+}
+
+// The candidates of each child: the node's triangles that overlap the
+// child's box (as the kernels compute it, widened by a hair).
+Octree::Children Octree::split(const Pending& node) const {
+  Children lists;
+  Vec3 fine = finest_cell();
+  float size = static_cast<float>(resolution() >> (node.place.level + 1));
+  Vec3 cell = fine * size, hair = overlap_hair(bounds_, cell);
+  for (int c = 0; c < 8; ++c) {
+    Place p = child(node.place, c);
+    Vec3 lo = bounds_.lo + Vec3{p.corner[0] * fine.x, p.corner[1] * fine.y, p.corner[2] * fine.z};
+    Vec3 hi = bounds_.lo + Vec3{(p.corner[0] + size) * fine.x, (p.corner[1] + size) * fine.y, (p.corner[2] + size) * fine.z};
+    for (std::int32_t t : node.candidates)
+      if (triangle_overlaps_box(positions_[3 * t], positions_[3 * t + 1], positions_[3 * t + 2], lo - hair, hi + hair))
+        lists[c].push_back(t);
+  }
+  return lists;
+}
+
+// What node `index` at `place` becomes with these triangles: an empty
+// leaf, a leaf, or an unbuilt node that keeps them.
+std::int32_t Octree::settle(Place place, std::vector<std::int32_t>& list, std::int32_t index) {
+  if (list.empty()) return -1;
+  if (place.level == limits_.max_depth || list.size() <= static_cast<std::size_t>(limits_.leaf_size)) {
+    auto start = static_cast<std::int32_t>(triangles_.size());
+    triangles_.insert(triangles_.end(), list.begin(), list.end());
+    triangles_.push_back(-1);
+    return -start - 2;
+  }
+  pending_[index] = Pending{place, std::move(list)};
+  return 0;
+}
+
+std::size_t Octree::build(const std::vector<std::int32_t>& requested) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::int32_t> todo;
+  for (std::int32_t n : requested)
+    if (pending_.count(n)) todo.push_back(n);
+  std::sort(todo.begin(), todo.end());
+  todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+  // Splitting is the work and runs in parallel; placing children is a
+  // sequential append.
+  std::vector<Children> children(todo.size());
+  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) { children[i] = split(pending_.at(todo[i])); });
+  if (nodes_.size() + 8 * todo.size() > static_cast<std::size_t>(INT32_MAX) ||
+      triangles_.size() > static_cast<std::size_t>(INT32_MAX) / 2)
+    throw Error("octree: more than 2^31 nodes or listed triangles; lower the depth limit or raise the leaf size");
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    Place place = pending_.at(todo[i]).place;
+    pending_.erase(todo[i]);
+    auto first = static_cast<std::int32_t>(nodes_.size());
+    nodes_.resize(nodes_.size() + 8);
+    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(place, c), children[i][c], first + c);
+    nodes_[todo[i]] = first;
+    built_keys_.push_back(key(place));
+  }
+  build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return todo.size();
+}
+
+void Octree::build_everything() {
+  for (std::vector<std::int32_t> level = unbuilt(); !level.empty(); level = unbuilt()) build(level);
+}
+
+std::vector<std::int32_t> Octree::unbuilt() const {
+  std::vector<std::int32_t> out;
+  out.reserve(pending_.size());
+  for (const auto& [index, p] : pending_) out.push_back(index);
+  return out;
+}
+
+std::size_t Octree::bytes() const { return (nodes_.size() + triangles_.size()) * sizeof(std::int32_t); }
+
+std::size_t Octree::pending_bytes() const {
+  std::size_t b = 0;
+  for (const auto& [index, p] : pending_) b += sizeof(Pending) + p.candidates.capacity() * sizeof(std::int32_t);
+  return b;
+}
+
+BuildOverlap build_overlap(const std::vector<std::vector<std::uint64_t>>& keys_per_part) {
+  std::map<std::uint64_t, int> parts;
+  BuildOverlap o;
+  for (const auto& keys : keys_per_part) {
+    o.per_part.push_back(keys.size());
+    for (std::uint64_t k : keys) ++parts[k];
+  }
+  o.distinct = parts.size();
+  for (const auto& [k, n] : parts) o.shared += n > 1;
+  return o;
+}
+
+}  // namespace sh::rt

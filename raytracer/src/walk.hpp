@@ -1,0 +1,36 @@
+#pragma once
+// Inside the intersector: the walks of each accelerator's cells, and what
+// they share (the ray's reciprocal direction, the triangle test).
+#include "sh/raytracer/kernels.hpp"
+
+namespace sh::rt::walk {
+
+// A direction component this small is treated as zero: its reciprocal is
+// capped, so no infinity or NaN enters the walk (fast math keeps working).
+inline constexpr float kTinyDirection = 1e-30f;
+inline constexpr float kFar = 1e30f;
+
+struct Ray {
+  Ray(const Point3f& origin, const Vector3f& direction);
+  const Point3f& o;
+  const Vector3f& d;
+  Attrib3f nonzero, inv, step;  // step: the sign of each usable component
+};
+
+// The ray's parameters where it enters and leaves the box [lo, hi] (t_enter
+// > t_leave: it misses), clipped to [0, t_limit].
+void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& t_limit, Attrib1f& t_enter,
+          Attrib1f& t_leave);
+
+// Möller–Trumbore against triangle `tri`; keeps the nearest hit in (0, best).
+void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
+                   Attrib2f& best_uv);
+
+// 1 along the axis of the nearest of the three exit distances, 0 elsewhere.
+Attrib3f nearest_axis(const Attrib3f& t_exits);
+
+void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv);
+// Stops at an unbuilt node, leaving it in *request (a lazy octree only).
+void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib1i* request);
+
+}  // namespace sh::rt::walk
