@@ -54,7 +54,7 @@ Attrib3f nearest_axis(const Attrib3f& t_exits) {
 }  // namespace walk
 
 Intersector::Intersector(const SceneTables& s) : s_(s) {
-  if (s.octree && s.octree->lazy) request_ = -1;
+  if (s.octree && s.octree->lazy) request_ = ConstAttrib4i(-1, 0, 0, 0);
 }
 
 Attrib1f Intersector::operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t,
@@ -63,7 +63,7 @@ Attrib1f Intersector::operator()(const Point3f& o, const Vector3f& d, const Attr
   if (s_.grid) {
     walk::grid(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv);
   } else if (s_.octree->lazy) {
-    SH_IF(request_ < 0) { walk(o, d, t_limit, w); } SH_ENDIF;
+    SH_IF(request_(0) < 0) { walk(o, d, t_limit, w); } SH_ENDIF;
   } else {
     walk(o, d, t_limit, w);
   }
@@ -86,7 +86,8 @@ Program intersector_program(const SceneTables& s) {
       InputAttrib4f resume;  // cell (x < 0: from the entry), best t
       InputAttrib1i resume_triangle;
       OutputAttrib1f t;
-      OutputAttrib1i triangle, request;
+      OutputAttrib1i triangle;
+      OutputAttrib4i request;
       OutputAttrib4f resume_out;
       OutputAttrib1i resume_triangle_out;
       Intersector intersect(s);

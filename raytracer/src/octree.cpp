@@ -25,8 +25,13 @@ Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Over the cube that holds the scene's box: halving a flat box would cut
+// its thin side into slices thinner than the triangles.
 Octree Octree::lazy(const Scene& scene, OctreeLimits limits) {
-  return Octree(scene.mesh.positions, accelerator_bounds(scene), limits);
+  Box b = accelerator_bounds(scene);
+  Vec3 extent = b.hi - b.lo;
+  float side = std::max({extent.x, extent.y, extent.z});
+  return Octree(scene.mesh.positions, Box{b.lo, b.lo + Vec3{side, side, side}}, limits);
 }
 
 Octree Octree::full(const Scene& scene, OctreeLimits limits) {
@@ -60,13 +65,22 @@ Octree::Children Octree::split(const Pending& node) const {
   Vec3 fine = finest_cell();
   float size = static_cast<float>(resolution() >> (node.place.level + 1));
   Vec3 cell = fine * size, hair = overlap_hair(bounds_, cell);
+  Box boxes[8];
   for (int c = 0; c < 8; ++c) {
     Place p = child(node.place, c);
-    Vec3 lo = bounds_.lo + Vec3{p.corner[0] * fine.x, p.corner[1] * fine.y, p.corner[2] * fine.z};
-    Vec3 hi = bounds_.lo + Vec3{(p.corner[0] + size) * fine.x, (p.corner[1] + size) * fine.y, (p.corner[2] + size) * fine.z};
-    for (std::int32_t t : node.candidates)
-      if (triangle_overlaps_box(positions_[3 * t], positions_[3 * t + 1], positions_[3 * t + 2], lo - hair, hi + hair))
-        lists[c].push_back(t);
+    boxes[c].lo = bounds_.lo + Vec3{p.corner[0] * fine.x, p.corner[1] * fine.y, p.corner[2] * fine.z} - hair;
+    boxes[c].hi = bounds_.lo + Vec3{(p.corner[0] + size) * fine.x, (p.corner[1] + size) * fine.y, (p.corner[2] + size) * fine.z} + hair;
+  }
+  for (std::int32_t t : node.candidates) {
+    Vec3 a = positions_[3 * t], b = positions_[3 * t + 1], c = positions_[3 * t + 2];
+    Vec3 lo = min(min(a, b), c), hi = max(max(a, b), c);
+    for (int k = 0; k < 8; ++k) {
+      // The triangle's bounds alone decide most cases: apart, or inside.
+      const Box& x = boxes[k];
+      bool apart = lo.x > x.hi.x || lo.y > x.hi.y || lo.z > x.hi.z || hi.x < x.lo.x || hi.y < x.lo.y || hi.z < x.lo.z;
+      bool inside = lo.x >= x.lo.x && lo.y >= x.lo.y && lo.z >= x.lo.z && hi.x <= x.hi.x && hi.y <= x.hi.y && hi.z <= x.hi.z;
+      if (inside || (!apart && triangle_overlaps_box(a, b, c, x.lo, x.hi))) lists[k].push_back(t);
+    }
   }
   return lists;
 }
@@ -110,6 +124,38 @@ std::size_t Octree::build(const std::vector<std::int32_t>& requested) {
   }
   build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return todo.size();
+}
+
+std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
+  struct Walk {
+    std::int32_t node;
+    std::array<int, 3> cell;
+  };
+  std::vector<Walk> walks;
+  for (std::size_t i = 0; i + 3 < requests.size(); i += 4)
+    walks.push_back({requests[i], {requests[i + 1], requests[i + 2], requests[i + 3]}});
+  std::size_t built = 0;
+  // Level by level: each round builds one node per walk, in parallel.
+  while (!walks.empty()) {
+    std::vector<std::int32_t> level;
+    std::vector<Walk> going_on;
+    std::vector<Place> places;
+    for (const Walk& w : walks)
+      if (auto it = pending_.find(w.node); it != pending_.end()) {
+        level.push_back(w.node);
+        going_on.push_back(w);
+        places.push_back(it->second.place);
+      }
+    built += build(level);
+    walks.clear();
+    for (std::size_t i = 0; i < going_on.size(); ++i) {
+      int half = resolution() >> (places[i].level + 1), which = 0;
+      for (int a = 0; a < 3; ++a) which |= (going_on[i].cell[a] >= places[i].corner[a] + half) << a;
+      std::int32_t next = nodes_[going_on[i].node] + which;
+      if (nodes_[next] == 0) walks.push_back({next, going_on[i].cell});
+    }
+  }
+  return built;
 }
 
 void Octree::build_everything() {

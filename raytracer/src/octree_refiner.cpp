@@ -103,8 +103,9 @@ void OctreeRefiner::bind(std::vector<TableView>& tables) const {
       }
 }
 
-std::size_t OctreeRefiner::refine(const std::vector<std::int32_t>& requests) {
-  std::size_t built = tree_->build(requests);
+std::size_t OctreeRefiner::refine(const std::vector<std::int32_t>& requests, int width) {
+  if (width != 4) throw Error("octree refiner: requests are (node, cell x, y, z), not " + std::to_string(width) + " ints");
+  std::size_t built = tree_->build_towards(requests);
   version_ += built > 0;
   return built;
 }

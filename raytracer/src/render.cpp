@@ -123,7 +123,7 @@ void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& c
     return;
   }
   build_where_primary_rays_go(in, choice, r);
-  Channel<Attrib1i> request;
+  Channel<Attrib4i> request;
   count(run(program_, {in}, {color, distance, triangle, request}, Waves{refiner_.get(), 3, {}}, choice), r);
 }
 
@@ -150,7 +150,8 @@ Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<fl
     std::vector<float> from_entry(4 * o.size(), -1.0f);
     for (std::size_t i = 3; i < from_entry.size(); i += 4) from_entry[i] = 1e30f;
     Channel<Attrib4f> resume(from_entry), resume_out;
-    Channel<Attrib1i> resume_triangle(std::vector<std::int32_t>(o.size(), -1)), request, resume_triangle_out;
+    Channel<Attrib1i> resume_triangle(std::vector<std::int32_t>(o.size(), -1)), resume_triangle_out;
+    Channel<Attrib4i> request;
     s = run(p, {o, d, resume, resume_triangle}, {t, tri, request, resume_out, resume_triangle_out},
             Waves{refiner_.get(), 2, {{3, 2}, {4, 3}}}, choice);
   } else {

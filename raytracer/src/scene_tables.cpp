@@ -59,15 +59,15 @@ OctreeTables::OctreeTables(const Octree& tree, bool is_lazy)
   resolution = static_cast<float>(tree.resolution());
 }
 
-SceneTables::SceneTables(const Scene& scene, const Grid& g) : SceneTables(scene, Box{g.lo, g.hi}) {
+SceneTables::SceneTables(const Scene& scene, const Grid& g) : SceneTables(scene) {
   grid = std::make_unique<GridTables>(g);
 }
 
-SceneTables::SceneTables(const Scene& scene, const Octree& tree, bool lazy) : SceneTables(scene, tree.bounds()) {
+SceneTables::SceneTables(const Scene& scene, const Octree& tree, bool lazy) : SceneTables(scene) {
   octree = std::make_unique<OctreeTables>(tree, lazy);
 }
 
-SceneTables::SceneTables(const Scene& scene, const Box& bounds)
+SceneTables::SceneTables(const Scene& scene)
     : v0(at_least_one(scene.mesh.triangles())),
       e1(at_least_one(scene.mesh.triangles())),
       e2(at_least_one(scene.mesh.triangles())),
@@ -119,6 +119,7 @@ SceneTables::SceneTables(const Scene& scene, const Box& bounds)
   background = Attrib3f(scene.background.x, scene.background.y, scene.background.z);
   // Secondary rays leave a surface this far along its normal (and at least
   // a few ulps of the hit point's coordinates, see the tracer).
+  Box bounds = accelerator_bounds(scene);
   surface_offset = std::max(length(bounds.hi - bounds.lo) * 1e-5f, std::numeric_limits<float>::min());
   max_bounces = 0.0f;
   set_camera(scene.camera, 1, 1);

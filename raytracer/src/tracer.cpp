@@ -178,7 +178,7 @@ Program tracer_program(const SceneTables& s, Features f) {
       bounce(false);
     }
     if (s.octree && s.octree->lazy) {
-      OutputAttrib1i request;
+      OutputAttrib4i request;
       request = intersect.request();
     }
   } SH_END;

@@ -30,7 +30,8 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
 Attrib3f nearest_axis(const Attrib3f& t_exits);
 
 void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv);
-// Stops at an unbuilt node, leaving it in *request (a lazy octree only).
-void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib1i* request);
+// Stops at an unbuilt node, leaving it and the cell in *request (a lazy
+// octree only).
+void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib4i* request);
 
 }  // namespace sh::rt::walk

@@ -41,7 +41,7 @@ void test_leaf(const SceneTables& s, const OctreeTables& q, const Ray& r, const 
 
 }  // namespace
 
-void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& w, Attrib1i* request) {
+void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& w, Attrib4i* request) {
   const OctreeTables& q = *s.octree;
   Attrib1f t_enter, t_leave;
   clip(r, q.lo, q.lo + q.finest_cell * q.resolution, t_limit, t_enter, t_leave);
@@ -52,7 +52,7 @@ void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkSta
     SH_DO {
       Leaf leaf = descend(q, w.cell);
       if (request) {
-        *request = cond(leaf.value == 0, leaf.node, *request);
+        *request = cond(leaf.value == 0, join(leaf.node, w.cell.cast<std::int32_t>()), *request);
         SH_BREAK(leaf.value == 0);
       }
       test_leaf(s, q, r, leaf, w);

@@ -2,11 +2,13 @@
 // Running in waves: for tables the host extends while a stream runs (an
 // accelerator built lazily, only where elements go).  Kernels cannot
 // allocate, so an element that needs a part of a table not built yet stops
-// and writes a request (an int >= 0) to the program's request output; after
+// and writes a request to the program's request output (an int, or up to
+// four: the first >= 0 says the element stopped, the others say more about
+// what it needs); after
 // the run, a Refiner builds every distinct request, and the stopped elements
 // run again.  Outputs named as carried are fed back into inputs, so an
 // element resumes where it stopped; without them it starts over.  An
-// element that finished writes a request of -1.
+// element that finished writes a first request component of -1.
 //
 // Every backend runs waves: run() drives them on one process; the mpi
 // backend gives each rank its own refiner (made from the first one's seed)
@@ -37,8 +39,9 @@ class Refiner {
   // built so far (each table it owns keeps an id of its own, and a version
   // bumped whenever it grows).
   virtual void bind(std::vector<TableView>& tables) const = 0;
-  // Builds what the requests ask for; returns how many of them were new.
-  virtual std::size_t refine(const std::vector<std::int32_t>& requests) = 0;
+  // Builds what the requests ask for (distinct ones, `width` ints each);
+  // returns how many things it built.
+  virtual std::size_t refine(const std::vector<std::int32_t>& requests, int width) = 0;
   // What it has built, in bytes a caller of that kind can read (per rank
   // in RunStats::refined).
   virtual std::string summary() const = 0;
@@ -59,7 +62,7 @@ std::uint64_t refined_table_id();
 
 struct Waves {
   Refiner* refiner = nullptr;
-  int request_output = 0;                    // an Attrib1i output
+  int request_output = 0;                    // an int output of 1 to 4 components
   std::vector<std::pair<int, int>> carried;  // (output, input) pairs of equal types
   int max_waves = 1 << 16;                   // a refiner that never satisfies a request ends here
 };

@@ -185,8 +185,8 @@ void check_waves(const ir::Program& p, const Waves& w) {
                   std::to_string(p.outputs.size()) + " outputs)");
     return p.type_of(p.outputs[k]);
   };
-  if (output(w.request_output) != ir::Type{ir::Scalar::I32, 1})
-    throw Error(describe_slot(p, "output", w.request_output) + " holds the requests of waves, so it must be int1, not " +
+  if (output(w.request_output).scalar != ir::Scalar::I32)
+    throw Error(describe_slot(p, "output", w.request_output) + " holds the requests of waves, so it must be int1..int4, not " +
                 ir::type_name(output(w.request_output)));
   for (const auto& [out, in] : w.carried) {
     if (in < 0 || static_cast<std::size_t>(in) >= p.inputs.size())

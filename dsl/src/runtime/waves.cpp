@@ -1,6 +1,7 @@
 #include "sh/waves.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstring>
 #include <map>
@@ -30,27 +31,34 @@ class Stopped {
   // Elements whose request (output `request` of `args`) is >= 0; `at`
   // maps them back to the caller's positions.
   void collect(const RunArgs& args, int request, const std::vector<std::size_t>& at) {
-    const auto* r = static_cast<const std::int32_t*>(args.outputs[request].data);
+    const BufferView& out = args.outputs[request];
+    const auto* r = static_cast<const std::int32_t*>(out.data);
+    width_ = out.type.width;
     positions_.clear();
     requests_.clear();
     for (std::size_t i = 0; i < args.count; ++i)
-      if (r[i] >= 0) {
+      if (r[i * width_] >= 0) {
         positions_.push_back(at.empty() ? i : at[i]);
-        requests_.push_back(r[i]);
+        requests_.emplace_back();
+        std::copy(r + i * width_, r + (i + 1) * width_, requests_.back().begin());
       }
   }
   bool empty() const { return positions_.empty(); }
+  int width() const { return width_; }
   const std::vector<std::size_t>& positions() const { return positions_; }
   std::vector<std::int32_t> distinct_requests() const {
-    std::vector<std::int32_t> d = requests_;
+    std::vector<std::array<std::int32_t, 4>> d = requests_;
     std::sort(d.begin(), d.end());
     d.erase(std::unique(d.begin(), d.end()), d.end());
-    return d;
+    std::vector<std::int32_t> flat;
+    for (const auto& r : d) flat.insert(flat.end(), r.begin(), r.begin() + width_);
+    return flat;
   }
 
  private:
+  int width_ = 1;
   std::vector<std::size_t> positions_;
-  std::vector<std::int32_t> requests_;
+  std::vector<std::array<std::int32_t, 4>> requests_;  // unused components zero
 };
 
 // The stopped elements' arguments: inputs gathered from the caller's
@@ -125,7 +133,7 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
   std::vector<std::string> scratch;
   while (!stopped.empty()) {
     std::vector<std::int32_t> requests = stopped.distinct_requests();
-    if (w.refiner->refine(requests) == 0)
+    if (w.refiner->refine(requests, stopped.width()) == 0)
       throw Error("running in waves: the " + w.refiner->kind() + " refiner built nothing for request " +
                   std::to_string(requests.front()) + " (element " + std::to_string(stopped.positions().front()) +
                   "), which would stop it forever");

@@ -88,7 +88,7 @@ class SceneTables {
   Attrib1f tan_half_fov;
 
  private:
-  SceneTables(const Scene& scene, const Box& bounds);
+  explicit SceneTables(const Scene& scene);
 };
 
 // Where a ray's walk of an octree is: the finest-level cell it visits next
@@ -102,9 +102,9 @@ struct WalkState {
 
 // Traces rays inside a program being recorded: C++ inlined into whichever
 // kernel calls it, as the seed's intersector is.  Over a lazy octree the
-// first ray that reaches an unbuilt node stops and leaves the node in
-// request(); the calls after it do nothing (the element runs again once
-// the node is built).
+// first ray that reaches an unbuilt node stops and leaves the node and the
+// cell it was in in request() (-1 first where none); the calls after it do
+// nothing (the element runs again once the node is built).
 class Intersector {
  public:
   explicit Intersector(const SceneTables& s);
@@ -114,11 +114,11 @@ class Intersector {
                       Attrib2f& uv);
   // Goes on from `state` (a lazy octree's resumable walk).
   void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state);
-  const Attrib1i& request() const { return request_; }
+  const Attrib4i& request() const { return request_; }
 
  private:
   const SceneTables& s_;
-  Attrib1i request_;
+  Attrib4i request_;
 };
 
 Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direction, pixel centre

@@ -26,8 +26,8 @@
 namespace sh::rt {
 
 struct OctreeLimits {
-  int max_depth = 10;  // 0 .. kMaxOctreeDepth
-  int leaf_size = 8;   // a node with at most this many triangles is a leaf
+  int max_depth = 8;   // 0 .. kMaxOctreeDepth
+  int leaf_size = 16;  // a node with at most this many triangles is a leaf
 };
 inline constexpr int kMaxOctreeDepth = 19;  // keys pack level and three 19-bit coordinates
 
@@ -41,6 +41,11 @@ class Octree {
   // Builds the listed nodes that are still unbuilt (in parallel); the rest
   // are ignored.  Returns how many were built.
   std::size_t build(const std::vector<std::int32_t>& nodes);
+  // Builds each requested node and, below it, the unbuilt nodes down to the
+  // leaf holding the requested cell: what a ray stopped there will walk
+  // into first.  Requests are (node, cell x, y, z), cells in finest-level
+  // coordinates.  Returns how many nodes were built.
+  std::size_t build_towards(const std::vector<std::int32_t>& requests);
   void build_everything();
   std::vector<std::int32_t> unbuilt() const;
 

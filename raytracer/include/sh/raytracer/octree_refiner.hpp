@@ -30,7 +30,8 @@ class OctreeRefiner : public Refiner {
   std::string kind() const override { return kOctreeRefinerKind; }
   std::string seed() const override;
   void bind(std::vector<TableView>& tables) const override;
-  std::size_t refine(const std::vector<std::int32_t>& requests) override;
+  // Requests are (node, cell x, y, z): see Octree::build_towards.
+  std::size_t refine(const std::vector<std::int32_t>& requests, int width) override;
   std::string summary() const override;
 
  private:
