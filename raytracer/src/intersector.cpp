@@ -38,8 +38,11 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
   Attrib3f q = cross(sv, e1);
   Attrib1f v = dot(r.d, q) * inv;
   Attrib1f t = dot(e2, q) * inv;
+  // Of triangles at the same distance the lowest numbered wins, whatever
+  // order the accelerator tests them in: every accelerator gives the same hit.
+  Attrib1f nearer = t < best || (t == best && (tri < best_tri).cast<float>());
   Attrib1f hit = usable && u >= -kEdgeTolerance && v >= -kEdgeTolerance && u + v <= 1.0f + kEdgeTolerance &&
-                 t > 0.0f && t < best;
+                 t > 0.0f && nearer;
   best = cond(hit, t, best);
   best_tri = cond(hit, tri, best_tri);
   best_uv = cond(hit, join(u, v), best_uv);

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# `mpirun -np 2 shtrace render --backend mpi` gives the image `cpu` gives.
+# `mpirun -np 2 shtrace render --backend mpi` gives the image `cpu` gives,
+# with the grid and with a lazy octree that each rank builds for itself.
 set -eu
 mpirun=$1
 shtrace=$2
@@ -9,3 +10,10 @@ mkdir -p "$dir"
 "$mpirun" -np 2 "$shtrace" render --scene spheres --size 160x120 --backend mpi --output "$dir/mpi.png"
 cmp "$dir/cpu.png" "$dir/mpi.png"
 echo "the mpi image is identical to the cpu image"
+"$mpirun" -np 2 "$shtrace" render --scene spheres --size 160x120 --backend mpi --accel lazy-octree \
+  --output "$dir/mpi_lazy.png" | tee "$dir/mpi_lazy.txt"
+cmp "$dir/cpu.png" "$dir/mpi_lazy.png"
+grep -q "rank 0: [1-9][0-9]* nodes built" "$dir/mpi_lazy.txt"
+grep -q "rank 1: [1-9][0-9]* nodes built" "$dir/mpi_lazy.txt"
+grep -q "overlap: [1-9][0-9]* distinct nodes built" "$dir/mpi_lazy.txt"
+echo "the lazy octree built on each rank gives the same image; both ranks built nodes"

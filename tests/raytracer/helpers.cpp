@@ -30,16 +30,11 @@ Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
   return rays;
 }
 
-Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend) {
-  sh::rt::Grid grid = sh::rt::build_grid(scene);
-  sh::rt::SceneTables tables(scene, grid);
-  sh::Program p = sh::rt::intersector_program(tables);
-  sh::Channel<sh::Point3f> o(rays.origins);
-  sh::Channel<sh::Vector3f> d(rays.directions);
-  sh::Channel<sh::Attrib1f> t;
-  sh::Channel<sh::Attrib1i> tri;
-  sh::run(p, {o, d}, {t, tri}, sh::backend(backend));
-  return {t.values(), tri.values()};
+Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend, sh::rt::Accel accel) {
+  sh::rt::RenderSettings settings;
+  settings.accel = accel;
+  sh::rt::Renderer r(scene, settings);
+  return r.intersect(rays.origins, rays.directions, sh::backend(backend));
 }
 
 namespace {

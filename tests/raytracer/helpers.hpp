@@ -23,15 +23,13 @@ struct Rays {
   sh::rt::Vec3 direction(std::size_t i) const { return {directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]}; }
 };
 
-struct Hits {
-  std::vector<float> t;
-  std::vector<std::int32_t> triangle;
-};
+using sh::rt::Hits;
 
 // Random rays from around the scene's bounds towards random points inside.
 Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);
 
-Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend = "cpu");
+Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend = "cpu",
+           sh::rt::Accel accel = sh::rt::Accel::Grid);
 
 struct Agreement {
   std::size_t rays = 0, agree = 0, ties = 0, edge_grazes = 0;

@@ -4,28 +4,41 @@
 // tolerance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <embree_scene.hpp>
 
 #include "helpers.hpp"
 
 namespace {
 
-void expect_agreement(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
-  rt_test::Rays rays = rt_test::random_rays(scene, n, seed);
-  rt_test::Hits hits = rt_test::trace(scene, rays);
-  rt_test::Agreement a = rt_test::compare_with_embree(scene, rays, hits);
-  std::size_t bad = a.rays - a.agree - a.ties - a.edge_grazes;
-  std::string detail;
-  for (const std::string& d : a.disagreements) detail += "\n  " + d;
-  EXPECT_EQ(bad, 0u) << scene.name << ": " << bad << " of " << a.rays << " rays disagree with Embree" << detail;
-  EXPECT_GT(a.agree, a.rays / 4) << "too few rays hit anything to mean much";
-  testing::Test::RecordProperty("ties", static_cast<int>(a.ties));
-  testing::Test::RecordProperty("edge_grazes", static_cast<int>(a.edge_grazes));
-}
+class IntersectorAgainstEmbree : public testing::TestWithParam<sh::rt::Accel> {
+ public:
+  void expect_agreement(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
+    rt_test::Rays rays = rt_test::random_rays(scene, n, seed);
+    rt_test::Hits hits = rt_test::trace(scene, rays, "cpu", GetParam());
+    rt_test::Agreement a = rt_test::compare_with_embree(scene, rays, hits);
+    std::size_t bad = a.rays - a.agree - a.ties - a.edge_grazes;
+    std::string detail;
+    for (const std::string& d : a.disagreements) detail += "\n  " + d;
+    EXPECT_EQ(bad, 0u) << scene.name << ": " << bad << " of " << a.rays << " rays disagree with Embree" << detail;
+    EXPECT_GT(a.agree, a.rays / 4) << "too few rays hit anything to mean much";
+    testing::Test::RecordProperty("ties", static_cast<int>(a.ties));
+    testing::Test::RecordProperty("edge_grazes", static_cast<int>(a.edge_grazes));
+  }
+};
 
-TEST(IntersectorAgainstEmbree, Cornell) { expect_agreement(sh::rt::builtin_scene("cornell"), 100000, 1); }
-TEST(IntersectorAgainstEmbree, Spheres) { expect_agreement(sh::rt::builtin_scene("spheres"), 100000, 2); }
-TEST(IntersectorAgainstEmbree, Procedural) { expect_agreement(sh::rt::builtin_scene("procedural", 20000), 100000, 3); }
+TEST_P(IntersectorAgainstEmbree, Cornell) { expect_agreement(sh::rt::builtin_scene("cornell"), 100000, 1); }
+TEST_P(IntersectorAgainstEmbree, Spheres) { expect_agreement(sh::rt::builtin_scene("spheres"), 100000, 2); }
+TEST_P(IntersectorAgainstEmbree, Procedural) { expect_agreement(sh::rt::builtin_scene("procedural", 20000), 100000, 3); }
+
+INSTANTIATE_TEST_SUITE_P(Accelerators, IntersectorAgainstEmbree,
+                         testing::Values(sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree),
+                         [](const auto& info) {
+                           std::string n = sh::rt::accel_name(info.param);
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
 
 // The benchmarks' Embree anchor traces packets: they must find what single
 // rays find, a partly filled last packet included.

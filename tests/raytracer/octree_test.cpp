@@ -1,0 +1,204 @@
+// The octree, static and lazy: the same images as the grid on every
+// backend; a lazy render builds only nodes its rays walk into, nothing
+// when the view is rendered again, only what is new for a new view; depth
+// limits from 0 to the deepest; the waves end where every ray escapes and
+// where every ray hits.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "helpers.hpp"
+
+namespace {
+
+using sh::rt::Accel;
+using sh::rt::Vec3;
+
+sh::rt::RenderSettings small(const std::string& backend, Accel accel, sh::rt::OctreeLimits limits = {}) {
+  sh::rt::RenderSettings s;
+  s.width = 48;
+  s.height = 36;
+  s.backend = backend;
+  s.accel = accel;
+  s.octree = limits;
+  s.shadow_samples = 4;
+  return s;
+}
+
+// Bit for bit: ties between triangles at the same distance go to the
+// lowest numbered, whatever order an accelerator tests them in.
+void expect_same_image(const sh::rt::Image& a, const sh::rt::Image& b, const std::string& what) {
+  ASSERT_EQ(a.triangle, b.triangle) << what << ": a pixel's primary hit differs";
+  ASSERT_EQ(a.distance, b.distance) << what << ": a primary distance differs";
+  ASSERT_EQ(a.rgb, b.rgb) << what << ": a colour differs";
+}
+
+class OctreeOnEveryBackend : public testing::TestWithParam<std::string> {};
+
+TEST_P(OctreeOnEveryBackend, ImagesAreTheGridsOnEveryBuiltinScene) {
+  for (std::string name : {"cornell", "spheres", "soft"}) {
+    sh::rt::Scene scene = sh::rt::builtin_scene(name);
+    sh::rt::Image grid = sh::rt::Renderer(scene, small(GetParam(), Accel::Grid)).render();
+    for (Accel accel : {Accel::Octree, Accel::LazyOctree}) {
+      sh::rt::Renderer r(scene, small(GetParam(), accel));
+      expect_same_image(grid, r.render(), name + " with " + sh::rt::accel_name(accel) + " on " + GetParam());
+    }
+  }
+}
+
+std::vector<std::string> backends() {
+  std::vector<std::string> names;
+  for (const std::string& b : sh::backend_names())
+    if (b != "mpi") names.push_back(b);  // mpi: tests/mpi/same_image.sh, under mpirun
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, OctreeOnEveryBackend, testing::ValuesIn(backends()),
+                         [](const auto& info) { return info.param; });
+
+// The box of a node, from its key (see Octree::key: level, then x, y, z).
+sh::rt::Box box_of(const sh::rt::Octree& tree, std::uint64_t key) {
+  int level = static_cast<int>(key >> 57);
+  auto field = [&](int shift) { return static_cast<float>((key >> shift) & ((1u << sh::rt::kMaxOctreeDepth) - 1)); };
+  Vec3 fine = tree.finest_cell(), corner{field(38), field(19), field(0)};
+  float size = static_cast<float>(tree.resolution() >> level);
+  Vec3 lo = tree.bounds().lo + Vec3{corner.x * fine.x, corner.y * fine.y, corner.z * fine.z};
+  return {lo, lo + Vec3{size * fine.x, size * fine.y, size * fine.z}};
+}
+
+// Does the segment o + t d, t in [0, t_end], meet the box (slightly grown)?
+bool segment_meets(Vec3 o, Vec3 d, float t_end, sh::rt::Box b) {
+  float t0 = 0, t1 = t_end;
+  for (int a = 0; a < 3; ++a) {
+    float pad = 1e-4f * (b.hi[a] - b.lo[a]);
+    if (std::fabs(d[a]) < 1e-12f) {
+      if (o[a] < b.lo[a] - pad || o[a] > b.hi[a] + pad) return false;
+      continue;
+    }
+    float ta = (b.lo[a] - pad - o[a]) / d[a], tb = (b.hi[a] + pad - o[a]) / d[a];
+    t0 = std::max(t0, std::min(ta, tb));
+    t1 = std::min(t1, std::max(ta, tb));
+  }
+  return t0 <= t1;
+}
+
+// Primary rays only (no lights, no mirrors): each built node must lie on
+// some ray's path from the eye to its hit (or out of the scene).
+void expect_only_touched_nodes(const sh::rt::Renderer& r, const std::vector<std::uint64_t>& keys,
+                               const std::vector<float>& origins, const std::vector<float>& directions,
+                               const sh::rt::Hits& hits) {
+  for (std::uint64_t key : keys) {
+    sh::rt::Box b = box_of(*r.octree(), key);
+    bool touched = false;
+    for (std::size_t i = 0; i < hits.t.size() && !touched; ++i) {
+      Vec3 o{origins[3 * i], origins[3 * i + 1], origins[3 * i + 2]}, d{directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]};
+      touched = segment_meets(o, d, hits.t[i] < 0 ? 1e30f : hits.t[i], b);
+    }
+    ASSERT_TRUE(touched) << "node " << std::hex << key << " was built but no ray walks into it";
+  }
+}
+
+sh::rt::Scene unlit(const std::string& name) {
+  sh::rt::Scene s = sh::rt::builtin_scene(name, 20000);
+  s.lights.clear();
+  s.disk_lights.clear();
+  for (sh::rt::Material& m : s.materials) m.reflectivity = 0;
+  return s;
+}
+
+struct Primary {
+  std::vector<float> origins, directions;
+};
+
+Primary primary_rays(sh::rt::Renderer& r, int w, int h) {
+  sh::Program raygen = sh::rt::raygen_program(r.tables());
+  sh::Channel<sh::Attrib2f> pixels(sh::rt::pixel_centres(w, h));
+  sh::Channel<sh::Point3f> o;
+  sh::Channel<sh::Vector3f> d;
+  sh::Channel<sh::Attrib2f> pixel;
+  sh::run(raygen, {pixels}, {o, d, pixel}, sh::backend("cpu"));
+  return {o.values(), d.values()};
+}
+
+TEST(LazyOctree, BuildsOnlyNodesRaysWalkIntoAndNothingTheSecondTime) {
+  sh::rt::Scene scene = unlit("procedural");
+  sh::rt::RenderSettings s = small("cpu", Accel::LazyOctree);
+  sh::rt::Renderer r(scene, s);
+  sh::rt::RenderReport first, second;
+  sh::rt::Image image = r.render(&first);
+  std::vector<std::uint64_t> keys = r.octree()->built_keys();
+  ASSERT_FALSE(keys.empty());
+  EXPECT_GT(first.waves, 0u);
+  Primary p = primary_rays(r, s.width, s.height);
+  sh::rt::Hits hits = r.intersect(p.origins, p.directions, sh::backend("cpu"));
+  expect_only_touched_nodes(r, keys, p.origins, p.directions, hits);
+  // Fewer nodes than the whole tree (the view sees all of the scene), and
+  // the same picture as it gives.
+  sh::rt::Octree full = sh::rt::Octree::full(scene, s.octree);
+  EXPECT_LT(r.octree()->nodes().size(), full.nodes().size() * 3 / 4);
+  s.accel = Accel::Octree;
+  expect_same_image(sh::rt::Renderer(scene, s).render(), image, "static and lazy octree");
+
+  r.render(&second);
+  EXPECT_EQ(r.octree()->built_keys().size(), keys.size()) << "the second render of the same view built nodes";
+  EXPECT_EQ(second.waves, 0u);
+}
+
+TEST(LazyOctree, ANewViewBuildsOnlyWhatIsNew) {
+  sh::rt::Scene scene = unlit("procedural");
+  scene.camera = {{-6, 4, 6}, {-6, 0, 0}, {0, 1, 0}, 30};
+  sh::rt::RenderSettings s = small("cpu", Accel::LazyOctree);
+  sh::rt::Renderer r(scene, s);
+  r.render();
+  std::size_t before = r.octree()->built_keys().size();
+  scene.camera = {{6, 4, 6}, {6, 0, 0}, {0, 1, 0}, 30};
+  r.tables().set_camera(scene.camera, s.width, s.height);
+  r.render();
+  std::vector<std::uint64_t> all = r.octree()->built_keys();
+  ASSERT_GT(all.size(), before) << "the other half of the scene needed nothing new";
+  std::set<std::uint64_t> distinct(all.begin(), all.end());
+  EXPECT_EQ(distinct.size(), all.size()) << "a node was built twice";
+  std::vector<std::uint64_t> fresh(all.begin() + static_cast<long>(before), all.end());
+  Primary p = primary_rays(r, s.width, s.height);
+  expect_only_touched_nodes(r, fresh, p.origins, p.directions, r.intersect(p.origins, p.directions, sh::backend("cpu")));
+}
+
+TEST(LazyOctree, DepthLimitsFromNoneToTheDeepest) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("cornell");
+  sh::rt::Image grid = sh::rt::Renderer(scene, small("cpu", Accel::Grid)).render();
+  for (int depth : {0, 1, sh::rt::kMaxOctreeDepth})
+    for (Accel accel : {Accel::Octree, Accel::LazyOctree}) {
+      sh::rt::Renderer r(scene, small("cpu", accel, {depth, depth == 0 ? 1 : 2}));
+      expect_same_image(grid, r.render(), "depth " + std::to_string(depth) + ", " + sh::rt::accel_name(accel));
+      if (depth == 0) {
+        EXPECT_EQ(r.octree()->nodes().size(), 1u) << "depth 0 is a single leaf";
+      }
+    }
+  EXPECT_THROW(sh::rt::Octree::lazy(scene, {sh::rt::kMaxOctreeDepth + 1, 8}), sh::Error);
+  EXPECT_THROW(sh::rt::Octree::lazy(scene, {4, 0}), sh::Error);
+}
+
+TEST(LazyOctree, WavesEndWhereEveryRayEscapesAndWhereEveryRayHits) {
+  sh::rt::Scene away = sh::rt::builtin_scene("spheres");
+  away.camera.look_at = away.camera.eye + (away.camera.eye - away.camera.look_at);  // facing away from the scene
+  sh::rt::Renderer escape(away, small("cpu", Accel::LazyOctree));
+  sh::rt::Image out = escape.render();
+  EXPECT_TRUE(std::all_of(out.triangle.begin(), out.triangle.end(), [](int t) { return t < 0; }));
+
+  sh::rt::Scene inside;
+  inside.name = "inside a box";
+  inside.materials.push_back({});
+  sh::rt::add_box(inside, {-1, -1, -1}, {1, 1, 1}, 0);
+  sh::rt::add_sphere(inside, {0.3f, -0.2f, 0.1f}, 0.3f, 0, 24);
+  inside.lights.push_back({{0, 0.8f, 0}, {1, 1, 1}});
+  inside.camera = {{0, 0, 0.8f}, {0, 0, 0}, {0, 1, 0}, 60};
+  sh::rt::RenderReport report;
+  sh::rt::Renderer hit(inside, small("cpu", Accel::LazyOctree, {6, 2}));
+  sh::rt::Image in = hit.render(&report);
+  EXPECT_TRUE(std::all_of(in.triangle.begin(), in.triangle.end(), [](int t) { return t >= 0; }));
+  EXPECT_GT(report.waves, 0u);
+  expect_same_image(sh::rt::Renderer(inside, small("cpu", Accel::Grid)).render(), in, "inside a closed box");
+}
+
+}  // namespace
