@@ -10,6 +10,7 @@ namespace {
 // Barycentric tolerance: a ray through a shared edge or vertex hits both
 // sides rather than slipping between them (watertight closed meshes).
 constexpr float kEdgeTolerance = 1e-6f;
+constexpr float kTieTolerance = 1e-6f;
 
 }  // namespace
 
@@ -38,9 +39,11 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
   Attrib3f q = cross(sv, e1);
   Attrib1f v = dot(r.d, q) * inv;
   Attrib1f t = dot(e2, q) * inv;
-  // Of triangles at the same distance the lowest numbered wins, whatever
-  // order the accelerator tests them in: every accelerator gives the same hit.
-  Attrib1f nearer = t < best || (t == best && (tri < best_tri).cast<float>());
+  // Of triangles at the same distance (to rounding: backends may differ in
+  // the last bits) the lowest numbered wins, whatever order the accelerator
+  // tests them in: every accelerator and backend gives the same hit.
+  Attrib1f tie = (best_tri >= 0).cast<float>() && abs(t - best) <= best * kTieTolerance;
+  Attrib1f nearer = cond(tie, (tri < best_tri).cast<float>(), t < best);
   Attrib1f hit = usable && u >= -kEdgeTolerance && v >= -kEdgeTolerance && u + v <= 1.0f + kEdgeTolerance &&
                  t > 0.0f && nearer;
   best = cond(hit, t, best);
