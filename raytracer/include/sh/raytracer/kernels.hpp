@@ -124,7 +124,8 @@ class Intersector {
 Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direction, pixel centre
 // origin, direction -> t, triangle; over a lazy octree also a resumable
 // walk: origin, direction, resume (cell, best t), resume triangle -> t,
-// triangle, request, resume, resume triangle (see lazy_intersector_waves).
+// triangle, request, resume, resume triangle (Renderer::intersect runs it
+// in waves).
 Program intersector_program(const SceneTables& s);
 // origin, direction, pixel -> colour, t, triangle (and request, over a lazy
 // octree; a stopped pixel starts over in the next wave).
