@@ -53,23 +53,37 @@ Octree::Place Octree::child(Place parent, int which) const {
   return c;
 }
 
+// Level in the top bits, then x, y and z in kMaxOctreeDepth bits each.
+constexpr std::uint64_t kField = (1u << kMaxOctreeDepth) - 1;
+
 std::uint64_t Octree::key(Place p) {
-  auto field = [](int v) { return static_cast<std::uint64_t>(v) & ((1u << kMaxOctreeDepth) - 1); };
+  auto field = [](int v) { return static_cast<std::uint64_t>(v) & kField; };
   return static_cast<std::uint64_t>(p.level) << 57 | field(p.corner[0]) << 38 | field(p.corner[1]) << 19 | field(p.corner[2]);
 }
+
+Octree::Place Octree::place(std::uint64_t key) {
+  auto field = [&](int shift) { return static_cast<int>(key >> shift & kField); };
+  return Place{static_cast<int>(key >> 57), {field(38), field(19), field(0)}};
+}
+
+Box Octree::box(Place p) const {
+  Vec3 fine = finest_cell();
+  float size = static_cast<float>(resolution() >> p.level);
+  return {bounds_.lo + Vec3{p.corner[0] * fine.x, p.corner[1] * fine.y, p.corner[2] * fine.z},
+          bounds_.lo + Vec3{(p.corner[0] + size) * fine.x, (p.corner[1] + size) * fine.y, (p.corner[2] + size) * fine.z}};
+}
+
+Box Octree::box_of(std::uint64_t key) const { return box(place(key)); }
 
 // The candidates of each child: the node's triangles that overlap the
 // child's box (as the kernels compute it, widened by a hair).
 Octree::Children Octree::split(const Pending& node) const {
   Children lists;
-  Vec3 fine = finest_cell();
-  float size = static_cast<float>(resolution() >> (node.place.level + 1));
-  Vec3 cell = fine * size, hair = overlap_hair(bounds_, cell);
   Box boxes[8];
   for (int c = 0; c < 8; ++c) {
-    Place p = child(node.place, c);
-    boxes[c].lo = bounds_.lo + Vec3{p.corner[0] * fine.x, p.corner[1] * fine.y, p.corner[2] * fine.z} - hair;
-    boxes[c].hi = bounds_.lo + Vec3{(p.corner[0] + size) * fine.x, (p.corner[1] + size) * fine.y, (p.corner[2] + size) * fine.z} + hair;
+    boxes[c] = box(child(node.place, c));
+    Vec3 hair = overlap_hair(bounds_, boxes[c].hi - boxes[c].lo);
+    boxes[c] = {boxes[c].lo - hair, boxes[c].hi + hair};
   }
   for (std::int32_t t : node.candidates) {
     Vec3 a = positions_[3 * t], b = positions_[3 * t + 1], c = positions_[3 * t + 2];

@@ -57,16 +57,6 @@ std::vector<std::string> backends() {
 INSTANTIATE_TEST_SUITE_P(Backends, OctreeOnEveryBackend, testing::ValuesIn(backends()),
                          [](const auto& info) { return info.param; });
 
-// The box of a node, from its key (see Octree::key: level, then x, y, z).
-sh::rt::Box box_of(const sh::rt::Octree& tree, std::uint64_t key) {
-  int level = static_cast<int>(key >> 57);
-  auto field = [&](int shift) { return static_cast<float>((key >> shift) & ((1u << sh::rt::kMaxOctreeDepth) - 1)); };
-  Vec3 fine = tree.finest_cell(), corner{field(38), field(19), field(0)};
-  float size = static_cast<float>(tree.resolution() >> level);
-  Vec3 lo = tree.bounds().lo + Vec3{corner.x * fine.x, corner.y * fine.y, corner.z * fine.z};
-  return {lo, lo + Vec3{size * fine.x, size * fine.y, size * fine.z}};
-}
-
 // Does the segment o + t d, t in [0, t_end], meet the box (slightly grown)?
 bool segment_meets(Vec3 o, Vec3 d, float t_end, sh::rt::Box b) {
   float t0 = 0, t1 = t_end;
@@ -89,7 +79,7 @@ void expect_only_touched_nodes(const sh::rt::Renderer& r, const std::vector<std:
                                const std::vector<float>& origins, const std::vector<float>& directions,
                                const sh::rt::Hits& hits) {
   for (std::uint64_t key : keys) {
-    sh::rt::Box b = box_of(*r.octree(), key);
+    sh::rt::Box b = r.octree()->box_of(key);
     bool touched = false;
     for (std::size_t i = 0; i < hits.t.size() && !touched; ++i) {
       Vec3 o{origins[3 * i], origins[3 * i + 1], origins[3 * i + 2]}, d{directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]};

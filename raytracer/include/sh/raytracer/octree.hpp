@@ -61,6 +61,7 @@ class Octree {
   // each as a key of its level and place: the same node has the same key in
   // every process.
   const std::vector<std::uint64_t>& built_keys() const { return built_keys_; }
+  Box box_of(std::uint64_t key) const;  // the box of the node with this key
   std::size_t bytes() const;          // the two tables
   std::size_t pending_bytes() const;  // triangle lists kept for unbuilt nodes
   double build_ms() const { return build_ms_; }
@@ -79,7 +80,9 @@ class Octree {
   Children split(const Pending& node) const;
   std::int32_t settle(Place place, std::vector<std::int32_t>& list, std::int32_t index);
   Place child(Place parent, int which) const;
+  Box box(Place p) const;  // as the kernels compute it
   static std::uint64_t key(Place p);
+  static Place place(std::uint64_t key);
 
   std::vector<Vec3> positions_;
   Box bounds_;
