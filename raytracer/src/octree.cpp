@@ -17,11 +17,10 @@ Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
     throw Error("octree depth limit must be 0.." + std::to_string(kMaxOctreeDepth) + ", got " +
                 std::to_string(limits_.max_depth));
   if (limits_.leaf_size < 1) throw Error("octree leaf size must be at least 1, got " + std::to_string(limits_.leaf_size));
-  std::vector<std::int32_t> all(positions_.size() / 3);
-  for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<std::int32_t>(t);
-  nodes_.push_back(0);
+  auto count = static_cast<std::int32_t>(positions_.size() / 3);
+  nodes_.push_back(count > 0 ? 0 : -1);
   triangles_.push_back(-1);  // a table is never empty
-  nodes_[0] = settle(Place{}, all, 0);
+  if (count > 0) pending_[0] = Pending{Place{}, {Run{0, count}}};
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -85,7 +84,7 @@ Octree::Children Octree::split(const Pending& node) const {
     Vec3 hair = overlap_hair(bounds_, boxes[c].hi - boxes[c].lo);
     boxes[c] = {boxes[c].lo - hair, boxes[c].hi + hair};
   }
-  for (std::int32_t t : node.candidates) {
+  auto sort_into_children = [&](std::int32_t t) {
     Vec3 a = positions_[3 * t], b = positions_[3 * t + 1], c = positions_[3 * t + 2];
     Vec3 lo = min(min(a, b), c), hi = max(max(a, b), c);
     for (int k = 0; k < 8; ++k) {
@@ -95,21 +94,38 @@ Octree::Children Octree::split(const Pending& node) const {
       bool inside = lo.x >= x.lo.x && lo.y >= x.lo.y && lo.z >= x.lo.z && hi.x <= x.hi.x && hi.y <= x.hi.y && hi.z <= x.hi.z;
       if (inside || (!apart && triangle_overlaps_box(a, b, c, x.lo, x.hi))) lists[k].push_back(t);
     }
-  }
+  };
+  for (Run run : node.candidates)
+    for (std::int32_t t = run.first; t < run.first + run.count; ++t) sort_into_children(t);
   return lists;
 }
 
-// What node `index` at `place` becomes with these triangles: an empty
-// leaf, a leaf, or an unbuilt node that keeps them.
-std::int32_t Octree::settle(Place place, std::vector<std::int32_t>& list, std::int32_t index) {
+bool Octree::is_leaf(const Pending& node) const {
+  std::size_t size = 0;
+  for (Run run : node.candidates) size += static_cast<std::size_t>(run.count);
+  return node.place.level == limits_.max_depth || size <= static_cast<std::size_t>(limits_.leaf_size);
+}
+
+std::int32_t Octree::make_leaf(const Pending& node) {
+  auto start = static_cast<std::int32_t>(triangles_.size());
+  for (Run run : node.candidates)
+    for (std::int32_t t = run.first; t < run.first + run.count; ++t) triangles_.push_back(t);
+  triangles_.push_back(-1);
+  return -start - 2;
+}
+
+// Node `index` at `place` with these triangles (ascending): an empty leaf,
+// or an unbuilt node that keeps them as runs.
+std::int32_t Octree::settle(Place place, const std::vector<std::int32_t>& list, std::int32_t index) {
   if (list.empty()) return -1;
-  if (place.level == limits_.max_depth || list.size() <= static_cast<std::size_t>(limits_.leaf_size)) {
-    auto start = static_cast<std::int32_t>(triangles_.size());
-    triangles_.insert(triangles_.end(), list.begin(), list.end());
-    triangles_.push_back(-1);
-    return -start - 2;
-  }
-  pending_[index] = Pending{place, std::move(list)};
+  Pending& p = pending_[index];
+  p.place = place;
+  for (std::int32_t t : list)
+    if (!p.candidates.empty() && p.candidates.back().first + p.candidates.back().count == t)
+      ++p.candidates.back().count;
+    else
+      p.candidates.push_back({t, 1});
+  p.candidates.shrink_to_fit();
   return 0;
 }
 
@@ -121,20 +137,27 @@ std::size_t Octree::build(const std::vector<std::int32_t>& requested) {
   std::sort(todo.begin(), todo.end());
   todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
   // Splitting is the work and runs in parallel; placing children is a
-  // sequential append.
+  // sequential append.  A node that is small or deep enough becomes a leaf.
   std::vector<Children> children(todo.size());
-  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) { children[i] = split(pending_.at(todo[i])); });
+  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
+    const Pending& p = pending_.at(todo[i]);
+    if (!is_leaf(p)) children[i] = split(p);
+  });
   if (nodes_.size() + 8 * todo.size() > static_cast<std::size_t>(INT32_MAX) ||
       triangles_.size() > static_cast<std::size_t>(INT32_MAX) / 2)
     throw Error("octree: more than 2^31 nodes or listed triangles; lower the depth limit or raise the leaf size");
   for (std::size_t i = 0; i < todo.size(); ++i) {
-    Place place = pending_.at(todo[i]).place;
+    Pending p = std::move(pending_.at(todo[i]));
     pending_.erase(todo[i]);
+    built_keys_.push_back(key(p.place));
+    if (is_leaf(p)) {
+      nodes_[todo[i]] = make_leaf(p);
+      continue;
+    }
     auto first = static_cast<std::int32_t>(nodes_.size());
     nodes_.resize(nodes_.size() + 8);
-    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(place, c), children[i][c], first + c);
+    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(p.place, c), children[i][c], first + c);
     nodes_[todo[i]] = first;
-    built_keys_.push_back(key(place));
   }
   build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return todo.size();
@@ -163,6 +186,7 @@ std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
     built += build(level);
     walks.clear();
     for (std::size_t i = 0; i < going_on.size(); ++i) {
+      if (nodes_[going_on[i].node] < 1) continue;  // it became a leaf
       int half = resolution() >> (places[i].level + 1), which = 0;
       for (int a = 0; a < 3; ++a) which |= (going_on[i].cell[a] >= places[i].corner[a] + half) << a;
       std::int32_t next = nodes_[going_on[i].node] + which;
@@ -185,9 +209,12 @@ std::vector<std::int32_t> Octree::unbuilt() const {
 
 std::size_t Octree::bytes() const { return (nodes_.size() + triangles_.size()) * sizeof(std::int32_t); }
 
+// The map's own nodes and buckets included: with many small lists they are
+// a good part of it.
 std::size_t Octree::pending_bytes() const {
-  std::size_t b = 0;
-  for (const auto& [index, p] : pending_) b += sizeof(Pending) + p.candidates.capacity() * sizeof(std::int32_t);
+  using Entry = decltype(pending_)::value_type;
+  std::size_t b = pending_.bucket_count() * sizeof(void*);
+  for (const auto& [index, p] : pending_) b += sizeof(void*) + sizeof(Entry) + p.candidates.capacity() * sizeof(Run);
   return b;
 }
 
