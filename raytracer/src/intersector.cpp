@@ -59,29 +59,41 @@ Attrib3f nearest_axis(const Attrib3f& t_exits) {
 
 }  // namespace walk
 
-Intersector::Intersector(const SceneTables& s) : s_(s) {
-  if (s.octree && s.octree->lazy) request_ = ConstAttrib4i(-1, 0, 0, 0);
+WalkState WalkState::fresh() {
+  return {ConstAttrib3f(-1.0f, -1.0f, -1.0f), ConstAttrib1f(kFar), ConstAttrib1i(-1), ConstAttrib2f(0.0f, 0.0f)};
 }
+
+Intersector::Intersector(const SceneTables& s) : s_(s) {
+  if (may_stop()) request_ = ConstAttrib4i(-1, 0, 0, 0);
+}
+
+bool Intersector::may_stop() const { return s_.octree && s_.octree->lazy; }
 
 Attrib1f Intersector::operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t,
                                  Attrib1i& triangle, Attrib2f& uv) {
-  WalkState w{ConstAttrib3f(-1.0f, -1.0f, -1.0f), t_limit, ConstAttrib1i(-1), ConstAttrib2f(0.0f, 0.0f)};
-  if (s_.grid) {
-    walk::grid(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv);
-  } else if (s_.octree->lazy) {
-    SH_IF(request_(0) < 0) { walk(o, d, t_limit, w); } SH_ENDIF;
-  } else {
-    walk(o, d, t_limit, w);
-  }
+  WalkState w = WalkState::fresh();
+  w.best = t_limit;
+  walk(o, d, t_limit, w);
   t = w.best;
   triangle = w.triangle;
   uv = w.uv;
   return w.best < t_limit;
 }
 
-void Intersector::walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state) {
-  if (!s_.octree) throw Error("a resumable walk needs an octree");
-  walk::octree(s_, walk::Ray(o, d), t_limit, state, s_.octree->lazy ? &request_ : nullptr);
+Attrib1f Intersector::resume(const Point3f& o, const Vector3f& d, WalkState& state) {
+  walk(o, d, ConstAttrib1f(kFar), state);
+  return state.best < kFar;
+}
+
+// Over a lazy octree a stopped element walks no more.
+void Intersector::walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& w) {
+  if (s_.grid) {
+    walk::grid(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv);
+  } else if (may_stop()) {
+    SH_IF(!stopped()) { walk::octree(s_, walk::Ray(o, d), t_limit, w, &request_); } SH_ENDIF;
+  } else {
+    walk::octree(s_, walk::Ray(o, d), t_limit, w, nullptr);
+  }
 }
 
 Program intersector_program(const SceneTables& s) {
@@ -98,8 +110,7 @@ Program intersector_program(const SceneTables& s) {
       OutputAttrib1i resume_triangle_out;
       Intersector intersect(s);
       WalkState w{resume(0, 1, 2), resume(3), resume_triangle, ConstAttrib2f(0.0f, 0.0f)};
-      intersect.walk(o, d, ConstAttrib1f(walk::kFar), w);
-      t = cond(w.best < walk::kFar, w.best, ConstAttrib1f(-1.0f));
+      t = cond(intersect.resume(o, d, w), w.best, ConstAttrib1f(-1.0f));
       triangle = w.triangle;
       request = intersect.request();
       resume_out = join(w.cell, w.best);
@@ -114,7 +125,7 @@ Program intersector_program(const SceneTables& s) {
     Attrib1i hit_triangle;
     Attrib2f uv;
     Intersector intersect(s);
-    Attrib1f hit = intersect(o, d, ConstAttrib1f(walk::kFar), hit_t, hit_triangle, uv);
+    Attrib1f hit = intersect(o, d, ConstAttrib1f(kFar), hit_t, hit_triangle, uv);
     t = cond(hit, hit_t, ConstAttrib1f(-1.0f));
     triangle = hit_triangle;
   } SH_END;

@@ -17,10 +17,11 @@ Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
     throw Error("octree depth limit must be 0.." + std::to_string(kMaxOctreeDepth) + ", got " +
                 std::to_string(limits_.max_depth));
   if (limits_.leaf_size < 1) throw Error("octree leaf size must be at least 1, got " + std::to_string(limits_.leaf_size));
-  auto count = static_cast<std::int32_t>(positions_.size() / 3);
-  nodes_.push_back(count > 0 ? 0 : -1);
+  std::vector<std::int32_t> all(positions_.size() / 3);
+  for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  nodes_.push_back(0);
   triangles_.push_back(-1);  // a table is never empty
-  if (count > 0) pending_[0] = Pending{Place{}, {Run{0, count}}};
+  nodes_[0] = settle(Place{}, all, 0);
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -100,24 +101,17 @@ Octree::Children Octree::split(const Pending& node) const {
   return lists;
 }
 
-bool Octree::is_leaf(const Pending& node) const {
-  std::size_t size = 0;
-  for (Run run : node.candidates) size += static_cast<std::size_t>(run.count);
-  return node.place.level == limits_.max_depth || size <= static_cast<std::size_t>(limits_.leaf_size);
-}
-
-std::int32_t Octree::make_leaf(const Pending& node) {
-  auto start = static_cast<std::int32_t>(triangles_.size());
-  for (Run run : node.candidates)
-    for (std::int32_t t = run.first; t < run.first + run.count; ++t) triangles_.push_back(t);
-  triangles_.push_back(-1);
-  return -start - 2;
-}
-
 // Node `index` at `place` with these triangles (ascending): an empty leaf,
-// or an unbuilt node that keeps them as runs.
+// a leaf (at the depth limit or small enough), or an unbuilt node that
+// keeps them as runs.
 std::int32_t Octree::settle(Place place, const std::vector<std::int32_t>& list, std::int32_t index) {
   if (list.empty()) return -1;
+  if (place.level == limits_.max_depth || list.size() <= static_cast<std::size_t>(limits_.leaf_size)) {
+    auto start = static_cast<std::int32_t>(triangles_.size());
+    triangles_.insert(triangles_.end(), list.begin(), list.end());
+    triangles_.push_back(-1);
+    return -start - 2;
+  }
   Pending& p = pending_[index];
   p.place = place;
   for (std::int32_t t : list)
@@ -137,28 +131,22 @@ std::size_t Octree::build(const std::vector<std::int32_t>& requested) {
   std::sort(todo.begin(), todo.end());
   todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
   // Splitting is the work and runs in parallel; placing children is a
-  // sequential append.  A node that is small or deep enough becomes a leaf.
+  // sequential append.
   std::vector<Children> children(todo.size());
-  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
-    const Pending& p = pending_.at(todo[i]);
-    if (!is_leaf(p)) children[i] = split(p);
-  });
+  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) { children[i] = split(pending_.at(todo[i])); });
   if (nodes_.size() + 8 * todo.size() > static_cast<std::size_t>(INT32_MAX) ||
       triangles_.size() > static_cast<std::size_t>(INT32_MAX) / 2)
     throw Error("octree: more than 2^31 nodes or listed triangles; lower the depth limit or raise the leaf size");
   for (std::size_t i = 0; i < todo.size(); ++i) {
-    Pending p = std::move(pending_.at(todo[i]));
+    Place place = pending_.at(todo[i]).place;
     pending_.erase(todo[i]);
-    built_keys_.push_back(key(p.place));
-    if (is_leaf(p)) {
-      nodes_[todo[i]] = make_leaf(p);
-      continue;
-    }
     auto first = static_cast<std::int32_t>(nodes_.size());
     nodes_.resize(nodes_.size() + 8);
-    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(p.place, c), children[i][c], first + c);
+    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(place, c), children[i][c], first + c);
     nodes_[todo[i]] = first;
+    built_keys_.push_back(key(place));
   }
+  if (pending_.bucket_count() > 4 * pending_.size() + 16) pending_.rehash(0);  // give back what the map grew to
   build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return todo.size();
 }
@@ -186,7 +174,6 @@ std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
     built += build(level);
     walks.clear();
     for (std::size_t i = 0; i < going_on.size(); ++i) {
-      if (nodes_[going_on[i].node] < 1) continue;  // it became a leaf
       int half = resolution() >> (places[i].level + 1), which = 0;
       for (int a = 0; a < 3; ++a) which |= (going_on[i].cell[a] >= places[i].corner[a] + half) << a;
       std::int32_t next = nodes_[going_on[i].node] + which;

@@ -59,7 +59,12 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
   tables_->set_reflection_depth(settings_.reflections);
   features_ = settings_.specialise ? Features::of(scene_, settings_.reflections) : Features::all();
-  program_ = tracer_program(*tables_, features_) << raygen_program(*tables_);
+  if (refiner_) {
+    program_ = tracer_program(*tables_, features_);
+    path_start_ = path_start_program() << raygen_program(*tables_);
+  } else {
+    program_ = tracer_program(*tables_, features_) << raygen_program(*tables_);
+  }
 }
 
 Image Renderer::render(RenderReport* report) {
@@ -112,9 +117,8 @@ void Renderer::count(const RunStats& s, RenderReport& r) const {
   if (!s.refined.empty()) r.refined = s.refined;
 }
 
-// Over a lazy octree the tracer runs in waves; a stopped pixel starts over
-// (its shading state is not kept), so primary rays, which resume, first
-// build what they see.
+// Over a lazy octree the tracer runs in waves, each pixel's path carried
+// from one to the next.
 void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& color, Channel<Attrib1f>& distance,
                           Channel<Attrib1i>& triangle, const BackendChoice& choice, RenderReport& r) {
   Channel<Attrib2f> in(centres);
@@ -122,20 +126,17 @@ void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& c
     count(run(program_, {in}, {color, distance, triangle}, choice), r);
     return;
   }
-  build_where_primary_rays_go(in, choice, r);
-  Channel<Attrib4i> request;
-  count(run(program_, {in}, {color, distance, triangle, request}, Waves{refiner_.get(), 3, {}}, choice), r);
-}
-
-void Renderer::build_where_primary_rays_go(const Channel<Attrib2f>& centres, const BackendChoice& choice, RenderReport& r) {
-  Channel<Point3f> o;
-  Channel<Vector3f> d;
   Channel<Attrib2f> pixel;
-  count(run(raygen_program(*tables_), {centres}, {o, d, pixel}, choice), r);
-  std::vector<float> origins(o.data(), o.data() + 3 * o.size()), directions(d.data(), d.data() + 3 * d.size());
-  RunStats s;
-  intersect(origins, directions, choice, &s);
-  count(s, r);
+  PathChannels path, path_out;
+  std::vector<std::shared_ptr<detail::Buffer>> inputs = path.all(), outputs = {color, distance, triangle, Channel<Attrib4i>()};
+  inputs.insert(inputs.begin(), pixel);
+  count(run(path_start_, {in}, inputs, choice), r);
+  Waves waves{refiner_.get(), 3, {}};
+  for (const auto& channel : path_out.all()) {
+    waves.carried.push_back({static_cast<int>(outputs.size()), static_cast<int>(waves.carried.size()) + 1});
+    outputs.push_back(channel);
+  }
+  count(run(program_, inputs, outputs, waves, choice), r);
 }
 
 Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<float>& directions,
@@ -148,7 +149,7 @@ Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<fl
   RunStats s;
   if (refiner_) {
     std::vector<float> from_entry(4 * o.size(), -1.0f);
-    for (std::size_t i = 3; i < from_entry.size(); i += 4) from_entry[i] = 1e30f;
+    for (std::size_t i = 3; i < from_entry.size(); i += 4) from_entry[i] = kFar;
     Channel<Attrib4f> resume(from_entry), resume_out;
     Channel<Attrib1i> resume_triangle(std::vector<std::int32_t>(o.size(), -1)), resume_triangle_out;
     Channel<Attrib4i> request;

@@ -108,6 +108,97 @@ Attrib2f pixel_turn(const Attrib2f& pixel) {
   return join(cos(angle), sin(angle));
 }
 
+// Where a pixel's path is as a bounce starts, and how far the bounce's ray
+// has walked: all a stopped pixel needs to resume.
+struct Path {
+  static Path start(const Point3f& origin, const Vector3f& direction);
+  Point3f o;
+  Vector3f d;
+  Attrib1f bounce;  // bounces done
+  Color3f color, weight;
+  Attrib1f distance;  // of the primary hit, -1 where none
+  Attrib1i triangle;  // of the primary hit, -1 where none
+  WalkState walk;
+};
+
+Path Path::start(const Point3f& origin, const Vector3f& direction) {
+  return {origin, direction, ConstAttrib1f(0.0f), ConstColor3f(0.0f, 0.0f, 0.0f), ConstColor3f(1.0f, 1.0f, 1.0f),
+          ConstAttrib1f(-1.0f), ConstAttrib1i(-1), WalkState::fresh()};
+}
+
+// The path as the lazy tracer's inputs and outputs, in PathChannels' order.
+struct PathInputs {
+  InputAttrib4f origin_bounce, direction_distance, color_best, weight_u, cell_v;
+  InputAttrib1i triangle, walk_triangle;
+  Path path() const {
+    return {origin_bounce(0, 1, 2), direction_distance(0, 1, 2), origin_bounce(3), color_best(0, 1, 2),
+            weight_u(0, 1, 2), direction_distance(3), triangle,
+            WalkState{cell_v(0, 1, 2), color_best(3), walk_triangle, join(weight_u(3), cell_v(3))}};
+  }
+};
+
+void write_path(const Path& p) {
+  OutputAttrib4f origin_bounce, direction_distance, color_best, weight_u, cell_v;
+  OutputAttrib1i triangle, walk_triangle;
+  origin_bounce = join(p.o, p.bounce);
+  direction_distance = join(p.d, p.distance);
+  color_best = join(p.color, p.walk.best);
+  weight_u = join(p.weight, p.walk.uv(0));
+  cell_v = join(p.walk.cell, p.walk.uv(1));
+  triangle = p.triangle;
+  walk_triangle = p.walk.triangle;
+}
+
+// Follows the path to its end: shade each hit, or add the background and
+// stop.  Over a lazy octree the path stops where a ray meets an unbuilt
+// node, as it was when that bounce began (its ray's walk kept).
+void trace(const SceneTables& s, const Features& f, Intersector& intersect, const Attrib2f& turn, Path& p) {
+  auto bounce = [&](bool in_loop) {
+    Attrib1f hit = intersect.resume(p.o, p.d, p.walk);
+    if (in_loop && intersect.may_stop()) SH_BREAK(intersect.stopped());
+    Color3f add = p.weight * s.background, weight = ConstColor3f(0.0f, 0.0f, 0.0f);
+    Point3f o = p.o;
+    Vector3f d = p.d;
+    SH_IF(hit) {
+      Surface x = surface_at(s, p.o, p.d, p.walk.best, p.walk.triangle, p.walk.uv, f);
+      Color3f local = s.ambient * x.diffuse;
+      if (f.shadows) local += direct(s, intersect, x, -p.d);
+      if (f.soft_shadows) local += soft_direct(s, intersect, x, -p.d, turn);
+      if (f.reflections) {
+        add = p.weight * (1.0f - x.reflectivity) * local;
+        weight = p.weight * x.reflectivity;
+        d = reflect(-p.d, x.n);
+        o = lift(s, x);
+      } else {
+        add = p.weight * local;
+      }
+    } SH_ENDIF;
+    auto advance = [&] {
+      Attrib1f first = p.bounce == 0.0f && hit;
+      p.distance = cond(first, p.walk.best, p.distance);
+      p.triangle = cond(first, p.walk.triangle, p.triangle);
+      p.color += add;
+      p.weight = weight;
+      p.o = o;
+      p.d = d;
+      p.bounce += 1.0f;
+      p.walk = WalkState::fresh();
+    };
+    if (intersect.may_stop()) {
+      SH_IF(!intersect.stopped()) { advance(); } SH_ENDIF;
+      if (in_loop) SH_BREAK(intersect.stopped());
+    } else {
+      advance();
+    }
+    if (in_loop) SH_BREAK(!hit || max_component(p.weight) <= 0.0f);
+  };
+  if (f.reflections) {
+    SH_WHILE(p.bounce <= s.max_bounces) { bounce(true); } SH_ENDWHILE;
+  } else {
+    bounce(false);
+  }
+}
+
 }  // namespace
 
 Program raygen_program(const SceneTables& s) {
@@ -126,61 +217,46 @@ Program raygen_program(const SceneTables& s) {
 }
 
 Program tracer_program(const SceneTables& s, Features f) {
+  bool lazy = s.octree && s.octree->lazy;
   return SH_BEGIN_PROGRAM("tracer") {
+    Path p;
+    Attrib2f at;
+    if (lazy) {
+      InputAttrib2f pixel;
+      PathInputs in;
+      at = pixel;
+      p = in.path();
+    } else {
+      InputPoint3f origin;
+      InputVector3f direction;
+      InputAttrib2f pixel;
+      at = pixel;
+      p = Path::start(origin, direction);
+    }
+    OutputColor3f color;
+    OutputAttrib1f distance;
+    OutputAttrib1i triangle;
+    Intersector intersect(s);
+    trace(s, f, intersect, f.soft_shadows ? pixel_turn(at) : Attrib2f(1.0f, 0.0f), p);
+    color = p.color;
+    distance = p.distance;
+    triangle = p.triangle;
+    if (lazy) {
+      OutputAttrib4i request;
+      request = intersect.request();
+      write_path(p);
+    }
+  } SH_END;
+}
+
+Program path_start_program() {
+  return SH_BEGIN_PROGRAM("path_start") {
     InputPoint3f origin;
     InputVector3f direction;
     InputAttrib2f pixel;
-    OutputColor3f color;
-    OutputAttrib1f distance;   // of the primary hit, -1 where none
-    OutputAttrib1i triangle;   // of the primary hit, -1 where none
-    Point3f o = origin;
-    Vector3f d = direction;
-    color = ConstColor3f(0.0f, 0.0f, 0.0f);
-    distance = -1.0f;
-    triangle = -1;
-    Color3f weight = ConstColor3f(1.0f, 1.0f, 1.0f);
-    Attrib1f first = 1.0f;
-    Attrib2f turn = f.soft_shadows ? pixel_turn(pixel) : Attrib2f(1.0f, 0.0f);
-    Intersector intersect(s);
-
-    // One bounce: shade the hit, or add the background and stop.
-    auto bounce = [&](bool in_loop) {
-      Attrib1f t;
-      Attrib1i tri;
-      Attrib2f uv;
-      Attrib1f hit = intersect(o, d, ConstAttrib1f(1e30f), t, tri, uv);
-      distance = cond(first && hit, t, distance);
-      triangle = cond(first && hit, tri, triangle);
-      first = 0.0f;
-      SH_IF(!hit) {
-        color += weight * s.background;
-        if (in_loop) SH_BREAK();
-      } SH_ELSE {
-        Surface x = surface_at(s, o, d, t, tri, uv, f);
-        Color3f local = s.ambient * x.diffuse;
-        if (f.shadows) local += direct(s, intersect, x, -d);
-        if (f.soft_shadows) local += soft_direct(s, intersect, x, -d, turn);
-        if (f.reflections) {
-          color += weight * (1.0f - x.reflectivity) * local;
-          weight *= x.reflectivity;
-          d = reflect(-d, x.n);
-          o = lift(s, x);
-        } else {
-          color += weight * local;
-        }
-      } SH_ENDIF;
-      if (in_loop) SH_BREAK(max_component(weight) <= 0.0f);
-    };
-
-    if (f.reflections) {
-      SH_FOR(Attrib1f b = 0.0f, b <= s.max_bounces, b += 1.0f) { bounce(true); } SH_ENDFOR;
-    } else {
-      bounce(false);
-    }
-    if (s.octree && s.octree->lazy) {
-      OutputAttrib4i request;
-      request = intersect.request();
-    }
+    OutputAttrib2f pixel_out;
+    pixel_out = pixel;
+    write_path(Path::start(origin, direction));
   } SH_END;
 }
 

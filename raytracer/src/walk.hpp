@@ -8,7 +8,6 @@ namespace sh::rt::walk {
 // A direction component this small is treated as zero: its reciprocal is
 // capped, so no infinity or NaN enters the walk (fast math keeps working).
 inline constexpr float kTinyDirection = 1e-30f;
-inline constexpr float kFar = 1e30f;
 
 struct Ray {
   Ray(const Point3f& origin, const Vector3f& direction);

@@ -91,9 +91,13 @@ class SceneTables {
   explicit SceneTables(const Scene& scene);
 };
 
+// Beyond anything in a scene: the limit of a ray that may go on forever.
+inline constexpr float kFar = 1e30f;
+
 // Where a ray's walk of an octree is: the finest-level cell it visits next
 // (x < 0: where it enters) and the nearest hit so far.
 struct WalkState {
+  static WalkState fresh();  // not started
   Attrib3f cell;
   Attrib1f best;
   Attrib1i triangle;
@@ -112,11 +116,15 @@ class Intersector {
   // nearest t, its triangle and barycentrics.
   Attrib1f operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t, Attrib1i& triangle,
                       Attrib2f& uv);
-  // Goes on from `state` (a lazy octree's resumable walk).
-  void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state);
+  // The nearest hit along o + t d, t > 0, into `state`: over a lazy octree
+  // going on from where the walk stopped, elsewhere from the start.
+  Attrib1f resume(const Point3f& o, const Vector3f& d, WalkState& state);
   const Attrib4i& request() const { return request_; }
+  Attrib1f stopped() const { return (request_(0) >= 0).cast<float>(); }
+  bool may_stop() const;  // over a lazy octree
 
  private:
+  void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state);
   const SceneTables& s_;
   Attrib4i request_;
 };
@@ -127,8 +135,21 @@ Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direct
 // triangle, request, resume, resume triangle (Renderer::intersect runs it
 // in waves).
 Program intersector_program(const SceneTables& s);
-// origin, direction, pixel -> colour, t, triangle (and request, over a lazy
-// octree; a stopped pixel starts over in the next wave).
+// origin, direction, pixel -> colour, t, triangle.  Over a lazy octree:
+// pixel, path -> colour, t, triangle, request, path, where `path` is five
+// channels (PathChannels) holding where the pixel's path is: a pixel that
+// stops resumes the bounce it stopped in, its ray's walk where it stopped.
 Program tracer_program(const SceneTables& s, Features f);
+// origin, direction, pixel -> pixel, path: where the lazy tracer starts.
+Program path_start_program();
+
+// The lazy tracer's path state, as channels.
+struct PathChannels {
+  Channel<Attrib4f> origin_bounce, direction_distance, color_best, weight_u, cell_v;
+  Channel<Attrib1i> triangle, walk_triangle;
+  std::vector<std::shared_ptr<detail::Buffer>> all() const {
+    return {origin_bounce, direction_distance, color_best, weight_u, cell_v, triangle, walk_triangle};
+  }
+};
 
 }  // namespace sh::rt

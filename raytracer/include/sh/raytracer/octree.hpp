@@ -11,9 +11,8 @@
 //   v == -1  an empty leaf
 //   v <= -2  a leaf whose triangles are listed in `triangles` from -v-2, ended by -1
 // A node is built into eight children at once; a child with no triangles is
-// an empty leaf, any other one is left unbuilt until a ray reaches it: then
-// it becomes a leaf if it is at the depth limit or holds at most
-// `leaf_size` triangles, an inner node otherwise.  Nodes are placed in
+// an empty leaf, one at the depth limit or with at most `leaf_size`
+// triangles a leaf, any other one is left unbuilt.  Nodes are placed in
 // integer coordinates of the finest level (2^max_depth cells per axis), so
 // the kernels find the leaf holding a point exactly.
 #include <array>
@@ -84,8 +83,6 @@ class Octree {
   using Children = std::array<std::vector<std::int32_t>, 8>;
 
   Children split(const Pending& node) const;
-  bool is_leaf(const Pending& node) const;
-  std::int32_t make_leaf(const Pending& node);
   std::int32_t settle(Place place, const std::vector<std::int32_t>& list, std::int32_t index);
   Place child(Place parent, int which) const;
   Box box(Place p) const;  // as the kernels compute it

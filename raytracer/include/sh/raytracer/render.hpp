@@ -80,7 +80,6 @@ class Renderer {
  private:
   void trace_band(const std::vector<float>& centres, Channel<Color3f>& color, Channel<Attrib1f>& distance,
                   Channel<Attrib1i>& triangle, const BackendChoice& choice, RenderReport& r);
-  void build_where_primary_rays_go(const Channel<Attrib2f>& centres, const BackendChoice& choice, RenderReport& r);
   void count(const RunStats& s, RenderReport& r) const;
 
   Scene scene_;
@@ -91,6 +90,7 @@ class Renderer {
   std::unique_ptr<OctreeRefiner> refiner_;  // a lazy octree's
   Features features_;
   Program program_;
+  Program path_start_;  // a lazy octree's: pixel centre -> where its path starts
 };
 
 // The pixel centres of a width x height image, row by row from the top.
