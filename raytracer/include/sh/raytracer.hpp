@@ -5,3 +5,4 @@
 #include "sh/raytracer/kernels.hpp"
 #include "sh/raytracer/render.hpp"
 #include "sh/raytracer/scene.hpp"
+#include "sh/raytracer/solid_angle.hpp"
