@@ -128,8 +128,8 @@ void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& c
   }
   Channel<Attrib2f> pixel;
   PathChannels path, path_out;
-  std::vector<std::shared_ptr<detail::Buffer>> inputs = path.all(), outputs = {color, distance, triangle, Channel<Attrib4i>()};
-  inputs.insert(inputs.begin(), pixel);
+  std::vector<std::shared_ptr<detail::Buffer>> inputs = {pixel}, outputs = {color, distance, triangle, Channel<Attrib4i>()};
+  for (const auto& channel : path.all()) inputs.push_back(channel);
   count(run(path_start_, {in}, inputs, choice), r);
   Waves waves{refiner_.get(), 3, {}};
   for (const auto& channel : path_out.all()) {

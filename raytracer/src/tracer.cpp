@@ -155,7 +155,8 @@ void write_path(const Path& p) {
 void trace(const SceneTables& s, const Features& f, Intersector& intersect, const Attrib2f& turn, Path& p) {
   auto bounce = [&](bool in_loop) {
     Attrib1f hit = intersect.resume(p.o, p.d, p.walk);
-    if (in_loop && intersect.may_stop()) SH_BREAK(intersect.stopped());
+    // A stopped walk's nearest triangle so far is not a hit yet: no shading.
+    if (intersect.may_stop()) hit = hit && !intersect.stopped();
     Color3f add = p.weight * s.background, weight = ConstColor3f(0.0f, 0.0f, 0.0f);
     Point3f o = p.o;
     Vector3f d = p.d;
@@ -186,7 +187,7 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
     };
     if (intersect.may_stop()) {
       SH_IF(!intersect.stopped()) { advance(); } SH_ENDIF;
-      if (in_loop) SH_BREAK(intersect.stopped());
+      if (in_loop) SH_BREAK(intersect.stopped());  // by a shadow ray
     } else {
       advance();
     }

@@ -136,9 +136,9 @@ Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direct
 // in waves).
 Program intersector_program(const SceneTables& s);
 // origin, direction, pixel -> colour, t, triangle.  Over a lazy octree:
-// pixel, path -> colour, t, triangle, request, path, where `path` is five
-// channels (PathChannels) holding where the pixel's path is: a pixel that
-// stops resumes the bounce it stopped in, its ray's walk where it stopped.
+// pixel, path -> colour, t, triangle, request, path, where `path` is the
+// seven channels of PathChannels: a pixel that stops resumes the bounce it
+// stopped in, its ray's walk where it stopped.
 Program tracer_program(const SceneTables& s, Features f);
 // origin, direction, pixel -> pixel, path: where the lazy tracer starts.
 Program path_start_program();
