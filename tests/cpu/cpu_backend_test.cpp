@@ -193,7 +193,7 @@ TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
   args.inputs.push_back({ir::Type{ir::Scalar::I32, 1}, 1, &index});
   args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, 1, &one});
   // Described as 2^32 values; refused before any is read.
-  args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 1, {1 << 16, 1 << 16, 1}, &one, 1, 1});
+  args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 1, {1 << 16, 1 << 16, 1}, &one, nullptr, 1, 1});
   RunStats stats;
   try {
     kernel->run(args, stats);

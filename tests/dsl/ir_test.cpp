@@ -59,6 +59,40 @@ TEST(Printer, ControlFlowSwizzlesTablesAndCasts) {
             "  }\n");
 }
 
+// A scatter survives the passes though no output reads what it adds, and
+// the verifier keeps accumulators and read-only tables apart.
+TEST(Scatter, PrintedKeptByThePassesAndVerified) {
+  Accumulator<Attrib2f> sums(3, "sums");
+  Table1D<Attrib1f> t(2);
+  t.name("t");
+  t.assign({1.f, 2.f});
+  Program p = SH_BEGIN_PROGRAM("scatters") {
+    Input<Attrib1i> i;
+    Attrib1f unused = 5.0f;
+    SH_IF(i > 0) { sums.add(i, join(t[i], unused * 2.0f)); } SH_ENDIF;
+  } SH_END;
+  ir::Program o = optimize(p.ir());
+  EXPECT_EQ(print(o),
+            "program scatters\n"
+            "  input %0: i32\n"
+            "  table #0 t: f32 rank 1\n"
+            "  accumulator #1 sums: f32x2 rank 1\n"
+            "body\n"
+            "  %2 = gt %0, 0\n"
+            "  if %2 {\n"
+            "    %3.x = fetch #0 %0\n"
+            "    %3.y = mov 10\n"
+            "    scatter-add #1 %0, %3\n"
+            "  }\n");
+
+  ir::Program into_table = o;
+  std::get<ir::Scatter>(std::get<ir::If>(into_table.body[1].node).then_body[2].node).table = 0;
+  EXPECT_THROW(ir::verify(into_table), Error);
+  ir::Program reads_sums = o;
+  std::get<ir::Assign>(std::get<ir::If>(reads_sums.body[1].node).then_body[0].node).table = 1;
+  EXPECT_THROW(ir::verify(reads_sums), Error);
+}
+
 TEST(Verifier, AcceptsRecordedProgramsAndRejectsBrokenOnes) {
   Attrib1f scale = 1.0f;
   ir::Program p = saxpy_like(scale).ir();

@@ -124,6 +124,28 @@ TEST(RecordingErrors, ControlFlowOutsideProgram) {
   expect_error([] { SH_IF(Attrib1f(1.0f)); }, {"SH_IF", "outside"});
 }
 
+TEST(RecordingErrors, ScatterOfTheWrongShape) {
+  Accumulator<Attrib3f> energy(8, "energy");
+  expect_error(
+      [&] {
+        SH_BEGIN_PROGRAM("wrong_width") {
+          InputAttrib2f x;
+          energy.add(0, x);
+        } SH_END;
+      },
+      {"wrong_width", "accumulator 'energy'", "2 components"});
+  expect_error(
+      [&] {
+        SH_BEGIN_PROGRAM("wrong_index") {
+          InputAttrib2i i;
+          energy.add(i, ConstAttrib3f(1, 2, 3));
+        } SH_END;
+      },
+      {"wrong_index", "accumulator 'energy'", "2 coordinates"});
+  expect_error([&] { energy.add(0, ConstAttrib3f(1, 2, 3)); }, {"outside any program", "accumulators"});
+  EXPECT_THROW(Accumulator<Attrib1f>(0), Error);
+}
+
 TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {
   EXPECT_THROW(SH_BEGIN_PROGRAM("bad") { SH_ELSE; } SH_END, Error);
   // Outside any recording again: a variable is a uniform.

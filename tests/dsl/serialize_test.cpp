@@ -14,6 +14,7 @@ Program sample() {
   Table2D<Attrib3f> t(2, 2);
   t.name("t");
   Attrib1f u = 2.0f;
+  Accumulator<Attrib3f> energy(4, "energy");
   return SH_BEGIN_PROGRAM("sample") {
     InputAttrib2f uv;
     InOut<Attrib3f> acc;
@@ -26,6 +27,7 @@ Program sample() {
       n += 1;
     } SH_ENDFOR;
     acc = acc + c;
+    energy.add(n, c);
   } SH_END;
 }
 

@@ -17,6 +17,8 @@ void Lowering::block(const ir::Block& body) {
       spmd() && facts_.divergent.at(&s) ? masked_branch(*i, s) : branch(*i);
     } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
       loop(*l, s, spmd() && facts_.divergent.at(&s));
+    } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+      scatter(*sc);
     } else {
       leave(std::holds_alternative<ir::Break>(s.node));
       return;

@@ -92,6 +92,8 @@ class Lowering {
   Value* float_op(ir::Op op, Value* a, Value* b);
   Value* int_op(ir::Op op, Value* a, Value* b);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
+  Value* flat_index(int table, const ir::Operand& coord, bool sample, bool gather);
+  void scatter(const ir::Scatter& sc);
   llvm::Align alignment(llvm::Type* scalar) const { return llvm::Align(scalar->getPrimitiveSizeInBits() / 8); }
   std::array<Value*, 4> same_or_gather(Value* flat, const std::function<std::array<Value*, 4>(Value*, bool)>& element);
 

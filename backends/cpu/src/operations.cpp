@@ -197,25 +197,8 @@ Value* Lowering::int_op(ir::Op op, Value* a, Value* b) {
 // two; a uniform read is one load.
 void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   const ir::TableDecl& t = p_.tables[a.table];
-  const ir::Operand& coord = a.args[0];
-  ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
   bool gather = varying(a.dest);
-  llvm::Type* index_type = gather ? lanes(b_.getInt32Ty()) : b_.getInt64Ty();
-  auto index_of = [&](Value* i32) { return gather ? i32 : b_.CreateZExt(i32, index_type); };
-  Value* flat = llvm::ConstantInt::get(index_type, 0);
-  Value* stride = llvm::ConstantInt::get(index_type, 1);
-  for (int d = 0; d < t.rank; ++d) {
-    Value* dim = gather ? splat(table_dims_[a.table][d]) : table_dims_[a.table][d];
-    Value* i = gather ? widen(read(coord, d)) : read(coord, d);
-    if (a.op == ir::Op::Sample) {
-      Value* scaled = b_.CreateFMul(i, b_.CreateSIToFP(dim, i->getType()));
-      i = cast(intrinsic(llvm::Intrinsic::floor, {scaled}), coord_scalar, ir::Scalar::I32);
-    }
-    Value* lowest = intrinsic(llvm::Intrinsic::smax, {i, llvm::ConstantInt::get(i->getType(), 0)});
-    Value* clamped = intrinsic(llvm::Intrinsic::smin, {lowest, b_.CreateSub(dim, llvm::ConstantInt::get(dim->getType(), 1))});
-    flat = b_.CreateAdd(flat, b_.CreateMul(index_of(clamped), stride));
-    stride = b_.CreateMul(stride, index_of(dim));
-  }
+  Value* flat = flat_index(a.table, a.args[0], a.op == ir::Op::Sample, gather);
   Value* base = table_base_[a.table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   auto element = [&](Value* flat_index, bool as_gather) {
@@ -235,6 +218,65 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   };
   std::array<Value*, 4> raw = gather ? same_or_gather(flat, element) : element(flat, false);
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
+}
+
+// The element a read or scatter names, clamped to the edge in each
+// dimension: i32 lanes where `gather`, else one i64.
+Value* Lowering::flat_index(int table, const ir::Operand& coord, bool sample, bool gather) {
+  ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
+  llvm::Type* index_type = gather ? lanes(b_.getInt32Ty()) : b_.getInt64Ty();
+  auto index_of = [&](Value* i32) { return gather ? i32 : b_.CreateZExt(i32, index_type); };
+  Value* flat = llvm::ConstantInt::get(index_type, 0);
+  Value* stride = llvm::ConstantInt::get(index_type, 1);
+  for (int d = 0; d < p_.tables[table].rank; ++d) {
+    Value* dim = gather ? splat(table_dims_[table][d]) : table_dims_[table][d];
+    Value* i = gather ? widen(read(coord, d)) : read(coord, d);
+    if (sample) {
+      Value* scaled = b_.CreateFMul(i, b_.CreateSIToFP(dim, i->getType()));
+      i = cast(intrinsic(llvm::Intrinsic::floor, {scaled}), coord_scalar, ir::Scalar::I32);
+    }
+    Value* lowest = intrinsic(llvm::Intrinsic::smax, {i, llvm::ConstantInt::get(i->getType(), 0)});
+    Value* clamped = intrinsic(llvm::Intrinsic::smin, {lowest, b_.CreateSub(dim, llvm::ConstantInt::get(dim->getType(), 1))});
+    flat = b_.CreateAdd(flat, b_.CreateMul(index_of(clamped), stride));
+    stride = b_.CreateMul(stride, index_of(dim));
+  }
+  return flat;
+}
+
+// Atomic additions, so that threads may add to the same element.  In SPMD
+// each running lane adds its own value, one lane after another: lanes of
+// one set often add to the same element.
+void Lowering::scatter(const ir::Scatter& sc) {
+  const ir::TableDecl& t = p_.tables[sc.table];
+  bool per_lane = spmd();
+  Value* flat = flat_index(sc.table, sc.index, false, per_lane);
+  llvm::Type* scalar = storage_scalar(t.element.scalar);
+  std::array<Value*, 4> value{};
+  for (int c = 0; c < t.element.width; ++c) {
+    Value* x = read(sc.value, c);
+    value[c] = to_storage(per_lane ? widen(x) : x, t.element.scalar);
+  }
+  auto add = [&](Value* element, auto lane_of) {
+    for (int c = 0; c < t.element.width; ++c) {
+      Value* at = b_.CreateInBoundsGEP(scalar, table_base_[sc.table],
+                                       b_.CreateAdd(b_.CreateMul(element, b_.getInt64(t.element.width)), b_.getInt64(c)));
+      auto op = ir::is_float(t.element.scalar) ? llvm::AtomicRMWInst::FAdd : llvm::AtomicRMWInst::Add;
+      b_.CreateAtomicRMW(op, at, lane_of(value[c]), alignment(scalar), llvm::AtomicOrdering::Monotonic);
+    }
+  };
+  if (!per_lane) return add(flat, [](Value* x) { return x; });
+  Value* running = exec();
+  for (int lane = 0; lane < width_; ++lane) {
+    auto k = static_cast<std::uint64_t>(lane);
+    BasicBlock* adds = BasicBlock::Create(ctx_, "scatter.lane", fn_);
+    BasicBlock* next = BasicBlock::Create(ctx_, "scatter.next", fn_);
+    b_.CreateCondBr(b_.CreateExtractElement(running, k), adds, next);
+    b_.SetInsertPoint(adds);
+    add(b_.CreateZExt(b_.CreateExtractElement(flat, k), b_.getInt64Ty()),
+        [&](Value* x) { return b_.CreateExtractElement(x, k); });
+    b_.CreateBr(next);
+    b_.SetInsertPoint(next);
+  }
 }
 
 // Gathers cost a load per lane.  Where every running lane reads the same

@@ -116,6 +116,11 @@ class RejoinLiveness {
       return in;
     }
     if (auto* l = std::get_if<ir::Loop>(&s.node)) return loop(s, *l, std::move(live));
+    if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+      use(live, sc->index);
+      use(live, sc->value);
+      return live;
+    }
     return std::holds_alternative<ir::Break>(s.node) ? loops_.back().exit : loops_.back().update;
   }
 

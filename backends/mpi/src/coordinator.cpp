@@ -102,7 +102,7 @@ class Coordinator : public Kernel {
       std::string message = receive(MPI_ANY_SOURCE, MPI_ANY_TAG, t, &source, &tag);
       mine.idle_s += seconds_since(idle);
       if (tag == kStats) {
-        take_stats(message, parts, stats);
+        take_stats(message, args, parts, stats);
         --waiting_stats;
         continue;
       }
@@ -110,7 +110,7 @@ class Coordinator : public Kernel {
       if (tag == kFailed && s.error.empty()) s.error = "rank " + std::to_string(source) + ": " + message;
       served += hand_out(s, source, t);
     }
-    while (waiting_stats-- > 0) take_stats(receive(MPI_ANY_SOURCE, kStats, t), parts, stats);
+    while (waiting_stats-- > 0) take_stats(receive(MPI_ANY_SOURCE, kStats, t), args, parts, stats);
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
@@ -123,12 +123,31 @@ class Coordinator : public Kernel {
     if (!s.error.empty()) throw Error("mpi backend: " + s.error);
   }
 
-  // A serving rank's stats, and with waves its refiner's summary, in rank
-  // order after rank 0's.
-  static void take_stats(const std::string& message, std::vector<PartStats>& parts, RunStats& stats) {
+  // A serving rank's stats, with waves its refiner's summary (in rank
+  // order after rank 0's), and its accumulators' sums, added into ours.
+  static void take_stats(const std::string& message, const RunArgs& args, std::vector<PartStats>& parts, RunStats& stats) {
     Unpacker u(message);
     parts.push_back(u.get<PartStats>());
     if (u.get<bool>()) stats.refined.push_back(u.text());
+    for (const TableView& table : args.tables)
+      if (table.sums) add_sums(table, u.take(table.bytes()));
+  }
+
+  static void add_sums(const TableView& table, const char* theirs) {
+    std::size_t n = table.bytes() / ir::storage_bytes(table.element.scalar);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ir::is_float(table.element.scalar))
+        add_at<float>(table.sums, theirs, i);
+      else
+        add_at<std::int32_t>(table.sums, theirs, i);
+    }
+  }
+
+  template <class T>
+  static void add_at(void* ours, const char* theirs, std::size_t i) {
+    T x;
+    std::memcpy(&x, theirs + i * sizeof(T), sizeof(T));
+    static_cast<T*>(ours)[i] += x;
   }
 
   void compile_everywhere(const Options& local, const std::string& local_backend) {
@@ -156,6 +175,10 @@ class Coordinator : public Kernel {
     p.put(Command::Run).put(id_);
     for (const TableView& table : args.tables) {
       p.put(table.id);
+      if (table.sums) {  // each rank adds into zeros of its own; rank 0 sums them
+        p.put(table);
+        continue;
+      }
       auto it = tables_sent().find(table.id);
       bool fresh = it == tables_sent().end() || it->second != table.version;
       p.put(fresh);

@@ -99,6 +99,8 @@ class Worker {
     Packer p;
     p.put(stats).put(waves.has_value() && refusal.empty());
     if (waves && refusal.empty()) p.put(waves->refiner->summary());
+    for (const TableView& table : args.tables)
+      if (table.sums) p.raw(table.sums, table.bytes());
     send(p.bytes(), 0, kStats, t);
   }
 
@@ -132,6 +134,13 @@ class Worker {
     for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
       auto id = u.get<std::uint64_t>();
       Table& table = tables_[id];
+      if (k.program.tables[i].accumulator) {
+        table.view = u.get<TableView>();
+        table.bytes.assign(table.view.bytes(), '\0');
+        table.view.data = table.view.sums = table.bytes.data();
+        args.tables.push_back(table.view);
+        continue;
+      }
       if (u.get<bool>()) {
         table.version = u.get<std::uint64_t>();
         table.view = u.get<TableView>();

@@ -77,8 +77,14 @@ class OpenClKernel : public Kernel {
                       in_place.back() ? b.data : nullptr, "an output"));
     }
     for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
+    std::vector<std::pair<const TableView*, cl_mem>> sums;
     for (const TableView& t : args.tables) {
-      set(arg++, sizeof(cl_mem), &table_buffer(t));
+      if (t.sums) {
+        set_buffer(arg++, buffers, make(t.bytes(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, t.sums, "an accumulator"));
+        sums.emplace_back(&t, buffers.back().mem);
+      } else {
+        set(arg++, sizeof(cl_mem), &table_buffer(t));
+      }
       for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
     }
     cl_long status[2] = {0, 0};
@@ -103,6 +109,9 @@ class OpenClKernel : public Kernel {
       if (mapped != args.outputs[o].data) std::memcpy(args.outputs[o].data, mapped, size);
       check(clEnqueueUnmapMemObject(device_->queue, mem, mapped, 0, nullptr, nullptr), where("unmapping an output"));
     }
+    for (const auto& [t, mem] : sums)
+      check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, t->bytes(), t->sums, 0, nullptr, nullptr),
+            where("reading an accumulator"));
     check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
           where("finishing the run"));
     if (status[0] != 0) throw runaway(status[0], status[1]);

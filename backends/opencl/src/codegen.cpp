@@ -11,6 +11,15 @@ namespace {
 
 const char kComponent[] = "xyzw";
 
+const char kAtomicAddFloat[] =
+    "\nvoid sh_atomic_add_float(volatile __global float* p, float v) {\n"
+    "  union { float f; unsigned int u; } old, sum;\n"
+    "  do {\n"
+    "    old.f = *p;\n"
+    "    sum.f = old.f + v;\n"
+    "  } while (atomic_cmpxchg((volatile __global unsigned int*)p, old.u, sum.u) != old.u);\n"
+    "}\n";
+
 class Generator {
  public:
   Generator(const ir::Program& p, const Options& o) : p_(p), o_(o) {}
@@ -23,6 +32,7 @@ class Generator {
     head << "// program " << p_.name << ", generated from its optimised IR\n";
     if (needs_fp64_) head << "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n";
     if (o_.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
+    if (adds_floats()) head << kAtomicAddFloat;
     head << "\n__kernel void " << kKernelName << "(\n    const long count";
     signature(head);
     head << ")\n{\n  const long e = get_global_id(0);\n  if (e >= count) return;\n";
@@ -35,6 +45,12 @@ class Generator {
   }
 
  private:
+  bool adds_floats() const {
+    for (const ir::TableDecl& t : p_.tables)
+      if (t.accumulator && ir::is_float(t.element.scalar)) return true;
+    return false;
+  }
+
   // ---- types and names -------------------------------------------------------
 
   const char* reg_type(ir::Scalar s) const {
@@ -90,8 +106,8 @@ class Generator {
     for (ir::VarId u : p_.uniforms)
       for (int c = 0; c < p_.type_of(u).width; ++c) out << ",\n    const " << reg_type(u) << " " << reg(u, c);
     for (std::size_t t = 0; t < p_.tables.size(); ++t)
-      out << ",\n    __global const " << storage_type(p_.tables[t].element.scalar) << "* table" << t << ", const int table"
-          << t << "_x, const int table" << t << "_y, const int table" << t << "_z";
+      out << ",\n    __global " << (p_.tables[t].accumulator ? "volatile " : "const ") << storage_type(p_.tables[t].element.scalar)
+          << "* table" << t << ", const int table" << t << "_x, const int table" << t << "_y, const int table" << t << "_z";
     out << ",\n    __global long* status";
   }
 
@@ -133,6 +149,7 @@ class Generator {
       if (auto* a = std::get_if<ir::Assign>(&s.node)) assign(*a, depth);
       else if (auto* i = std::get_if<ir::If>(&s.node)) branch(*i, depth);
       else if (auto* l = std::get_if<ir::Loop>(&s.node)) loop(*l, s, depth);
+      else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) scatter(*sc, depth);
       else if (std::holds_alternative<ir::Break>(s.node)) line(depth, jumps_.back().wrapped ? "{ " + jumps_.back().flag + " = 1; break; }" : "break;");
       else line(depth, "continue;");
     }
@@ -311,23 +328,43 @@ class Generator {
     }
   }
 
-  // Clamps exactly as sh::fetch_index / sample_index do.
-  void table_read(const ir::Assign& a, std::string* results) {
-    const ir::TableDecl& t = p_.tables[a.table];
-    std::string name = "table" + std::to_string(a.table);
-    ir::Scalar coord = p_.type_of(a.args[0].var).scalar;
+  // The element a read or scatter names, clamped exactly as
+  // sh::fetch_index / sample_index do.
+  std::string flat_index(int table, const ir::Operand& coord, bool sample) const {
+    std::string name = "table" + std::to_string(table);
+    ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
     std::string index, stride = "1";
-    for (int d = 0; d < t.rank; ++d) {
+    for (int d = 0; d < p_.tables[table].rank; ++d) {
       std::string dim = name + "_" + kComponent[d];
-      std::string i = read(a.args[0], d);
-      if (a.op == ir::Op::Sample) i = "convert_int_sat(floor(" + i + " * (" + reg_type(coord) + ")" + dim + "))";
+      std::string i = read(coord, d);
+      if (sample) i = "convert_int_sat(floor(" + i + " * (" + reg_type(coord_scalar) + ")" + dim + "))";
       std::string clamped = "(long)clamp(" + i + ", 0, " + dim + " - 1)";
       index += (d ? " + " : "") + clamped + (d ? " * " + stride : "");
       stride = d ? stride + " * " + dim : "(long)" + dim;
     }
-    std::string at = "(" + index + ") * " + std::to_string(t.element.width);
+    return "(" + index + ") * " + std::to_string(p_.tables[table].element.width);
+  }
+
+  void table_read(const ir::Assign& a, std::string* results) {
+    const ir::TableDecl& t = p_.tables[a.table];
+    std::string name = "table" + std::to_string(a.table);
+    std::string at = flat_index(a.table, a.args[0], a.op == ir::Op::Sample);
     for (int c = 0; c < t.element.width; ++c)
       results[c] = std::string("(") + reg_type(t.element.scalar) + ")" + name + "[" + at + " + " + std::to_string(c) + "]";
+  }
+
+  // OpenCL 1.2 adds ints atomically; floats by compare-and-swap on their bits.
+  void scatter(const ir::Scatter& sc, int depth) {
+    const ir::TableDecl& t = p_.tables[sc.table];
+    bool is_float = ir::is_float(t.element.scalar);
+    line(depth, "{");
+    line(depth + 1, "const long at = " + flat_index(sc.table, sc.index, false) + ";");
+    for (int c = 0; c < t.element.width; ++c) {
+      std::string place = "table" + std::to_string(sc.table) + " + at + " + std::to_string(c);
+      std::string value = std::string("(") + storage_type(t.element.scalar) + ")" + read(sc.value, c);
+      line(depth + 1, std::string(is_float ? "sh_atomic_add_float(" : "atomic_add(") + place + ", " + value + ");");
+    }
+    line(depth, "}");
   }
 
   struct Jump {

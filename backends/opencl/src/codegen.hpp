@@ -15,7 +15,8 @@ struct Source {
 
 // The kernel's arguments, in order: long count; one __global buffer per
 // input, then per output; one scalar per uniform component; per table a
-// __global buffer and three int dimensions; __global long* status.
+// __global buffer (an accumulator's is read and added into) and three int
+// dimensions; __global long* status.
 Source generate(const ir::Program& program, const Options& options);
 
 }  // namespace sh::opencl

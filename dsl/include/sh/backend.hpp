@@ -48,6 +48,7 @@ struct TableView {
   int rank = 1;
   std::array<int, 3> dims{1, 1, 1};
   const void* data = nullptr;
+  void* sums = nullptr;       // an accumulator's storage (then data is it too), which the run adds into
   std::uint64_t id = 0;       // the table, unique in the process: with version, says whether it changed
   std::uint64_t version = 0;
   std::size_t bytes() const {

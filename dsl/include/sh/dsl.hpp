@@ -1,6 +1,7 @@
 #pragma once
 // The language: values, operators, library, control flow, programs, tables,
 // channels and the backend interface, with the reference interpreter.
+#include "sh/accumulator.hpp"
 #include "sh/attrib.hpp"
 #include "sh/backend.hpp"
 #include "sh/channel.hpp"

@@ -47,6 +47,8 @@ class Counter {
       const ir::Stmt& s = b[i];
       if (auto* a = std::get_if<ir::Assign>(&s.node)) {
         if (auto u = unit_of(a->op)) sum[*u] += is_table_read(a->op) ? 1 : a->mask.size;
+      } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+        sum[Unit::Add] += static_cast<std::uint64_t>(sc->value.width());
       } else if (auto* f = std::get_if<ir::If>(&s.node)) {
         sum += block(f->then_body, depth, cost);
         sum += block(f->else_body, depth, cost);

@@ -24,7 +24,7 @@ std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
   std::map<std::pair<ir::VarId, int>, int> producer;  // (variable, component) -> node
   for (const ir::Stmt& s : p.body) {
     auto* a = std::get_if<ir::Assign>(&s.node);
-    if (!a) throw Error("program '" + p.name + "': the critical path is computed for straight-line code only");
+    if (!a) throw Error("program '" + p.name + "': the critical path is computed for straight-line assignments only (no branch, loop or scatter)");
     auto u = unit_of(a->op);
     std::vector<int> made;
     int lanes = is_table_read(a->op) ? 1 : a->mask.size;

@@ -105,6 +105,10 @@ class Glue {
         remap(l->header, vars, tables);
         remap(l->body, vars, tables);
         remap(l->update, vars, tables);
+      } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+        sc->index.var = vars[sc->index.var];
+        sc->value.var = vars[sc->value.var];
+        sc->table = tables[sc->table];
       }
     }
   }

@@ -27,6 +27,7 @@ class Recorder {
   void rename(const VarNode* node, const std::string& name);
   int table_index(const std::shared_ptr<TableStorage>& table);
   void emit(ir::Assign a);
+  void emit_scatter(ir::Scatter s) { current_->push_back(ir::Stmt{s}); }
   // Emits op(args) into a new temporary and returns the variable.
   Value emit_result(ir::Type type, ir::Op op, std::vector<ir::Operand> args, int table = -1);
   const ir::Program& program() const { return prog_; }

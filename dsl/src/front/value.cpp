@@ -1,6 +1,7 @@
 #include "sh/detail/value.hpp"
 
 #include "recorder.hpp"
+#include "sh/library.hpp"
 #include "sh/error.hpp"
 
 namespace sh::detail {
@@ -153,6 +154,20 @@ Value table_read(const std::shared_ptr<TableStorage>& table, ir::Op op, const Va
   Value c = op == ir::Op::Fetch ? cast(coords, ir::Scalar::I32) : coords;
   if (op == ir::Op::Sample && !ir::is_float(c.scalar())) c = cast(c, ir::Scalar::F32);
   return r->emit_result(table->decl.element, op, {r->read(c)}, r->table_index(table));
+}
+
+void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& index, const Value& value) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("accumulators can only be added into inside a program");
+  const ir::TableDecl& d = accumulator->decl;
+  std::string what = "accumulator '" + d.name + "' of " + ir::type_name(d.element);
+  if (index.width() != d.rank)
+    r->fail(what + " is indexed with " + std::to_string(index.width()) + " coordinates, not " + std::to_string(d.rank));
+  if (value.width() != d.element.width && value.width() != 1)
+    r->fail(what + " is given a value of " + std::to_string(value.width()) + " components");
+  if (value.scalar() != d.element.scalar) r->fail(what + " is given a value of type " + ir::scalar_name(value.scalar()));
+  Value v = value.width() == d.element.width ? value : fillcast(value, d.element.width);
+  r->emit_scatter(ir::Scatter{r->table_index(accumulator), r->read(cast(index, ir::Scalar::I32)), r->read(v)});
 }
 
 }  // namespace sh::detail

@@ -77,6 +77,10 @@ class Machine {
     }
     if (auto* i = std::get_if<ir::If>(&s.node)) return block(arg(i->cond, 0) > 0 ? i->then_body : i->else_body);
     if (auto* l = std::get_if<ir::Loop>(&s.node)) return loop(*l, s);
+    if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+      scatter(*sc, s);
+      return Flow::Next;
+    }
     return std::holds_alternative<ir::Break>(s.node) ? Flow::Break : Flow::Continue;
   }
 
@@ -124,6 +128,18 @@ class Machine {
     for (int k = 0; k < t.element.width; ++k)
       r[k] = read_component(t.element.scalar, t.data, index.element * t.element.width + k);
     return r;
+  }
+
+  // In stream order, one addition at a time, rounded to the accumulator's
+  // storage as every backend's atomic addition is.
+  void scatter(const ir::Scatter& sc, const ir::Stmt& s) {
+    const TableView& t = a_.tables[sc.table];
+    TableIndex index = fetch_index(t, [&](int i) { return arg(sc.index, i); });
+    if (o_.checked && index.clamped) note("first out-of-range scatter", s);
+    for (int k = 0; k < t.element.width; ++k) {
+      std::size_t at = index.element * t.element.width + k;
+      write_component(t.element.scalar, t.sums, at, read_component(t.element.scalar, t.sums, at) + arg(sc.value, k));
+    }
   }
 
   void check_nan(const ir::Assign& a, const ir::Stmt& s, const Reg& result) {

@@ -31,7 +31,7 @@ class Printer {
     for (std::size_t i = 0; i < p_.vars.size(); ++i) declare(static_cast<VarId>(i));
     for (std::size_t t = 0; t < p_.tables.size(); ++t) {
       const TableDecl& d = p_.tables[t];
-      out_ << "  table #" << t;
+      out_ << (d.accumulator ? "  accumulator #" : "  table #") << t;
       if (o_.names && !d.name.empty()) out_ << " " << d.name;
       out_ << ": " << type_name(d.element) << " rank " << d.rank << "\n";
     }
@@ -44,6 +44,8 @@ class Printer {
     if (auto* a = std::get_if<Assign>(&s.node)) return assign(*a);
     if (auto* i = std::get_if<If>(&s.node)) return "if " + operand(i->cond);
     if (auto* l = std::get_if<Loop>(&s.node)) return loop_head(*l);
+    if (auto* sc = std::get_if<Scatter>(&s.node))
+      return "scatter-add #" + std::to_string(sc->table) + " " + operand(sc->index) + ", " + operand(sc->value);
     if (std::holds_alternative<Break>(s.node)) return "break";
     return "continue";
   }

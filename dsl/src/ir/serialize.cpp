@@ -8,7 +8,7 @@
 namespace sh::ir {
 namespace {
 
-enum class Tag : std::uint8_t { Assign, If, Loop, Break, Continue };
+enum class Tag : std::uint8_t { Assign, If, Loop, Break, Continue, Scatter };
 
 class Writer {
  public:
@@ -61,6 +61,11 @@ class Writer {
       put(l->cond);
       put(l->body);
       put(l->update);
+    } else if (auto* sc = std::get_if<Scatter>(&s.node)) {
+      put(Tag::Scatter);
+      put(static_cast<std::int32_t>(sc->table));
+      put(sc->index);
+      put(sc->value);
     } else {
       put(std::holds_alternative<Break>(s.node) ? Tag::Break : Tag::Continue);
     }
@@ -156,6 +161,13 @@ class Reader {
       }
       case Tag::Break: return Stmt{Break{}};
       case Tag::Continue: return Stmt{Continue{}};
+      case Tag::Scatter: {
+        Scatter sc;
+        sc.table = get<std::int32_t>();
+        sc.index = operand();
+        sc.value = operand();
+        return Stmt{sc};
+      }
     }
     fail("unknown statement");
   }
@@ -189,6 +201,7 @@ std::string serialize(const Program& p) {
     w.put(static_cast<std::uint8_t>(t.element.width));
     w.put(static_cast<std::uint8_t>(t.rank));
     w.put(t.name);
+    w.put(static_cast<std::uint8_t>(t.accumulator));
   }
   w.put(p.body);
   return w.take();
@@ -220,6 +233,7 @@ Program deserialize(const std::string& bytes) {
     t.element.width = r.get<std::uint8_t>();
     t.rank = r.get<std::uint8_t>();
     t.name = r.text();
+    t.accumulator = r.get<std::uint8_t>() != 0;
     if (t.element.scalar > Scalar::Bool || t.element.width < 1 || t.element.width > 4 || t.rank < 1 || t.rank > 3)
       r.fail("bad table declaration");
     p.tables.push_back(std::move(t));

@@ -80,8 +80,22 @@ class Verifier {
     Scalar coord = p_.type_of(a.args[0].var).scalar;
     if (a.op == Op::Fetch && coord != Scalar::I32) fail("fetch coordinates must be i32", &s);
     if (a.op == Op::Sample && !is_float(coord)) fail("sample coordinates must be floats", &s);
+    if (t.accumulator) fail("reads an accumulator (its sums are defined only after the run)", &s);
     if (a.mask.size != t.element.width) fail("table read result width differs from the element width", &s);
     if (p_.type_of(a.dest).scalar != t.element.scalar) fail("table read result type differs from the element type", &s);
+  }
+
+  void scatter(const Scatter& sc, const Stmt& s) {
+    if (sc.table < 0 || sc.table >= static_cast<int>(p_.tables.size())) fail("adds into an undeclared table", &s);
+    const TableDecl& t = p_.tables[sc.table];
+    if (!t.accumulator) fail("adds into a read-only table", &s);
+    if (t.element.scalar != Scalar::F32 && t.element.scalar != Scalar::I32) fail("accumulators hold f32 or i32", &s);
+    operand(sc.index, s);
+    operand(sc.value, s);
+    if (sc.index.width() != t.rank || p_.type_of(sc.index.var).scalar != Scalar::I32)
+      fail("scatter coordinates must be i32, one per dimension", &s);
+    if (sc.value.width() != t.element.width || p_.type_of(sc.value.var).scalar != t.element.scalar)
+      fail("scatter value differs from the accumulator's element type", &s);
   }
 
   void block(const Block& b, int loop_depth) {
@@ -97,6 +111,8 @@ class Verifier {
         condition(l->cond, s);
         block(l->body, loop_depth + 1);
         block(l->update, loop_depth);
+      } else if (auto* sc = std::get_if<Scatter>(&s.node)) {
+        scatter(*sc, s);
       } else if (loop_depth == 0) {
         fail("break or continue outside a loop body", &s);
       }

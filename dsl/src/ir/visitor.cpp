@@ -46,5 +46,6 @@ void Mutator::mutate(Loop s, Block& out) {
 
 void Mutator::mutate(Break s, Block& out) { out.push_back(Stmt{s}); }
 void Mutator::mutate(Continue s, Block& out) { out.push_back(Stmt{s}); }
+void Mutator::mutate(Scatter s, Block& out) { out.push_back(Stmt{s}); }
 
 }  // namespace sh::ir

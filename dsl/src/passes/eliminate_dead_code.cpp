@@ -1,7 +1,8 @@
-// Dead-code elimination: keeps what can reach an output.  A variable is
-// live if an output is it or a live assignment or a kept control construct
-// reads it; a loop is kept if it holds a live assignment, and with it the
-// conditions of the branches that leave or restart it.  Everything else,
+// Dead-code elimination: keeps what can reach an output or an accumulator.
+// A variable is live if an output is it or a live assignment, a scatter or
+// a kept control construct reads it; a loop is kept if it holds a live
+// assignment or a scatter, and with it the conditions of the branches that
+// leave or restart it.  Everything else,
 // including branches and loops left empty, goes.
 #include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
@@ -19,13 +20,14 @@ class Liveness {
   }
   bool live(ir::VarId v) const { return live_.count(v) > 0; }
 
-  // Does the block assign a live variable (at any depth)?
+  // Does the block assign a live variable or scatter (at any depth)?
   bool has_live_assign(const ir::Block& b) const {
     struct Finder : ir::Visitor {
       using ir::Visitor::visit;
       const Liveness* l;
       bool found = false;
       void visit(const ir::Assign& a) override { found = found || l->live(a.dest); }
+      void visit(const ir::Scatter&) override { found = true; }
     } f;
     f.l = this;
     f.visit(b);
@@ -45,6 +47,9 @@ class Liveness {
       if (auto* a = std::get_if<ir::Assign>(&s.node)) {
         if (live(a->dest))
           for (const ir::Operand& o : a->args) changed |= mark(o.var);
+      } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+        changed |= mark(sc->index.var);
+        changed |= mark(sc->value.var);
       } else if (auto* f = std::get_if<ir::If>(&s.node)) {
         bool needed = has_live_assign(f->then_body) || has_live_assign(f->else_body) ||
                       (in_live_loop && (has_jump(f->then_body) || has_jump(f->else_body)));

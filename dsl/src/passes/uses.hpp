@@ -39,6 +39,9 @@ void for_each_own_operand(S& s, F f) {
     f(i->cond);
   } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
     f(l->cond);
+  } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+    f(sc->index);
+    f(sc->value);
   }
 }
 

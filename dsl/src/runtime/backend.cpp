@@ -97,11 +97,12 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
   }
   for (const auto& u : program.uniforms()) args.uniforms.push_back(u->value);
   for (std::size_t t = 0; t < program.tables().size(); ++t) {
-    const detail::TableStorage& s = *program.tables()[t];
+    detail::TableStorage& s = *program.tables()[t];
     if (!s.filled)
       throw Error("program '" + p.name + "': table " + std::to_string(t) +
                   (s.decl.name.empty() ? "" : " '" + s.decl.name + "'") + " was never filled");
-    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), s.id, s.version});
+    void* sums = s.decl.accumulator ? s.buffer.data() : nullptr;
+    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), sums, s.id, s.version});
   }
   return args;
 }

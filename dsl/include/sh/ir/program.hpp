@@ -32,10 +32,14 @@ struct Operand {
   int width() const { return swizzle.size; }
 };
 
+// A table the kernel reads, or an accumulator it adds into (Scatter).  An
+// accumulator is never read by the program that adds into it: the order of
+// the additions is left to the backend, so only the sums are defined.
 struct TableDecl {
   Type element;
   int rank = 1;  // 1, 2 or 3 dimensions
   std::string name;
+  bool accumulator = false;
 };
 
 struct Stmt;
@@ -71,8 +75,17 @@ struct Loop {
 struct Break {};
 struct Continue {};
 
+// Adds value to element index (integer coordinates, one per dimension,
+// clamped to the edge like a read) of accumulator `table`: the language's
+// reduction, a scatter-add.  Several elements may add to the same place.
+struct Scatter {
+  int table = -1;
+  Operand index;
+  Operand value;
+};
+
 struct Stmt {
-  std::variant<Assign, If, Loop, Break, Continue> node;
+  std::variant<Assign, If, Loop, Break, Continue, Scatter> node;
 };
 
 struct Program {

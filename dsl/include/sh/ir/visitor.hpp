@@ -17,6 +17,7 @@ class Visitor {
   virtual void visit(const Loop& s);
   virtual void visit(const Break&) {}
   virtual void visit(const Continue&) {}
+  virtual void visit(const Scatter&) {}
 };
 
 class Mutator {
@@ -31,6 +32,7 @@ class Mutator {
   virtual void mutate(Loop s, Block& out);
   virtual void mutate(Break s, Block& out);
   virtual void mutate(Continue s, Block& out);
+  virtual void mutate(Scatter s, Block& out);
 };
 
 }  // namespace sh::ir

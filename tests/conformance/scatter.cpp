@@ -1,0 +1,122 @@
+// Accumulators: the language's scatter-add.  Every running element adds,
+// lanes that a branch, a break or the stream's end left out do not; indices
+// clamp to the edge; runs add to what the accumulator holds.  Sums of values
+// exact in binary32 are compared exactly, whatever order the backend added
+// in; other float sums to rounding.
+#include "harness.hpp"
+
+namespace conformance {
+namespace {
+
+using sh::Attrib1f;
+using sh::Attrib1i;
+using sh::Attrib2f;
+
+TEST_P(Conformance, ScatterCountsEveryRunningElementAtEveryStreamLength) {
+  sh::Accumulator<Attrib1i> counts(7, "counts");
+  sh::Accumulator<Attrib2f> sums(5, "sums");
+  sh::Program p = SH_BEGIN_PROGRAM("scatter_counts") {
+    sh::Input<Attrib1i> e;
+    counts.add(e % 7, 1);
+    Attrib1f x = e.cast<float>();
+    sums.add((e * 3) % 5, join(x * 0.25f, -x));
+  } SH_END;
+  for (std::size_t length : {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 33, 35, 1031}) {
+    counts.clear();
+    sums.clear();
+    std::vector<std::int32_t> es(length);
+    for (std::size_t k = 0; k < length; ++k) es[k] = static_cast<std::int32_t>(k);
+    sh::Channel<Attrib1i> ce(es);
+    run(p, {ce}, {});
+    std::vector<std::int32_t> want_counts(7, 0);
+    std::vector<float> want_sums(10, 0.f);
+    for (std::int32_t k : es) {
+      ++want_counts[k % 7];
+      want_sums[2 * ((k * 3) % 5)] += 0.25f * static_cast<float>(k);
+      want_sums[2 * ((k * 3) % 5) + 1] -= static_cast<float>(k);
+    }
+    EXPECT_EQ(counts.values(), want_counts) << "length " << length;
+    EXPECT_EQ(sums.values(), want_sums) << "length " << length;
+  }
+}
+
+// Elements add from inside divergent branches and loops with breaks and
+// continues: element e adds 1 to buckets 0..e%6 except 2, stopping after
+// bucket 4, and only where e is odd adds its number to bucket 5.
+TEST_P(Conformance, ScatterUnderDivergentControlFlow) {
+  sh::Accumulator<Attrib1f> buckets(6, "buckets");
+  sh::Program p = SH_BEGIN_PROGRAM("scatter_divergent") {
+    sh::Input<Attrib1f> e;
+    SH_FOR(Attrib1f j = 0.0f, j <= e % 6.0f, j += 1.0f) {
+      SH_CONTINUE(j == 2.0f);
+      buckets.add(j.cast<int>(), 1.0f);
+      SH_BREAK(j >= 4.0f);
+    } SH_ENDFOR;
+    SH_IF(e % 2.0f == 1.0f) { buckets.add(5, e); } SH_ENDIF;
+  } SH_END;
+  for (std::size_t length : {1, 6, 17, 33, 1031}) {
+    buckets.clear();
+    std::vector<float> es(length);
+    std::vector<float> want(6, 0.f);
+    for (std::size_t k = 0; k < length; ++k) {
+      es[k] = static_cast<float>(k);
+      for (std::size_t j = 0; j <= k % 6; ++j) {
+        if (j == 2) continue;
+        want[j] += 1;
+        if (j >= 4) break;
+      }
+      if (k % 2 == 1) want[5] += static_cast<float>(k);
+    }
+    sh::Channel<Attrib1f> ce(es);
+    run(p, {ce}, {});
+    EXPECT_EQ(buckets.values(), want) << "length " << length;
+  }
+}
+
+TEST_P(Conformance, ScatterIndicesClampToTheEdgeAndRunsAccumulate) {
+  sh::Accumulator<Attrib1i> hits(4, "hits");
+  sh::Program p = SH_BEGIN_PROGRAM("scatter_clamp") {
+    sh::Input<Attrib1i> i;
+    sh::Output<Attrib1i> same;
+    hits.add(i, 1);
+    same = i;
+  } SH_END;
+  std::vector<std::int32_t> is = {-5, 0, 3, 4, 1000000, std::numeric_limits<std::int32_t>::min(), 2,
+                                  std::numeric_limits<std::int32_t>::max()};
+  sh::Channel<Attrib1i> ci(is);
+  sh::Channel<Attrib1i> out;
+  run(p, {ci}, {out});
+  EXPECT_EQ(hits.values(), (std::vector<std::int32_t>{3, 0, 1, 4}));
+  EXPECT_EQ(out[3], 4);  // the element's own outputs are untouched by its scatter
+  run(p, {ci}, {out});
+  EXPECT_EQ(hits.values(), (std::vector<std::int32_t>{6, 0, 2, 8}));
+  hits.clear();
+  EXPECT_EQ(hits.values(), (std::vector<std::int32_t>(4, 0)));
+}
+
+// Values that are not exact in binary32: every backend's sum is within the
+// rounding of adding 4000 terms in some order.
+TEST_P(Conformance, ScatterFloatSumsAgreeToRounding) {
+  sh::Accumulator<Attrib1f> total(2, "total");
+  sh::Program p = SH_BEGIN_PROGRAM("scatter_float") {
+    sh::Input<Attrib1f> x;
+    total.add(0, x);
+    total.add(1, x * x);
+  } SH_END;
+  const std::size_t n = 4000;
+  std::vector<float> xs(n);
+  double sum = 0, squares = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    xs[k] = 0.1f * static_cast<float>(k % 97) + 0.01f;
+    sum += xs[k];
+    squares += static_cast<double>(xs[k]) * xs[k];
+  }
+  sh::Channel<Attrib1f> cx(xs);
+  run(p, {cx}, {});
+  std::vector<float> got = total.values();
+  EXPECT_NEAR(got[0], sum, sum * n * 6e-8);
+  EXPECT_NEAR(got[1], squares, squares * n * 6e-8 * 2);
+}
+
+}  // namespace
+}  // namespace conformance
