@@ -18,7 +18,8 @@ int at_least_one(std::size_t n) { return static_cast<int>(std::max<std::size_t>(
 }  // namespace
 
 Features Features::of(const Scene& s, int reflection_depth) {
-  return {!s.lights.empty(), !s.disk_lights.empty(), s.has_reflections() && reflection_depth > 0, s.has_vertex_colors()};
+  return {!s.lights.empty(), !s.disk_lights.empty(), s.has_reflections() && reflection_depth > 0, s.has_vertex_colors(),
+          s.has_transparency() && reflection_depth > 0};
 }
 
 void SceneTables::set_samples(SamplePattern pattern, int n, unsigned seed) {
@@ -37,6 +38,7 @@ std::string Features::left_out() const {
   add(soft_shadows, "soft shadows (no disk lights)");
   add(reflections, "reflection loop (no reflective material, or depth 0)");
   add(vertex_colors, "vertex colours (none in the scene)");
+  add(refractions, "refraction (no transparent material, or depth 0)");
   return out.empty() ? "nothing" : out;
 }
 

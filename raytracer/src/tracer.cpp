@@ -4,44 +4,10 @@
 // shading with barycentric normals and colours, and a recorded loop of
 // reflections to a set depth.
 #include "sh/raytracer/kernels.hpp"
+#include "shading.hpp"
 
 namespace sh::rt {
 namespace {
-
-struct Surface {
-  Point3f p;
-  Normal3f n;        // faces the incoming ray
-  Color3f diffuse;   // material times vertex colour
-  Attrib1f specular, shininess, reflectivity;
-};
-
-Surface surface_at(const SceneTables& s, const Point3f& o, const Vector3f& d, const Attrib1f& t,
-                   const Attrib1i& tri, const Attrib2f& uv, const Features& f) {
-  Surface out;
-  out.p = o + d * t;
-  Attrib1f w = 1.0f - uv(0) - uv(1);
-  Attrib3f n = w * s.normals[3 * tri] + uv(0) * s.normals[3 * tri + 1] + uv(1) * s.normals[3 * tri + 2];
-  out.n = faceforward(normalize(n), -d);
-  Attrib1i m = 2 * s.material[tri];
-  Attrib4f a = s.materials[m], b = s.materials[m + 1];
-  out.diffuse = a(0, 1, 2);
-  if (f.vertex_colors) {
-    Color3f c = w * s.colors[3 * tri] + uv(0) * s.colors[3 * tri + 1] + uv(1) * s.colors[3 * tri + 2];
-    out.diffuse = cond(s.use_vertex_colors, out.diffuse * c, out.diffuse);
-  }
-  out.specular = a(3);
-  out.shininess = b(0);
-  out.reflectivity = b(1);
-  return out;
-}
-
-// Where rays leave a surface: pushed along the normal, by at least a few
-// ulps of the point's coordinates so that scenes far from the origin do
-// not shadow themselves.
-Point3f lift(const SceneTables& s, const Surface& x) {
-  Attrib1f offset = max(s.surface_offset, max_component(abs(x.p)) * 1e-6f);
-  return x.p + x.n * offset;
-}
 
 Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const Attrib1f& facing) {
   return x.diffuse * facing + x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
@@ -165,11 +131,13 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
       Color3f local = s.ambient * x.diffuse;
       if (f.shadows) local += direct(s, intersect, x, -p.d);
       if (f.soft_shadows) local += soft_direct(s, intersect, x, -p.d, turn);
-      if (f.reflections) {
-        add = p.weight * (1.0f - x.reflectivity) * local;
-        weight = p.weight * x.reflectivity;
-        d = reflect(-p.d, x.n);
-        o = lift(s, x);
+      if (f.reflections || f.refractions) {
+        Continuation next = go_on(s, x, p.d, f);
+        Attrib1f kept = f.refractions ? x.reflectivity + x.transparency : x.reflectivity;
+        add = p.weight * (1.0f - kept) * local;
+        weight = p.weight * next.share;
+        d = next.d;
+        o = next.o;
       } else {
         add = p.weight * local;
       }
@@ -193,7 +161,7 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
     }
     if (in_loop) SH_BREAK(!hit || max_component(p.weight) <= 0.0f);
   };
-  if (f.reflections) {
+  if (f.reflections || f.refractions) {
     SH_WHILE(p.bounce <= s.max_bounces) { bounce(true); } SH_ENDWHILE;
   } else {
     bounce(false);

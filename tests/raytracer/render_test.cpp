@@ -67,7 +67,7 @@ TEST(Specialisation, SceneWithoutLightsOrMirrorsGetsASmallerKernelAndTheSameImag
   sh::rt::Renderer general(s, settings);
   EXPECT_EQ(special.features().left_out(),
             "shadow rays to point lights (none), soft shadows (no disk lights), reflection loop (no reflective material, "
-            "or depth 0), vertex colours (none in the scene)");
+            "or depth 0), vertex colours (none in the scene), refraction (no transparent material, or depth 0)");
   EXPECT_EQ(general.features().left_out(), "nothing");
   std::size_t small = statements(special.program()), big = statements(general.program());
   EXPECT_LT(small * 3, big * 2) << "specialised " << small << " vs general " << big << " IR lines";

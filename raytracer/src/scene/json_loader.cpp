@@ -97,9 +97,23 @@ void read_materials(const Reader& r, const json& j, Scene& s, std::map<std::stri
   if (!j.is_object()) r.fail("materials", "expected an object of named materials");
   for (const auto& [name, m] : j.items()) {
     std::string at = "materials." + name;
-    r.only(m, at, {"diffuse", "specular", "shininess", "reflectivity", "transparency", "ior"});
+    r.only(m, at, {"type", "diffuse", "specular", "shininess", "reflectivity", "transparency", "ior"});
     Material mat;
     mat.name = name;
+    // A type sets what its name promises; the numbers given refine it.
+    if (m.contains("type") && !m["type"].is_string()) r.fail(at + ".type", "expected a string");
+    std::string type = m.value("type", "diffuse");
+    if (type == "mirror") {
+      mat.reflectivity = 1;
+      mat.diffuse = {0, 0, 0};
+    } else if (type == "glass") {
+      mat.transparency = 1;
+      mat.ior = 1.5f;
+      mat.diffuse = {0, 0, 0};
+      mat.specular = 0.5f;
+    } else if (type != "diffuse") {
+      r.fail(at + ".type", "must be diffuse, mirror or glass, not '" + type + "'");
+    }
     mat.diffuse = r.vec3(m, at, "diffuse", mat.diffuse);
     mat.specular = r.number(m, at, "specular", mat.specular);
     mat.shininess = r.number(m, at, "shininess", mat.shininess);
@@ -107,6 +121,9 @@ void read_materials(const Reader& r, const json& j, Scene& s, std::map<std::stri
     mat.transparency = r.number(m, at, "transparency", mat.transparency);
     mat.ior = r.number(m, at, "ior", mat.ior);
     if (mat.reflectivity < 0 || mat.reflectivity > 1) r.fail(at + ".reflectivity", "must be in [0, 1]");
+    if (mat.transparency < 0 || mat.transparency > 1) r.fail(at + ".transparency", "must be in [0, 1]");
+    if (mat.reflectivity + mat.transparency > 1) r.fail(at, "reflectivity + transparency must not exceed 1");
+    if (!(mat.ior >= 1 && mat.ior <= 4)) r.fail(at + ".ior", "must be in [1, 4]");
     if (mat.shininess < 0) r.fail(at + ".shininess", "must not be negative");
     ids[name] = static_cast<int>(s.materials.size());
     s.materials.push_back(mat);

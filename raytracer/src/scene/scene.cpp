@@ -9,6 +9,12 @@ bool Scene::has_reflections() const {
   return false;
 }
 
+bool Scene::has_transparency() const {
+  for (const Material& m : materials)
+    if (m.transparency > 0) return true;
+  return false;
+}
+
 Vec3 Scene::bounds_min() const {
   Vec3 lo{1e30f, 1e30f, 1e30f};
   for (const Vec3& p : mesh.positions) lo = min(lo, p);

@@ -21,12 +21,14 @@ namespace sh::rt {
 
 // What a kernel is built to do.  Specialised kernels hold only what the
 // scene needs: no shadow code without lights, no reflection loop without
-// reflective materials, no colour reads without per-vertex colours.
+// reflective materials, no refraction without transparent ones, no colour
+// reads without per-vertex colours.
 struct Features {
   bool shadows = true;
   bool soft_shadows = true;
   bool reflections = true;
   bool vertex_colors = true;
+  bool refractions = true;
 
   static Features of(const Scene& s, int reflection_depth);
   static Features all() { return {}; }

@@ -42,7 +42,11 @@ struct Material {
   float specular = 0;
   float shininess = 32;
   float reflectivity = 0;
-  float transparency = 0;  // read from scene files; traced by a later issue
+  // Of the light that reaches a surface: a share `reflectivity` is
+  // mirrored, a share `transparency` goes through, refracted by Snell's law
+  // with index `ior` (all of it reflected past the critical angle), and
+  // the rest is shaded.
+  float transparency = 0;
   float ior = 1;
 };
 
@@ -69,6 +73,7 @@ struct Scene {
 
   bool has_vertex_colors() const { return !mesh.colors.empty(); }
   bool has_reflections() const;
+  bool has_transparency() const;
   Vec3 bounds_min() const;
   Vec3 bounds_max() const;
 };
