@@ -31,10 +31,13 @@ struct Common {
   std::string precision = "f32", math = "precise";
   int threads = 0;
   std::vector<std::string> settings;  // KEY=VALUE for the backend
+  bool bidirectional = false;
+  LightPassSettings light_pass;
 };
 
 void add_common(CLI::App* app, Common& c) {
-  app->add_option("--scene", c.scene, "scene file (.json), model file, or built-in: cornell, spheres, procedural")
+  app->add_option("--scene", c.scene,
+                  "scene file (.json), model file, or built-in: cornell, spheres, procedural, soft, soft2, magg-mirror, magg-glass")
       ->capture_default_str();
   app->add_option("--size", c.size, "image size WIDTHxHEIGHT")->capture_default_str();
   app->add_option("--reflections", c.reflections, "reflection bounces")->capture_default_str()->check(CLI::Range(0, 64));
@@ -55,6 +58,13 @@ void add_common(CLI::App* app, Common& c) {
       ->capture_default_str()->check(CLI::Range(0, kMaxOctreeDepth));
   app->add_option("--leaf-size", c.octree.leaf_size, "octree: most triangles in a leaf above the depth limit")
       ->capture_default_str()->check(CLI::Range(1, 1 << 20));
+  app->add_flag("--bidirectional", c.bidirectional,
+                "a light pass first (rays from the point lights to every element, through mirrors and glass), whose "
+                "luminance gives the diffuse light");
+  app->add_option("--elements", c.light_pass.subdivision, "light pass: elements per triangle side (k: k*k per triangle)")
+      ->capture_default_str()->check(CLI::Range(1, 64));
+  app->add_option("--light-samples", c.light_pass.samples, "light pass: rays per light and element")
+      ->capture_default_str()->check(CLI::Range(1, 4096));
 }
 
 std::pair<int, int> parse_size(const std::string& s) {
@@ -96,6 +106,9 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.grid_density = c.grid_density;
   s.accel = parse_accel(c.accel);
   s.octree = c.octree;
+  s.bidirectional = c.bidirectional;
+  s.light_pass = c.light_pass;
+  s.light_pass.depth = c.reflections;
   return s;
 }
 
@@ -143,6 +156,14 @@ int render_command(const Common& c, const std::string& backend_name, const std::
               frames > 1 ? " (best warm frame)" : "", report.rays / (report.render_ms * 1e3), 1000.0 / report.render_ms,
               std::filesystem::absolute(output).c_str());
   if (!aov.empty()) std::printf("aov: %s_distance.pfm, %s_triangle.pfm\n", aov.c_str(), aov.c_str());
+  if (report.light.rays > 0) {
+    Vec3 e = r.element_light()->total();
+    std::printf("light pass on %s: %zu rays (%d elements per triangle, %d per element and light), compile %.1f ms, run %.1f ms "
+                "(%.2f Mrays/s); energy arrived (rgb) %.4g %.4g %.4g\n",
+                report.light.backend.c_str(), report.light.rays, c.light_pass.subdivision * c.light_pass.subdivision,
+                c.light_pass.samples, report.light.compile_ms, report.light.run_ms,
+                report.light.rays / (report.light.run_ms * 1e3), e.x, e.y, e.z);
+  }
   shtrace::print_lazy_builds(report);
   return 0;
 }

@@ -59,6 +59,13 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
   tables_->set_reflection_depth(settings_.reflections);
   features_ = settings_.specialise ? Features::of(scene_, settings_.reflections) : Features::all();
+  if (settings_.bidirectional) {
+    light_pass_ = std::make_unique<LightPass>(scene_, *tables_, settings_.light_pass);
+    int k = settings_.light_pass.subdivision;
+    tables_->luminance = std::make_unique<LuminanceTables>(
+        k, std::vector<float>(scene_.mesh.triangles() * lattice_slots(k) * 3, 0.0f));
+    features_.luminance = true;
+  }
   if (refiner_) {
     program_ = tracer_program(*tables_, features_);
     path_start_ = path_start_program() << raygen_program(*tables_);
@@ -82,6 +89,11 @@ Image Renderer::render(RenderReport* report) {
   constexpr int kTile = 4;
   int band = std::max(kTile, std::min(image.height, static_cast<int>((1 << 18) / image.width)) / kTile * kTile);
   RenderReport r;
+  if (light_pass_ && !light_) {
+    if (show) std::fprintf(stderr, "light pass on %s: %zu rays\n", choice.name.empty() ? default_backend_name().c_str() : choice.name.c_str(), light_pass_->rays());
+    light_ = luminance_of(scene_, settings_.light_pass.subdivision, light_pass_->run(choice, &r.light));
+    tables_->luminance->vertex.assign(light_->vertex);
+  }
   double built_before = octree_ ? octree_->build_ms() : 0;
   auto t0 = std::chrono::steady_clock::now();
   for (int y0 = 0; y0 < image.height; y0 += band) {

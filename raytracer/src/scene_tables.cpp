@@ -39,7 +39,13 @@ std::string Features::left_out() const {
   add(reflections, "reflection loop (no reflective material, or depth 0)");
   add(vertex_colors, "vertex colours (none in the scene)");
   add(refractions, "refraction (no transparent material, or depth 0)");
+  if (luminance) out += std::string(out.empty() ? "" : ", ") + "diffuse shadow rays (light comes from the light pass)";
   return out.empty() ? "nothing" : out;
+}
+
+LuminanceTables::LuminanceTables(int k_, const std::vector<float>& v)
+    : vertex(at_least_one(v.size() / 3)), subdivision(static_cast<float>(k_)), k(k_) {
+  vertex.name("vertex_luminance").assign(v.empty() ? std::vector<float>{0, 0, 0} : v);
 }
 
 GridTables::GridTables(const Grid& g)

@@ -4,17 +4,32 @@
 // shading with barycentric normals and colours, and a recorded loop of
 // reflections to a set depth.
 #include "sh/raytracer/kernels.hpp"
+#include "elements.hpp"
+#include "sh/raytracer/bidirectional.hpp"
 #include "shading.hpp"
 
 namespace sh::rt {
 namespace {
 
-Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const Attrib1f& facing) {
-  return x.diffuse * facing + x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
+// With `diffuse` false only the highlight: the light pass brings the rest.
+Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const Attrib1f& facing, bool diffuse = true) {
+  Attrib1f highlight = x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
+  if (!diffuse) return fillcast<3>(highlight);
+  return x.diffuse * facing + highlight;
+}
+
+// The light pass's luminance at a hit: its element's lattice points,
+// interpolated.
+Color3f vertex_light(const SceneTables& s, const Attrib1i& tri, const Attrib2f& uv) {
+  const LuminanceTables& l = *s.luminance;
+  ElementAt e = element_at(uv, l.subdivision);
+  Attrib1i base = tri * lattice_slots(l.k);
+  return e.weights(0) * l.vertex[base + e.corners(0)] + e.weights(1) * l.vertex[base + e.corners(1)] +
+         e.weights(2) * l.vertex[base + e.corners(2)];
 }
 
 // Direct light from every point light the point sees: Phong, shadowed.
-Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view) {
+Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view, bool diffuse) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
   Point3f from = lift(s, x);
   SH_FOR(Attrib1i l = 0, l < s.light_count, l += 1) {
@@ -28,7 +43,7 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
       Attrib1i blocker;
       Attrib2f uv;
       Attrib1f shadowed = intersect(from, dir, dist, t, blocker, uv);
-      sum += (1.0f - shadowed) * phong(x, view, dir, facing) * light_color;
+      sum += (1.0f - shadowed) * phong(x, view, dir, facing, diffuse) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;
   return sum;
@@ -129,7 +144,8 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
     SH_IF(hit) {
       Surface x = surface_at(s, p.o, p.d, p.walk.best, p.walk.triangle, p.walk.uv, f);
       Color3f local = s.ambient * x.diffuse;
-      if (f.shadows) local += direct(s, intersect, x, -p.d);
+      if (f.luminance) local += x.diffuse * vertex_light(s, p.walk.triangle, p.walk.uv);
+      if (f.shadows) local += direct(s, intersect, x, -p.d, !f.luminance);
       if (f.soft_shadows) local += soft_direct(s, intersect, x, -p.d, turn);
       if (f.reflections || f.refractions) {
         Continuation next = go_on(s, x, p.d, f);

@@ -101,9 +101,59 @@ Scene soft(int lights) {
   return s;
 }
 
+// The bidirectional seed's reflective scene: a tilted mirror beside a box
+// in a corner of a diffuse room sends a patch of light onto the floor and
+// the back wall.
+Scene magg_mirror() {
+  Scene s;
+  s.name = "magg-mirror";
+  int wall = material(s, "wall", {0.8f, 0.8f, 0.75f});
+  int box = material(s, "box", {0.3f, 0.5f, 0.8f}, 0.3f, 30);
+  int mirror = material(s, "mirror", {0, 0, 0}, 0.5f, 200, 1.0f);
+  add_tiled_quad(s, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, 24, wall);  // floor
+  add_tiled_quad(s, {-2, 0, -2}, {4, 0, 0}, {0, 3, 0}, 24, wall);  // back wall
+  // Leaning back from the vertical: the light above it lands before it.
+  add_tiled_quad(s, {0.6f, 0.05f, -0.4f}, {0.6f, 1.4f, 0.25f}, {0, 0, 1.1f}, 16, mirror);
+  add_box(s, {-1.3f, 0, -0.9f}, {-0.6f, 0.7f, -0.2f}, box);
+  s.lights.push_back({{0.3f, 2.6f, 0.6f}, {1, 1, 1}});
+  s.camera = {{0, 1.6f, 4.2f}, {0, 0.7f, 0}, {0, 1, 0}, 50};
+  s.ambient = 0.05f;
+  s.background = {0, 0, 0};
+  return s;
+}
+
+// The bidirectional seed's transparent scene: a glass sphere floating
+// above a finely tiled floor focuses the light under it (a ball lens of
+// index 1.5 focuses 1.5 radii from its centre).
+Scene magg_glass() {
+  Scene s;
+  s.name = "magg-glass";
+  int floor = material(s, "floor", {0.8f, 0.8f, 0.8f});
+  int back = material(s, "back", {0.7f, 0.4f, 0.3f});
+  Material glass;
+  glass.name = "glass";
+  glass.diffuse = {0, 0, 0};
+  glass.specular = 0.6f;
+  glass.shininess = 120;
+  glass.transparency = 1;
+  glass.ior = 1.5f;
+  s.materials.push_back(glass);
+  int ball = static_cast<int>(s.materials.size() - 1);
+  add_tiled_quad(s, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, 40, floor);
+  add_tiled_quad(s, {-2, 0, -2}, {4, 0, 0}, {0, 3, 0}, 8, back);
+  add_sphere(s, {0, 0.8f, 0}, 0.5f, ball, 32);
+  s.lights.push_back({{0.4f, 4.0f, 0.3f}, {1, 1, 1}});
+  s.camera = {{0, 2.4f, 3.6f}, {0, 0.4f, 0}, {0, 1, 0}, 45};
+  s.ambient = 0.05f;
+  s.background = {0, 0, 0};
+  return s;
+}
+
 }  // namespace
 
-std::vector<std::string> builtin_scene_names() { return {"cornell", "spheres", "procedural", "soft", "soft2"}; }
+std::vector<std::string> builtin_scene_names() {
+  return {"cornell", "spheres", "procedural", "soft", "soft2", "magg-mirror", "magg-glass"};
+}
 
 Scene builtin_scene(const std::string& name, std::size_t triangles) {
   if (name == "cornell") return cornell();
@@ -111,7 +161,9 @@ Scene builtin_scene(const std::string& name, std::size_t triangles) {
   if (name == "procedural") return procedural(triangles);
   if (name == "soft") return soft(1);
   if (name == "soft2") return soft(2);
-  throw Error("unknown built-in scene '" + name + "' (built in: cornell, spheres, procedural, soft, soft2)");
+  if (name == "magg-mirror") return magg_mirror();
+  if (name == "magg-glass") return magg_glass();
+  throw Error("unknown built-in scene '" + name + "' (built in: cornell, spheres, procedural, soft, soft2, magg-mirror, magg-glass)");
 }
 
 }  // namespace sh::rt

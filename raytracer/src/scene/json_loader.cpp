@@ -147,9 +147,11 @@ void read_lights(const Reader& r, const json& j, Scene& s) {
       s.disk_lights.push_back(d);
       continue;
     }
-    r.only(j[i], at, {"type", "position", "color"});
+    r.only(j[i], at, {"type", "position", "color", "intensity"});
     if (type != "point") r.fail(at + ".type", "unknown light type '" + type + "' (known: point, disk)");
-    s.lights.push_back({r.vec3(r.required(j[i], at, "position"), at + ".position"), r.vec3(j[i], at, "color", {1, 1, 1})});
+    s.lights.push_back({r.vec3(r.required(j[i], at, "position"), at + ".position"), r.vec3(j[i], at, "color", {1, 1, 1}),
+                        r.number(j[i], at, "intensity", 0)});
+    if (s.lights.back().intensity < 0) r.fail(at + ".intensity", "must not be negative");
   }
 }
 

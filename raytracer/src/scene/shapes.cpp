@@ -30,6 +30,13 @@ void add_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int material) {
   b.triangle(a, c, corner + edge_v);
 }
 
+void add_tiled_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int tiles, int material) {
+  for (int i = 0; i < tiles; ++i)
+    for (int j = 0; j < tiles; ++j)
+      add_quad(s, corner + edge_u * (static_cast<float>(i) / tiles) + edge_v * (static_cast<float>(j) / tiles),
+               edge_u * (1.0f / tiles), edge_v * (1.0f / tiles), material);
+}
+
 void add_box(Scene& s, Vec3 lo, Vec3 hi, int material) {
   Vec3 d = hi - lo;
   Vec3 x{d.x, 0, 0}, y{0, d.y, 0}, z{0, 0, d.z};

@@ -29,6 +29,9 @@ struct Features {
   bool reflections = true;
   bool vertex_colors = true;
   bool refractions = true;
+  // Bidirectional: diffuse light comes from the light pass's vertex
+  // luminance (SceneTables::luminance), not from shadow rays.
+  bool luminance = false;
 
   static Features of(const Scene& s, int reflection_depth);
   static Features all() { return {}; }
@@ -52,6 +55,15 @@ struct OctreeTables {
   bool lazy;
 };
 
+// What a light pass left, for the view pass: luminance (rgb) at each
+// triangle's lattice points (bidirectional.hpp).
+struct LuminanceTables {
+  LuminanceTables(int subdivision, const std::vector<float>& vertex);
+  Table1D<Attrib3f> vertex;
+  Attrib1f subdivision;
+  int k;
+};
+
 // The scene as tables and uniforms.  Build it outside any program.
 class SceneTables {
  public:
@@ -66,6 +78,7 @@ class SceneTables {
   // The accelerator: one of the two.
   std::unique_ptr<GridTables> grid;
   std::unique_ptr<OctreeTables> octree;
+  std::unique_ptr<LuminanceTables> luminance;  // bidirectional tracing only
   // Triangles: first vertex and two edges (for the intersection), vertex
   // normals and colours (three per triangle), material per triangle.
   Table1D<Attrib3f> v0, e1, e2, normals, colors;

@@ -10,6 +10,7 @@
 
 #include <sh/dsl.hpp>
 
+#include "sh/raytracer/bidirectional.hpp"
 #include "sh/raytracer/grid.hpp"
 #include "sh/raytracer/kernels.hpp"
 #include "sh/raytracer/octree_refiner.hpp"
@@ -37,6 +38,10 @@ struct RenderSettings {
   double grid_density = 2.0;   // grid cells per triangle
   OctreeLimits octree;
   bool progress = false;       // a progress line on stderr (when it is a terminal)
+  // Bidirectional: a light pass first (once per renderer), whose luminance
+  // the view pass's diffuse term reads.
+  bool bidirectional = false;
+  LightPassSettings light_pass;
 };
 
 struct RenderReport {
@@ -50,6 +55,7 @@ struct RenderReport {
   std::size_t waves = 0, resumed = 0;
   double build_ms = 0;
   std::vector<std::string> refined;
+  LightPassReport light;  // bidirectional: the light pass, when this render ran it
 };
 
 struct Hits {
@@ -76,6 +82,8 @@ class Renderer {
   const Features& features() const { return features_; }
   const Program& program() const { return program_; }
   SceneTables& tables() { return *tables_; }
+  // Bidirectional: what the light pass left (after the first render).
+  const ElementLight* element_light() const { return light_ ? &*light_ : nullptr; }
 
  private:
   void trace_band(const std::vector<float>& centres, Channel<Color3f>& color, Channel<Attrib1f>& distance,
@@ -91,6 +99,8 @@ class Renderer {
   Features features_;
   Program program_;
   Program path_start_;  // a lazy octree's: pixel centre -> where its path starts
+  std::unique_ptr<LightPass> light_pass_;
+  std::optional<ElementLight> light_;
 };
 
 // The pixel centres of a width x height image, row by row from the top.

@@ -25,6 +25,11 @@ struct Camera {
 struct PointLight {
   Vec3 position;
   Vec3 color{1, 1, 1};
+  // Radiant intensity for the light pass of bidirectional tracing (energy
+  // per steradian, times colour).  0: the mean squared distance from the
+  // light to the scene's surfaces, so that they are lit on average about as
+  // the direct tracer lights them (it has no fall-off).
+  float intensity = 0;
 };
 
 // A disk light (soft shadows): sampled with several shadow rays per
@@ -97,11 +102,17 @@ class MeshBuilder {
 void add_sphere(Scene& s, Vec3 centre, float radius, int material, int segments = 24);
 void add_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int material);
 void add_box(Scene& s, Vec3 lo, Vec3 hi, int material);
+// A quad cut into tiles x tiles quads: light-pass elements small enough to
+// show a caustic.
+void add_tiled_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int tiles, int material);
 
 // Built-in scenes: "cornell", "spheres" (the flagship), "procedural"
 // (about `triangles` triangles), and the soft-shadow paper's "soft" (a
 // sphere on a plane under a 4 cm disk light) and "soft2" (two such
-// lights).  Unknown names throw sh::Error.
+// lights), and the bidirectional seed's "magg-mirror" (a mirror throwing
+// the light onto a diffuse room) and "magg-glass" (a glass sphere with its
+// caustic on the floor), meant for 200x200 with one reflection.  Unknown
+// names throw sh::Error.
 Scene builtin_scene(const std::string& name, std::size_t triangles = 100000);
 std::vector<std::string> builtin_scene_names();
 
