@@ -14,12 +14,16 @@
 namespace sh::rt {
 namespace {
 
-// Sample point k of n inside a triangle: the R2 low-discrepancy sequence
-// folded into it (the same points on every backend, no random state).
+// Sample point k of n inside a triangle, as weights of its second and
+// third corners: the R2 low-discrepancy sequence mapped by the
+// area-preserving square-root map, which keeps every point off the edges
+// (a point on an edge may hit the neighbour).  The same points on every
+// backend, no random state.
 Attrib2f sample_in_triangle(const Attrib1i& k) {
   Attrib1f x = k.cast<float>();
   Attrib2f r = frac(0.5f + x * ConstAttrib2f(0.7548776662f, 0.5698402910f));
-  return cond(r(0) + r(1) > 1.0f, 1.0f - r, r);
+  Attrib1f root = sqrt(r(0));
+  return join(root * (1.0f - r(1)), root * r(1));
 }
 
 Point3f lattice_point(const SceneTables& s, const Attrib1i& tri, const Attrib1f& i, const Attrib1f& j, const Attrib1f& k) {

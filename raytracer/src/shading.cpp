@@ -30,15 +30,21 @@ Point3f lift(const SceneTables& s, const Surface& x, float side) {
   return x.p + x.n * (side * offset);
 }
 
+Vector3f refract_or_mirror(const Vector3f& d, const Normal3f& n, const Attrib1f& eta, Attrib1f& mirrored) {
+  Vector3f through = refract(d, n, eta);
+  mirrored = dot(through, through) == 0.0f;
+  return cond(mirrored, reflect(-d, n), normalize(through));
+}
+
 Continuation go_on(const SceneTables& s, const Surface& x, const Vector3f& d, const Features& f) {
   Continuation c{lift(s, x), reflect(-d, x.n), x.reflectivity};
   if (f.refractions) {
-    Vector3f through = refract(d, x.n, x.eta);
+    Attrib1f mirrored;
+    Vector3f onward = refract_or_mirror(d, x.n, x.eta, mirrored);
     Attrib1f transmits = x.transparency > 0.0f;
-    Attrib1f total_internal = dot(through, through) == 0.0f;
     c.share = cond(transmits, x.transparency, c.share);
-    c.d = cond(transmits && !total_internal, normalize(through), c.d);
-    c.o = cond(transmits && !total_internal, lift(s, x, -1.0f), c.o);
+    c.d = cond(transmits, onward, c.d);
+    c.o = cond(transmits && !mirrored, lift(s, x, -1.0f), c.o);
   }
   return c;
 }

@@ -144,6 +144,11 @@ class Intersector {
   Attrib4i request_;
 };
 
+// Where a ray going along d goes on at a surface of normal n (facing the
+// side d comes from), eta the ratio of indices (from / into): refracted by
+// Snell's law, or mirrored past the critical angle (then `mirrored` is 1).
+Vector3f refract_or_mirror(const Vector3f& d, const Normal3f& n, const Attrib1f& eta, Attrib1f& mirrored);
+
 Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direction, pixel centre
 // origin, direction -> t, triangle; over a lazy octree also a resumable
 // walk: origin, direction, resume (cell, best t), resume triangle -> t,
