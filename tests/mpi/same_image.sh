@@ -17,3 +17,14 @@ grep -q "rank 0: [1-9][0-9]* nodes built" "$dir/mpi_lazy.txt"
 grep -q "rank 1: [1-9][0-9]* nodes built" "$dir/mpi_lazy.txt"
 grep -q "overlap: [1-9][0-9]* distinct nodes built" "$dir/mpi_lazy.txt"
 echo "the lazy octree built on each rank gives the same image; both ranks built nodes"
+# Bidirectional: the light pass's elements are handed out in chunks to both
+# ranks, each adding into its own sums that rank 0 adds up; the sums differ
+# from cpu's only in the order of the additions, so the energy that arrived
+# agrees to the digits printed.
+"$shtrace" render --scene magg-glass --size 100x100 --backend cpu --bidirectional --output "$dir/bidir_cpu.png" \
+  | grep "energy arrived" | sed 's/.*energy arrived/energy arrived/' > "$dir/bidir_cpu.txt"
+"$mpirun" -np 2 "$shtrace" render --scene magg-glass --size 100x100 --backend mpi --bidirectional \
+  --output "$dir/bidir_mpi.png" | grep "energy arrived" | sed 's/.*energy arrived/energy arrived/' > "$dir/bidir_mpi.txt"
+test -s "$dir/bidir_cpu.txt"
+cmp "$dir/bidir_cpu.txt" "$dir/bidir_mpi.txt"
+echo "the light pass on 2 ranks delivers the energy it delivers on cpu: $(cat "$dir/bidir_mpi.txt")"
