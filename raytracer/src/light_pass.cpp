@@ -1,6 +1,5 @@
 // The light pass (bidirectional.hpp): one stream element per ray, from a
 // light to a sample point of an element; energy left by scatter-add.
-#include <chrono>
 #include <map>
 #include <tuple>
 
@@ -28,6 +27,14 @@ Attrib2f sample_in_triangle(const Attrib1i& k) {
 
 Point3f lattice_point(const SceneTables& s, const Attrib1i& tri, const Attrib1f& i, const Attrib1f& j, const Attrib1f& k) {
   return s.v0[tri] + (i * s.e1[tri] + j * s.e2[tri]) / k;
+}
+
+LightPassSettings checked(LightPassSettings settings) {
+  if (settings.subdivision < 1 || settings.subdivision > 64)
+    throw Error("light pass: elements per triangle side must be 1..64, got " + std::to_string(settings.subdivision));
+  if (settings.samples < 1) throw Error("light pass: rays per element must be at least 1, got " + std::to_string(settings.samples));
+  if (settings.depth < 0 || settings.depth > 64) throw Error("light pass: depth must be 0..64, got " + std::to_string(settings.depth));
+  return settings;
 }
 
 }  // namespace
@@ -59,22 +66,17 @@ Vec3 ElementLight::total() const {
 
 LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSettings settings)
     : lights_(scene.lights.size()),
-      settings_(settings),
+      settings_(checked(settings)),
       element_table_(static_cast<int>(std::max<std::size_t>(1, scene.mesh.triangles() * settings.subdivision * settings.subdivision))),
       emitters_(static_cast<int>(std::max<std::size_t>(1, 2 * scene.lights.size()))),
       energy_(static_cast<int>(scene.mesh.triangles() * element_slots(settings.subdivision)), "element_energy") {
-  if (settings.subdivision < 1 || settings.subdivision > 64)
-    throw Error("light pass: elements per triangle side must be 1..64, got " + std::to_string(settings.subdivision));
-  if (settings.samples < 1) throw Error("light pass: rays per element must be at least 1, got " + std::to_string(settings.samples));
-  if (settings.depth < 0 || settings.depth > 64) throw Error("light pass: depth must be 0..64, got " + std::to_string(settings.depth));
   if (tables.octree && tables.octree->lazy)
     throw Error("light pass: runs over a grid or a static octree (a lazy octree is built by the view's rays)");
   int k = settings.subdivision;
   for (std::size_t t = 0; t < scene.mesh.triangles(); ++t)
-    for (int j = 0; j < k; ++j)
-      for (int i = 0; i + j < k; ++i)
-        for (int down = 0; down < (i + j < k - 1 ? 2 : 1); ++down)
-          elements_.insert(elements_.end(), {static_cast<std::int32_t>(t), i, j, down});
+    for_each_element(k, [&](int i, int j, int down) {
+      elements_.insert(elements_.end(), {static_cast<std::int32_t>(t), i, j, down});
+    });
   element_table_.name("elements").assign(elements_);
   std::vector<float> emit;
   for (const PointLight& l : scene.lights) {
@@ -85,7 +87,6 @@ LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSet
   emitters_.name("emitters").assign(emit);
   element_count_ = static_cast<std::int32_t>(elements_.size() / 4);
   sample_count_ = settings.samples;
-  light_count_ = static_cast<std::int32_t>(scene.lights.size());
   subdivision_ = static_cast<float>(k);
   depth_ = static_cast<float>(settings.depth);
 
@@ -193,21 +194,19 @@ ElementLight luminance_of(const Scene& scene, int k, std::vector<float> energy) 
         Vec3 n = normalize((1 - u - v) * m.normals[3 * t] + u * m.normals[3 * t + 1] + v * m.normals[3 * t + 2]);
         lattice_key[t * lattice_slots(k) + j * (k + 1) + i] = key_of(v0 + u * e1 + v * e2, n);
       }
-    for (int j = 0; j < k; ++j)
-      for (int i = 0; i + j < k; ++i)
-        for (int down = 0; down < (i + j < k - 1 ? 2 : 1); ++down) {
-          std::size_t slot = t * element_slots(k) + 2 * (j * k + i) + down;
-          Vec3 e{out.energy[3 * slot], out.energy[3 * slot + 1], out.energy[3 * slot + 2]};
-          Vec3 lum = area > 0 ? e * (1 / area) : Vec3{};
-          out.luminance[3 * slot] = lum.x, out.luminance[3 * slot + 1] = lum.y, out.luminance[3 * slot + 2] = lum.z;
-          int here = j * (k + 1) + i;
-          int corners[3] = {down ? here + k + 2 : here, down ? here + k + 1 : here + 1, down ? here + 1 : here + k + 1};
-          for (int c : corners) {
-            Mean& mean = around[lattice_key[t * lattice_slots(k) + c]];
-            mean.sum = mean.sum + lum;
-            ++mean.count;
-          }
-        }
+    for_each_element(k, [&](int i, int j, int down) {
+      std::size_t slot = t * element_slots(k) + 2 * (j * k + i) + down;
+      Vec3 e{out.energy[3 * slot], out.energy[3 * slot + 1], out.energy[3 * slot + 2]};
+      Vec3 lum = area > 0 ? e * (1 / area) : Vec3{};
+      out.luminance[3 * slot] = lum.x, out.luminance[3 * slot + 1] = lum.y, out.luminance[3 * slot + 2] = lum.z;
+      int here = j * (k + 1) + i;
+      int corners[3] = {down ? here + k + 2 : here, down ? here + k + 1 : here + 1, down ? here + 1 : here + k + 1};
+      for (int c : corners) {
+        Mean& mean = around[lattice_key[t * lattice_slots(k) + c]];
+        mean.sum = mean.sum + lum;
+        ++mean.count;
+      }
+    });
   }
   for (std::size_t l = 0; l < lattice_key.size(); ++l) {
     auto it = around.find(lattice_key[l]);

@@ -90,7 +90,8 @@ Image Renderer::render(RenderReport* report) {
   int band = std::max(kTile, std::min(image.height, static_cast<int>((1 << 18) / image.width)) / kTile * kTile);
   RenderReport r;
   if (light_pass_ && !light_) {
-    if (show) std::fprintf(stderr, "light pass on %s: %zu rays\n", choice.name.empty() ? default_backend_name().c_str() : choice.name.c_str(), light_pass_->rays());
+    std::string on = choice.name.empty() ? default_backend_name() : choice.name;
+    if (show) std::fprintf(stderr, "light pass on %s: %zu rays\n", on.c_str(), light_pass_->rays());
     light_ = luminance_of(scene_, settings_.light_pass.subdivision, light_pass_->run(choice, &r.light));
     tables_->luminance->vertex.assign(light_->vertex);
   }

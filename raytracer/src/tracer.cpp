@@ -149,8 +149,8 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
       if (f.soft_shadows) local += soft_direct(s, intersect, x, -p.d, turn);
       if (f.reflections || f.refractions) {
         Continuation next = go_on(s, x, p.d, f);
-        Attrib1f kept = f.refractions ? x.reflectivity + x.transparency : x.reflectivity;
-        add = p.weight * (1.0f - kept) * local;
+        Attrib1f shaded = f.refractions ? x.shaded() : 1.0f - x.reflectivity;
+        add = p.weight * shaded * local;
         weight = p.weight * next.share;
         d = next.d;
         o = next.o;

@@ -35,11 +35,11 @@ sh::rt::Scene closed_box() {
   return s;
 }
 
-std::vector<float> light_pass(const sh::rt::Scene& scene, const std::string& backend, sh::rt::LightPassSettings lp) {
+std::vector<float> light_pass(const sh::rt::Scene& scene, const sh::BackendChoice& choice, sh::rt::LightPassSettings lp) {
   sh::rt::Grid grid = sh::rt::build_grid(scene, 2.0);
   sh::rt::SceneTables tables(scene, grid);
   sh::rt::LightPass pass(scene, tables, lp);
-  return pass.run(sh::backend(backend));
+  return pass.run(choice);
 }
 
 class LightPassOn : public testing::TestWithParam<std::string> {};
@@ -52,7 +52,7 @@ TEST_P(LightPassOn, ConservesEnergyInAClosedDiffuseBox) {
   sh::rt::LightPassSettings lp;
   lp.subdivision = 3;
   lp.samples = 8;
-  std::vector<float> energy = light_pass(box, GetParam(), lp);
+  std::vector<float> energy = light_pass(box, sh::backend(GetParam()), lp);
   int k = lp.subdivision;
   const sh::rt::PointLight& light = box.lights[0];
   double total = 0, expected_total = 0;
@@ -95,7 +95,7 @@ TEST_P(LightPassOn, GlassPassesTheLightOnToTheFloor) {
     lp.subdivision = 4;
     lp.samples = 16;
     lp.depth = 6;
-    std::vector<float> e = light_pass(s, GetParam(), lp);
+    std::vector<float> e = light_pass(s, sh::backend(GetParam()), lp);
     double floor = 0;
     for (std::size_t slot = 0; slot < 2 * 8 * 8 * static_cast<std::size_t>(sh::rt::element_slots(4)); ++slot) floor += e[3 * slot];
     return floor;
@@ -129,10 +129,7 @@ TEST(LightPass, AMirrorSendsLightWhereGeometrySays) {
     lp.depth = 1;
     sh::Options one_thread;
     one_thread.threads = 1;
-    sh::rt::Grid grid = sh::rt::build_grid(s, 2.0);
-    sh::rt::SceneTables tables(s, grid);
-    sh::rt::LightPass pass(s, tables, lp);
-    return std::pair{pass.run(sh::backend("cpu", one_thread)), s};
+    return std::pair{light_pass(s, sh::backend("cpu", one_thread), lp), s};
   };
   auto [plain, scene] = floor_energy(false);
   auto [mirrored, ignored] = floor_energy(true);

@@ -34,6 +34,14 @@ struct LightPassSettings {
 inline int element_slots(int k) { return 2 * k * k; }
 inline int lattice_slots(int k) { return (k + 1) * (k + 1); }
 
+// Calls f(i, j, down) for each element of a triangle split k x k.
+template <class F>
+void for_each_element(int k, F f) {
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i + j < k; ++i)
+      for (int down = 0; down < (i + j < k - 1 ? 2 : 1); ++down) f(i, j, down);
+}
+
 // What a light pass left on the scene, per triangle's slots (rgb each).
 struct ElementLight {
   int subdivision = 0;
@@ -70,7 +78,7 @@ class LightPass {
   Table1D<Attrib4i> element_table_;
   Table1D<Attrib3f> emitters_;          // position, intensity per light
   Accumulator<Attrib3f> energy_;
-  Attrib1i element_count_, sample_count_, light_count_;
+  Attrib1i element_count_, sample_count_;
   Attrib1f subdivision_, depth_;
   Program program_;
 };
