@@ -17,7 +17,7 @@ namespace {
 class CpuKernel : public Kernel {
  public:
   CpuKernel(const ir::Program& p, const Options& o)
-      : program_(p), options_(o), jitted_(program_, options_),
+      : program_(p), options_(o), fetched_(fetches_tables(o)), jitted_(program_, options_),
         arena_(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
 
   void run(const RunArgs& args, RunStats&) override {
@@ -26,12 +26,15 @@ class CpuKernel : public Kernel {
     for (const BufferView& b : args.outputs) outputs.push_back(b.data);
     std::vector<double> uniforms;
     for (const auto& u : args.uniforms) uniforms.insert(uniforms.end(), u.begin(), u.end());
+    std::vector<TableAccess> accesses(args.tables.size());
     std::vector<const void*> tables;
     std::vector<std::int32_t> dims;
     for (std::size_t i = 0; i < args.tables.size(); ++i) {
       const TableView& t = args.tables[i];
       check_gather_range(t, i);
-      tables.push_back(t.data);
+      check_held(t, i);
+      accesses[i] = {&element_of, static_cast<const char*>(t.data), static_cast<std::size_t>(t.element.width * ir::storage_bytes(t.element.scalar)), t.source};
+      tables.push_back(fetched_ && !t.sums ? &accesses[i] : t.data);
       dims.insert(dims.end(), t.dims.begin(), t.dims.end());
     }
     alignas(16) std::int64_t status[2] = {0, 0};
@@ -66,8 +69,23 @@ class CpuKernel : public Kernel {
                   " values; the cpu backend's SPMD kernels index at most 2^31 - 1 of a table: run it with width=scalar");
   }
 
+  // A table held elsewhere is read only by kernels that fetch.
+  void check_held(const TableView& t, std::size_t i) const {
+    if (t.data) return;
+    if (!t.source) throw Error("program '" + program_.name + "': table '" + program_.tables[i].name + "' has no data");
+    if (!fetched_)
+      throw Error("program '" + program_.name + "': table '" + program_.tables[i].name +
+                  "' is not held in this process; the cpu backend reads it only with the setting \"tables\": \"fetched\"");
+  }
+
+  static const void* element_of(const TableAccess* a, std::int64_t flat) {
+    if (!a->data) return a->source->element(static_cast<std::size_t>(flat));
+    return a->data + static_cast<std::size_t>(flat) * a->element_bytes;
+  }
+
   ir::Program program_;  // the loops in error messages point into it
   Options options_;
+  bool fetched_;
   Jitted jitted_;
   tbb::task_arena arena_;
 };
@@ -79,7 +97,12 @@ class CpuBackend : public Backend {
     return std::make_unique<CpuKernel>(p, o);
   }
   std::vector<Variant> variants() const override {
-    return {{"scalar", {{"width", "scalar"}}}, {"w4", {{"width", "4"}}}, {"w8", {{"width", "8"}}}, {"w16", {{"width", "16"}}}};
+    return {{"scalar", {{"width", "scalar"}}},
+            {"w4", {{"width", "4"}}},
+            {"w8", {{"width", "8"}}},
+            {"w16", {{"width", "16"}}},
+            {"scalar_fetched", {{"width", "scalar"}, {"tables", "fetched"}}},
+            {"w16_fetched", {{"width", "16"}, {"tables", "fetched"}}}};
   }
   std::vector<std::string> describe() const override {
     return {"cpu: LLVM 15 ORC JIT for the host CPU, SPMD with " + std::to_string(lane_count(Options{})) +

@@ -24,4 +24,9 @@ Lowered lower(const ir::Program& program, const Options& options, int width, llv
 // 4 otherwise).
 int lane_count(const Options& options);
 
+// The setting "tables": "memory" (default) reads tables from the run's
+// memory; "fetched" reads each element through a call to the run's
+// TableAccess (signature.hpp), so that a table may live elsewhere.
+bool fetches_tables(const Options& options);
+
 }  // namespace sh::cpu

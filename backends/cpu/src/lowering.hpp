@@ -93,6 +93,9 @@ class Lowering {
   Value* int_op(ir::Op op, Value* a, Value* b);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
   Value* flat_index(int table, const ir::Operand& coord, bool sample, bool gather);
+  std::array<Value*, 4> fetch(int table, Value* flat);
+  std::array<Value*, 4> fetch_lanes(int table, Value* flat);
+  void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);
   void scatter(const ir::Scatter& sc);
   llvm::Align alignment(llvm::Type* scalar) const { return llvm::Align(scalar->getPrimitiveSizeInBits() / 8); }
   std::array<Value*, 4> same_or_gather(Value* flat, const std::function<std::array<Value*, 4>(Value*, bool)>& element);

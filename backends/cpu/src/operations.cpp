@@ -199,6 +199,11 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   const ir::TableDecl& t = p_.tables[a.table];
   bool gather = varying(a.dest);
   Value* flat = flat_index(a.table, a.args[0], a.op == ir::Op::Sample, gather);
+  if (fetches_tables(o_)) {
+    std::array<Value*, 4> raw = gather ? fetch_lanes(a.table, flat) : fetch(a.table, flat);
+    for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
+    return;
+  }
   Value* base = table_base_[a.table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   auto element = [&](Value* flat_index, bool as_gather) {
@@ -218,6 +223,55 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   };
   std::array<Value*, 4> raw = gather ? same_or_gather(flat, element) : element(flat, false);
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
+}
+
+// A fetched table's element: one call to its TableAccess, then the
+// components from the pointer it returns.
+std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
+  const ir::TableDecl& t = p_.tables[table];
+  llvm::Type* ptr = b_.getPtrTy();
+  auto* element_fn = llvm::FunctionType::get(ptr, {ptr, b_.getInt64Ty()}, false);
+  Value* access = table_base_[table];
+  Value* element = b_.CreateCall(element_fn, b_.CreateLoad(ptr, access), {access, flat});
+  llvm::Type* scalar = storage_scalar(t.element.scalar);
+  std::array<Value*, 4> values{};
+  for (int c = 0; c < t.element.width; ++c)
+    values[c] = b_.CreateLoad(scalar, b_.CreateConstInBoundsGEP1_64(scalar, element, static_cast<std::uint64_t>(c)));
+  return values;
+}
+
+// In SPMD each running lane fetches its own element, one after another.
+std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
+  const ir::TableDecl& t = p_.tables[table];
+  llvm::Type* vector = lanes(storage_scalar(t.element.scalar));
+  std::array<llvm::AllocaInst*, 4> slots{};
+  for (int c = 0; c < t.element.width; ++c) {
+    slots[c] = entry_alloca(vector, "fetched");
+    b_.CreateStore(llvm::Constant::getNullValue(vector), slots[c]);
+  }
+  for_each_running_lane([&](std::uint64_t lane) {
+    std::array<Value*, 4> one = fetch(table, b_.CreateZExt(b_.CreateExtractElement(flat, lane), b_.getInt64Ty()));
+    for (int c = 0; c < t.element.width; ++c)
+      b_.CreateStore(b_.CreateInsertElement(b_.CreateLoad(vector, slots[c]), one[c], lane), slots[c]);
+  });
+  std::array<Value*, 4> values{};
+  for (int c = 0; c < t.element.width; ++c) values[c] = b_.CreateLoad(vector, slots[c]);
+  return values;
+}
+
+// Code for each lane that runs the current statement, lane by lane.
+void Lowering::for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit) {
+  Value* running = exec();
+  for (int lane = 0; lane < width_; ++lane) {
+    auto k = static_cast<std::uint64_t>(lane);
+    BasicBlock* body = BasicBlock::Create(ctx_, "lane", fn_);
+    BasicBlock* next = BasicBlock::Create(ctx_, "lane.next", fn_);
+    b_.CreateCondBr(b_.CreateExtractElement(running, k), body, next);
+    b_.SetInsertPoint(body);
+    emit(k);
+    b_.CreateBr(next);
+    b_.SetInsertPoint(next);
+  }
 }
 
 // The element a read or scatter names, clamped to the edge in each
@@ -265,18 +319,10 @@ void Lowering::scatter(const ir::Scatter& sc) {
     }
   };
   if (!per_lane) return add(flat, [](Value* x) { return x; });
-  Value* running = exec();
-  for (int lane = 0; lane < width_; ++lane) {
-    auto k = static_cast<std::uint64_t>(lane);
-    BasicBlock* adds = BasicBlock::Create(ctx_, "scatter.lane", fn_);
-    BasicBlock* next = BasicBlock::Create(ctx_, "scatter.next", fn_);
-    b_.CreateCondBr(b_.CreateExtractElement(running, k), adds, next);
-    b_.SetInsertPoint(adds);
+  for_each_running_lane([&](std::uint64_t k) {
     add(b_.CreateZExt(b_.CreateExtractElement(flat, k), b_.getInt64Ty()),
         [&](Value* x) { return b_.CreateExtractElement(x, k); });
-    b_.CreateBr(next);
-    b_.SetInsertPoint(next);
-  }
+  });
 }
 
 // Gathers cost a load per lane.  Where every running lane reads the same

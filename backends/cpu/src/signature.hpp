@@ -3,7 +3,10 @@
 // end).  Uniforms arrive as four doubles each; tables as data pointers and
 // three dimensions each.  A kernel that stops early (a loop past its
 // iteration cap) writes status[0] = loop number + 1, status[1] = element.
+#include <cstddef>
 #include <cstdint>
+
+#include "sh/backend.hpp"
 
 namespace sh::cpu {
 
@@ -12,5 +15,15 @@ using KernelFn = void (*)(std::int64_t begin, std::int64_t end, void* const* inp
                           std::int64_t* status);
 
 inline constexpr const char* kKernelSymbol = "sh_kernel";
+
+// With the setting "tables": "fetched", a table that is read (not an
+// accumulator) arrives as one of these in place of its data pointer, and
+// the kernel calls `element` for each element it reads.
+struct TableAccess {
+  const void* (*element)(const TableAccess* self, std::int64_t flat);
+  const char* data;  // null: read through source
+  std::size_t element_bytes;
+  TableSource* source;
+};
 
 }  // namespace sh::cpu

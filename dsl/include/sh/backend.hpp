@@ -43,6 +43,18 @@ struct BufferView {
   void* data = nullptr;
 };
 
+// A table this process does not hold whole (the mpi backend splits big
+// tables across ranks): a kernel reads it one element at a time through
+// this.  The pointer returned stays valid until the next call; a source is
+// called from one thread at a time (the kernels that read one run on one).
+// The interpreter reads through sources; the cpu backend does when compiled
+// with the setting "tables": "fetched"; OpenCL kernels cannot call back.
+class TableSource {
+ public:
+  virtual ~TableSource() = default;
+  virtual const void* element(std::size_t flat) = 0;
+};
+
 struct TableView {
   ir::Type element;
   int rank = 1;
@@ -51,6 +63,7 @@ struct TableView {
   void* sums = nullptr;       // an accumulator's storage (then data is it too), which the run adds into
   std::uint64_t id = 0;       // the table, unique in the process: with version, says whether it changed
   std::uint64_t version = 0;
+  TableSource* source = nullptr;  // where data is null: the elements are read through this
   std::size_t bytes() const {
     return static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] * element.width * ir::storage_bytes(element.scalar);
   }

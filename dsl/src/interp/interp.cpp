@@ -125,6 +125,11 @@ class Machine {
                                                             p_.type_of(c.var).scalar, o_.precision);
     if (o_.checked && index.clamped) note("first out-of-range table read", s);
     Reg r{};
+    if (t.source) {
+      const void* element = t.source->element(index.element);
+      for (int k = 0; k < t.element.width; ++k) r[k] = read_component(t.element.scalar, element, k);
+      return r;
+    }
     for (int k = 0; k < t.element.width; ++k)
       r[k] = read_component(t.element.scalar, t.data, index.element * t.element.width + k);
     return r;

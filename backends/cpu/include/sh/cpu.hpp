@@ -12,7 +12,9 @@
 // Options it honours: precision (f32 without FMA contraction, IEEE divide
 // and sqrt; f64 computes every float as double), math (fast: LLVM fast-math
 // flags), threads (a oneTBB arena; 0 = every core), max_loop_iterations,
-// settings["width"].
+// settings["width"], settings["tables"] ("fetched": each table read calls
+// out to the run, so a table may be a TableSource, such as an mpi rank's
+// cache of a table split across ranks; "memory", the default, loads).
 // kernel_for(p, backend("cpu"))->listing() gives the optimised LLVM IR.
 #include "sh/backend.hpp"
 

@@ -1,3 +1,4 @@
+// The cpu backend's settings, read from Options::settings.
 #include <llvm/ADT/StringMap.h>
 #include <llvm/Support/Host.h>
 
@@ -24,6 +25,13 @@ int lane_count(const Options& options) {
   if (w == "scalar" || w == "1") return 1;
   if (w == "4" || w == "8" || w == "16") return std::stoi(w);
   throw Error("cpu backend: setting \"width\" is \"" + w + "\"; expected scalar, 4, 8, 16 or auto");
+}
+
+bool fetches_tables(const Options& options) {
+  auto it = options.settings.find("tables");
+  if (it == options.settings.end() || it->second == "memory") return false;
+  if (it->second == "fetched") return true;
+  throw Error("cpu backend: setting \"tables\" is \"" + it->second + "\"; expected memory or fetched");
 }
 
 }  // namespace sh::cpu
