@@ -4,6 +4,9 @@
 
 #include <sh/sh.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace {
 
 using namespace sh;
@@ -124,6 +127,148 @@ TEST(Mpi, StaticScheduleGivesEachRankOneShareAndBadSettingsAreErrors) {
   std::size_t chunks = 0;
   for (const PartStats& part : s.parts) chunks += part.chunks;
   EXPECT_EQ(chunks, 91u);
+}
+
+}  // namespace
+
+namespace {
+
+using namespace sh;
+
+Options split(const char* cache_blocks, const std::string& local = "cpu") {
+  Options o;
+  o.local_backend = local;
+  o.settings = {{"split_tables", "0"}, {"block_bytes", "256"}, {"cache_blocks", cache_blocks}};
+  return o;
+}
+
+const TableCacheStats& cache_of(const RunStats& s, const std::string& table) {
+  for (const TableCacheStats& c : s.caches)
+    if (c.table == table) return c;
+  throw std::runtime_error("no cache for table " + table);
+}
+
+// Scattered reads through a cache of 4 blocks of 256 bytes, under divergent
+// control flow, must give what the whole table gives, on every local
+// backend that reads split tables.
+TEST(MpiSplitTables, TheCacheReturnsWhatTheWholeTableHolds) {
+  constexpr int n = 5000;
+  std::vector<float> points(3 * n);
+  for (std::size_t k = 0; k < points.size(); ++k) points[k] = std::sin(0.37f * static_cast<float>(k));
+  Table1D<Attrib3f> table(n);
+  table.assign(points);
+  table.name("points");
+  std::vector<std::int32_t> steps(64 * 16);
+  for (std::size_t k = 0; k < steps.size(); ++k) steps[k] = static_cast<std::int32_t>(k % 7);
+  Table2D<Attrib1i> step_table(64, 16);
+  step_table.assign(steps);
+  step_table.name("steps");
+  Program p = SH_BEGIN_PROGRAM("gather") {
+    InputAttrib1i i;
+    OutputAttrib3f y;
+    y = table[(i * 7919) % n];
+    Attrib1i k = 0;
+    Attrib2i at;
+    at(0) = i % 64;
+    at(1) = i % 16;
+    SH_WHILE(k < step_table[at]) {  // 0 to 6 more reads per element
+      y += table[(i * 31 + k * 977) % n];
+      k += 1;
+    } SH_ENDWHILE;
+  } SH_END;
+  std::vector<std::int32_t> is(20000);
+  for (std::size_t k = 0; k < is.size(); ++k) is[k] = static_cast<std::int32_t>(k);
+  Channel<Attrib1i> in(is);
+  Channel<Attrib3f> whole;
+  run(p, {in}, {whole}, backend("cpu"));
+  for (std::string local : {"cpu", "interp"}) {
+    Channel<Attrib3f> out;
+    RunStats s = run(p, {in}, {out}, backend("mpi", split("4", local)));
+    EXPECT_EQ(out.values(), whole.values()) << local;
+    ASSERT_EQ(s.caches.size(), 2u) << local;
+    const TableCacheStats& points_cache = cache_of(s, "points");
+    EXPECT_EQ(points_cache.blocks, (n * 12 + 251) / 252u) << "21 float3 (252 bytes) in a 256-byte block";
+    EXPECT_EQ(points_cache.cache_blocks, 4u);
+    std::size_t loop_reads = 0;
+    for (std::int32_t i : is) loop_reads += static_cast<std::size_t>(steps[(i % 16) * 64 + i % 64]);
+    EXPECT_EQ(points_cache.counts.reads, is.size() + loop_reads) << local;
+    EXPECT_EQ(cache_of(s, "steps").counts.reads, is.size() + loop_reads) << "the loop's test reads it each trip";
+    EXPECT_GT(points_cache.counts.local_misses, 0u) << local;
+    if (mpi::size() > 1) {
+      EXPECT_GT(points_cache.counts.remote_misses, points_cache.counts.local_misses) << "most blocks live elsewhere";
+    } else {
+      EXPECT_EQ(points_cache.counts.remote_misses, 0u);
+    }
+    EXPECT_LT(points_cache.counts.hit_rate(), 0.5) << "scattered reads through 4 blocks mostly miss";
+  }
+}
+
+// Least recently used: with 2 slots, a block read every other time stays
+// (first in, first out would evict it), while 4 others take turns in the
+// other slot; with 5 slots each block misses once.
+TEST(MpiSplitTables, TheCacheReplacesTheLeastRecentlyUsedBlock) {
+  std::vector<float> values(5 * 64);
+  for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(k);
+  Table1D<Attrib1f> table(5 * 64);
+  table.assign(values);
+  table.name("hot and cold");
+  Program p = SH_BEGIN_PROGRAM("hot_and_cold") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    Attrib1i block = 0;
+    SH_IF(i % 2 == 1) { block = 1 + (i / 2) % 4; } SH_ENDIF;
+    y = table[block * 64];
+  } SH_END;
+  std::vector<std::int32_t> is(3000);
+  for (std::size_t k = 0; k < is.size(); ++k) is[k] = static_cast<std::int32_t>(k);
+  Channel<Attrib1i> in(is);
+  for (std::size_t slots : {2, 5}) {
+    Options o = split(std::to_string(slots).c_str());
+    o.settings["schedule"] = "static";  // each rank reads one contiguous share in order
+    Channel<Attrib1f> out;
+    RunStats s = run(p, {in}, {out}, backend("mpi", o));
+    EXPECT_EQ(out[2999], 256.f);
+    const CacheCounts& c = cache_of(s, "hot and cold").counts;
+    EXPECT_EQ(c.reads, is.size());
+    std::size_t shares = s.parts.size(), share = (is.size() + shares - 1) / shares, expected = 0;
+    for (std::size_t begin = 0; begin < is.size(); begin += share) {
+      std::size_t end = std::min(begin + share, is.size()), odd = end / 2 - begin / 2;
+      expected += slots == 2 ? 1 + odd : 5;  // the hot block once, each cold read; or each block once
+    }
+    EXPECT_EQ(c.local_misses + c.remote_misses, expected) << slots << " slots";
+  }
+}
+
+TEST(MpiSplitTables, BadSettingsAreErrorsAndOpenClKeepsTablesWhole) {
+  Table1D<Attrib1f> table(100);
+  table.assign(std::vector<float>(100, 2.0f));
+  Program p = SH_BEGIN_PROGRAM("read") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    y = table[i];
+  } SH_END;
+  Channel<Attrib1i> in(std::vector<std::int32_t>(500, 3));
+  Channel<Attrib1f> out;
+  for (const char* bad : {"split_tables=-1", "cache_blocks=0", "block_bytes=2k"}) {
+    Options o = split("4");
+    std::string kv = bad;
+    o.settings[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
+    try {
+      run(p, {in}, {out}, backend("mpi", o));
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(kv.substr(0, kv.find('='))), std::string::npos) << e.what();
+    }
+  }
+  Options o = split("4");
+  o.settings["split_tables"] = "1000";  // 400 bytes: below, so whole
+  EXPECT_TRUE(run(p, {in}, {out}, backend("mpi", o)).caches.empty());
+  std::vector<std::string> names = backend_names();
+  if (std::find(names.begin(), names.end(), "opencl") != names.end()) {
+    RunStats s = run(p, {in}, {out}, backend("mpi", split("4", "opencl")));
+    EXPECT_TRUE(s.caches.empty()) << "OpenCL kernels cannot call back: the table stays whole";
+    EXPECT_EQ(out[499], 2.f);
+  }
 }
 
 }  // namespace

@@ -3,12 +3,14 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <set>
 
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
 #include "sh/waves.hpp"
+#include "split_table.hpp"
 #include "wire.hpp"
 
 namespace sh::mpi {
@@ -34,12 +36,14 @@ std::set<std::uint64_t>& refiners_sent() {
 
 class Coordinator : public Kernel {
  public:
-  Coordinator(const ir::Program& p, const Options& o) : program_(p), schedule_(schedule_of(o)), chunk_(chunk_of(o)) {
+  Coordinator(const ir::Program& p, const Options& o)
+      : program_(p), schedule_(schedule_of(o)), chunk_(chunk_of(o)), split_(split_settings(o)) {
     static std::uint64_t next_id = 1;
     id_ = next_id++;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
     Options local = o;
     local.local_backend.clear();
+    if (split_.enabled) read_split_tables(o.local_backend, local);
     local_ = find_backend(o.local_backend).compile(p, local);
     if (ranks_ > 1) compile_everywhere(local, o.local_backend);
   }
@@ -62,9 +66,13 @@ class Coordinator : public Kernel {
     const Waves* waves;
   };
 
-  void spread(const RunArgs& args, const Waves* waves, RunStats& stats) {
+  void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
     Traffic t;
-    if (ranks_ > 1) broadcast(run_command(args, waves), t);
+    std::vector<bool> split = which_split(whole);
+    if (ranks_ > 1) broadcast(run_command(whole, split, waves), t);
+    // Rank 0 reads split tables through its cache, as every rank does.
+    RunArgs args = whole;
+    hold_split_tables(args, split, stats, t);
     PartStats mine;
     mine.part = 0;
     // Dynamic: many more chunks than ranks (16 each unless a size is set);
@@ -111,6 +119,8 @@ class Coordinator : public Kernel {
       served += hand_out(s, source, t);
     }
     while (waiting_stats-- > 0) take_stats(receive(MPI_ANY_SOURCE, kStats, t), args, parts, stats);
+    for (std::size_t i = 0, k = 0; i < args.tables.size(); ++i)
+      if (split[i]) stats.caches[k++].counts += static_cast<SplitTable*>(args.tables[i].source)->take_counts();
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
@@ -124,13 +134,53 @@ class Coordinator : public Kernel {
   }
 
   // A serving rank's stats, with waves its refiner's summary (in rank
-  // order after rank 0's), and its accumulators' sums, added into ours.
+  // order after rank 0's), its accumulators' sums, added into ours, and its
+  // caches' counts.
   static void take_stats(const std::string& message, const RunArgs& args, std::vector<PartStats>& parts, RunStats& stats) {
     Unpacker u(message);
     parts.push_back(u.get<PartStats>());
     if (u.get<bool>()) stats.refined.push_back(u.text());
     for (const TableView& table : args.tables)
       if (table.sums) add_sums(table, u.take(table.bytes()));
+    for (TableCacheStats& cache : stats.caches) cache.counts += u.get<CacheCounts>();
+  }
+
+  // Local kernels that can call back into the runtime read split tables
+  // (cpu with fetched reads, on one thread: MPI is called from the kernel);
+  // OpenCL kernels cannot, and keep every table whole on every rank.
+  void read_split_tables(const std::string& local_backend, Options& local) {
+    if (local_backend == "cpu") {
+      local.settings["tables"] = "fetched";
+      local.threads = 1;
+    } else if (local_backend != "interp") {
+      std::fprintf(stderr, "sh: mpi backend: %s kernels cannot call back into the runtime; program '%s' keeps its tables whole on every rank\n",
+                   local_backend.c_str(), program_.name.c_str());
+      split_.enabled = false;
+    }
+  }
+
+  std::vector<bool> which_split(const RunArgs& args) const {
+    std::vector<bool> split;
+    for (const TableView& table : args.tables)
+      split.push_back(split_.enabled && !table.sums && table.bytes() >= split_.min_bytes);
+    return split;
+  }
+
+  // Collective with the serving ranks: each new split table's shares go
+  // out, then every rank holds its own; the run reads them through caches.
+  void hold_split_tables(RunArgs& args, const std::vector<bool>& split, RunStats& stats, Traffic& t) {
+    for (std::size_t i = 0; i < args.tables.size(); ++i) {
+      if (!split[i]) continue;
+      TableView& table = args.tables[i];
+      BlockLayout layout(table, split_.block_bytes, ranks_);
+      if (!holds_split(table, split_)) {
+        for (int r = 1; r < ranks_; ++r) send(layout.share(table.data, r), r, kBlocks, t);
+        hold_split(table, split_, layout.share(table.data, 0));
+      }
+      table.source = split_tables().at(table.id).table.get();
+      table.data = nullptr;
+      stats.caches.push_back({program_.tables[i].name, layout.blocks(), split_.cache_blocks, {}});
+    }
   }
 
   static void add_sums(const TableView& table, const char* theirs) {
@@ -170,13 +220,21 @@ class Coordinator : public Kernel {
 
   // The command every serving rank receives: the kernel, and the tables
   // and uniforms that changed since they last got them.
-  std::string run_command(const RunArgs& args, const Waves* waves) {
+  std::string run_command(const RunArgs& args, const std::vector<bool>& split, const Waves* waves) {
     Packer p;
     p.put(Command::Run).put(id_);
-    for (const TableView& table : args.tables) {
+    for (std::size_t i = 0; i < args.tables.size(); ++i) {
+      const TableView& table = args.tables[i];
       p.put(table.id);
       if (table.sums) {  // each rank adds into zeros of its own; rank 0 sums them
         p.put(table);
+        continue;
+      }
+      p.put(static_cast<bool>(split[i]));
+      if (split[i]) {  // its blocks follow, one share per rank
+        bool fresh = !holds_split(table, split_);
+        p.put(fresh);
+        if (fresh) p.put(table).put(split_);
         continue;
       }
       auto it = tables_sent().find(table.id);
@@ -279,6 +337,7 @@ class Coordinator : public Kernel {
   ir::Program program_;
   std::string schedule_;
   std::size_t chunk_;
+  SplitSettings split_;
   std::uint64_t id_ = 0;
   int ranks_ = 1;
   std::unique_ptr<Kernel> local_;

@@ -14,7 +14,7 @@
 namespace sh::mpi {
 
 // Message tags of the dynamic phase of a run.
-enum Tag : int { kReady = 1, kAssign, kDone, kResult, kFailed, kStats };
+enum Tag : int { kReady = 1, kAssign, kDone, kResult, kFailed, kStats, kBlocks };
 
 // Commands rank 0 broadcasts to the serving ranks.
 enum class Command : std::uint32_t { Compile = 1, Run, Shutdown };

@@ -11,6 +11,7 @@
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
 #include "sh/waves.hpp"
+#include "split_table.hpp"
 #include "wire.hpp"
 #include "world.hpp"
 
@@ -44,6 +45,7 @@ class Worker {
         case Command::Compile: compile(u); break;
         case Command::Run: run(u, t); break;
         case Command::Shutdown:
+          release_split_tables();
           MPI_Finalize();
           std::exit(0);
       }
@@ -73,7 +75,8 @@ class Worker {
     auto id = u.get<std::uint64_t>();
     LocalKernel& k = kernels_.at(id);
     RunArgs args;
-    receive_tables(u, k, args);
+    std::vector<SplitTable*> split;
+    receive_tables(u, k, args, split, t);
     if (u.get<bool>()) {  // new uniform values; otherwise the last ones hold
       k.uniforms.resize(k.program.uniforms.size());
       for (auto& value : k.uniforms) value = u.get<std::array<double, 4>>();
@@ -101,6 +104,7 @@ class Worker {
     if (waves && refusal.empty()) p.put(waves->refiner->summary());
     for (const TableView& table : args.tables)
       if (table.sums) p.raw(table.sums, table.bytes());
+    for (SplitTable* table : split) p.put(table->take_counts());
     send(p.bytes(), 0, kStats, t);
   }
 
@@ -130,7 +134,7 @@ class Worker {
     return w;
   }
 
-  void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args) {
+  void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args, std::vector<SplitTable*>& split, Traffic& t) {
     for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
       auto id = u.get<std::uint64_t>();
       Table& table = tables_[id];
@@ -142,6 +146,13 @@ class Worker {
         continue;
       }
       if (u.get<bool>()) {
+        split.push_back(&receive_split(u, id, t));
+        TableView view = split_views_[id];
+        view.source = split.back();
+        args.tables.push_back(view);
+        continue;
+      }
+      if (u.get<bool>()) {
         table.version = u.get<std::uint64_t>();
         table.view = u.get<TableView>();
         auto n = u.get<std::uint64_t>();
@@ -150,6 +161,19 @@ class Worker {
       table.view.data = table.bytes.data();
       args.tables.push_back(table.view);
     }
+  }
+
+  // A split table: unchanged, or a new version whose share rank 0 sends
+  // now, held collectively.
+  SplitTable& receive_split(Unpacker& u, std::uint64_t id, Traffic& t) {
+    if (u.get<bool>()) {
+      TableView view = u.get<TableView>();
+      auto settings = u.get<SplitSettings>();
+      view.data = nullptr;
+      split_views_[id] = view;
+      hold_split(view, settings, receive(0, kBlocks, t));
+    }
+    return *split_tables().at(id).table;
   }
 
   void compute(const LocalKernel& k, RunArgs args, const Waves* waves, const std::string& message, PartStats& stats,
@@ -199,6 +223,7 @@ class Worker {
   int rank_ = 0;
   std::map<std::uint64_t, LocalKernel> kernels_;
   std::map<std::uint64_t, Table> tables_;
+  std::map<std::uint64_t, TableView> split_views_;
   std::map<std::uint64_t, std::unique_ptr<Refiner>> refiners_;
 };
 

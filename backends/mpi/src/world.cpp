@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "sh/mpi.hpp"
+#include "split_table.hpp"
 #include "wire.hpp"
 
 namespace sh::mpi {
@@ -46,6 +47,7 @@ void shutdown_workers() {
     p.put(Command::Shutdown);
     broadcast(p.bytes(), ignored);
   }
+  release_split_tables();
   MPI_Finalize();
 }
 

@@ -85,6 +85,27 @@ struct PartStats {
   std::size_t waves = 0, resumed = 0;  // see RunStats
 };
 
+// Reads of a table through a cache of blocks (the mpi backend's split
+// tables): a miss fills a block from this process (local) or another.
+struct CacheCounts {
+  std::size_t reads = 0, local_misses = 0, remote_misses = 0;
+  double fill_s = 0;  // time spent filling blocks
+  CacheCounts& operator+=(const CacheCounts& o) {
+    reads += o.reads;
+    local_misses += o.local_misses;
+    remote_misses += o.remote_misses;
+    fill_s += o.fill_s;
+    return *this;
+  }
+  double hit_rate() const { return reads ? 1.0 - static_cast<double>(local_misses + remote_misses) / reads : 1.0; }
+};
+
+struct TableCacheStats {
+  std::string table;
+  std::size_t blocks = 0, cache_blocks = 0;  // the table's, and each part's cache's
+  CacheCounts counts;                        // summed over parts
+};
+
 struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)
@@ -97,6 +118,7 @@ struct RunStats {
   // took, and per part the refiner's summary of what it has built.
   std::size_t waves = 0, resumed = 0;
   std::vector<std::string> refined;
+  std::vector<TableCacheStats> caches;  // tables read through caches
 };
 
 struct Waves;

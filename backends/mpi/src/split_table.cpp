@@ -1,0 +1,149 @@
+#include "split_table.hpp"
+
+#include <chrono>
+#include <cstring>
+
+#include "sh/error.hpp"
+
+namespace sh::mpi {
+namespace {
+
+std::size_t positive_setting(const Options& o, const char* name, std::size_t fallback, std::size_t least) {
+  auto it = o.settings.find(name);
+  if (it == o.settings.end()) return fallback;
+  try {
+    std::size_t used = 0;
+    long long n = std::stoll(it->second, &used);
+    if (used != it->second.size() || n < static_cast<long long>(least)) throw std::invalid_argument("");
+    return static_cast<std::size_t>(n);
+  } catch (const std::exception&) {
+    throw Error("mpi backend: setting \"" + std::string(name) + "\" must be a whole number of at least " +
+                std::to_string(least) + ", not '" + it->second + "'");
+  }
+}
+
+}  // namespace
+
+SplitSettings split_settings(const Options& o) {
+  SplitSettings s;
+  s.enabled = o.settings.count("split_tables") > 0;
+  s.min_bytes = positive_setting(o, "split_tables", 0, 0);
+  s.block_bytes = positive_setting(o, "block_bytes", s.block_bytes, 1);
+  s.cache_blocks = positive_setting(o, "cache_blocks", s.cache_blocks, 1);
+  return s;
+}
+
+BlockLayout::BlockLayout(const TableView& view, std::size_t block_bytes, int ranks)
+    : element_bytes(static_cast<std::size_t>(view.element.width) * ir::storage_bytes(view.element.scalar)),
+      elements(view.bytes() / element_bytes),
+      block_elements(std::max<std::size_t>(1, block_bytes / element_bytes)),
+      ranks(ranks) {}
+
+std::size_t BlockLayout::bytes_of(std::size_t block) const {
+  return std::min(block_elements, elements - block * block_elements) * element_bytes;
+}
+
+std::string BlockLayout::share(const void* table, int rank) const {
+  std::string packed;
+  for (std::size_t b = static_cast<std::size_t>(rank); b < blocks(); b += static_cast<std::size_t>(ranks))
+    packed.append(static_cast<const char*>(table) + b * block_elements * element_bytes, bytes_of(b));
+  return packed;
+}
+
+SplitTable::SplitTable(const BlockLayout& layout, const std::string& own_share, std::size_t cache_blocks)
+    : layout_(layout), slot_bytes_(layout.block_elements * layout.element_bytes),
+      capacity_(cache_blocks) {
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  slots_.resize(slot_bytes_ * capacity_);
+  // Memory MPI allocates: within a node it is shared memory that the
+  // other ranks read directly; across nodes, memory registered for RDMA.
+  MPI_Win_allocate(static_cast<MPI_Aint>(own_share.size()), 1, MPI_INFO_NULL, MPI_COMM_WORLD, &own_, &window_);
+  if (!own_share.empty()) std::memcpy(own_, own_share.data(), own_share.size());
+  // One shared epoch for the table's life: each miss only flushes.
+  MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
+}
+
+SplitTable::~SplitTable() {
+  MPI_Win_unlock_all(window_);
+  MPI_Win_free(&window_);
+}
+
+const void* SplitTable::element(std::size_t flat) {
+  ++counts_.reads;
+  std::size_t b = flat / layout_.block_elements;
+  // Rays read runs of neighbouring elements: the last block is checked first.
+  if (b != last_block_) {
+    last_slot_ = block(b);
+    last_block_ = b;
+  }
+  return last_slot_ + (flat - b * layout_.block_elements) * layout_.element_bytes;
+}
+
+const char* SplitTable::block(std::size_t b) {
+  auto it = where_.find(b);
+  if (it != where_.end()) {
+    recency_.splice(recency_.begin(), recency_, it->second);
+    return slots_.data() + it->second->second * slot_bytes_;
+  }
+  std::size_t slot = recency_.size();
+  if (slot == capacity_) {  // evict the least recently used
+    slot = recency_.back().second;
+    where_.erase(recency_.back().first);
+    recency_.pop_back();
+  }
+  char* at = slots_.data() + slot * slot_bytes_;
+  fill(b, at);
+  recency_.emplace_front(b, slot);
+  where_[b] = recency_.begin();
+  return at;
+}
+
+void SplitTable::fill(std::size_t b, char* slot) {
+  auto start = std::chrono::steady_clock::now();
+  int owner = layout_.owner(b);
+  std::size_t offset = layout_.offset_in_share(b), bytes = layout_.bytes_of(b);
+  if (owner == rank_) {
+    std::memcpy(slot, own_ + offset, bytes);
+    ++counts_.local_misses;
+  } else {
+    int n = static_cast<int>(bytes);
+    MPI_Get(slot, n, MPI_BYTE, owner, static_cast<MPI_Aint>(offset), n, MPI_BYTE, window_);
+    MPI_Win_flush(owner, window_);
+    ++counts_.remote_misses;
+  }
+  counts_.fill_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+CacheCounts SplitTable::take_counts() {
+  CacheCounts taken = counts_;
+  counts_ = {};
+  return taken;
+}
+
+// Never destroyed by exit: freeing windows is collective, and rank 0 frees
+// them in step with the others when it shuts them down.
+std::map<std::uint64_t, HeldSplit>& split_tables() {
+  static auto* held = new std::map<std::uint64_t, HeldSplit>;
+  return *held;
+}
+
+bool holds_split(const TableView& view, const SplitSettings& settings) {
+  auto it = split_tables().find(view.id);
+  return it != split_tables().end() && it->second.version == view.version &&
+         it->second.block_bytes == settings.block_bytes && it->second.cache_blocks == settings.cache_blocks;
+}
+
+SplitTable& hold_split(const TableView& view, const SplitSettings& settings, const std::string& share) {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  HeldSplit& held = split_tables()[view.id];
+  held.table.reset();
+  held = {view.version, settings.block_bytes, settings.cache_blocks, nullptr};
+  held.table = std::make_unique<SplitTable>(BlockLayout(view, settings.block_bytes, ranks), share,
+                                            settings.cache_blocks);
+  return *held.table;
+}
+
+void release_split_tables() { split_tables().clear(); }
+
+}  // namespace sh::mpi
