@@ -112,6 +112,15 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   return s;
 }
 
+// mpi with split tables: each table's cache over a pass, in the seed's terms.
+void print_caches(const char* pass, const std::vector<TableCacheStats>& caches) {
+  for (const TableCacheStats& c : caches)
+    std::printf("%s: split table %-18s %6zu blocks, cache %zu per rank: %9zu reads, hit rate %6.2f %%, %zu from other ranks, "
+                "%.1f ms filling\n",
+                pass, c.table.c_str(), c.blocks, c.cache_blocks, c.counts.reads, 100 * c.counts.hit_rate(),
+                c.counts.remote_misses, 1e3 * c.counts.fill_s);
+}
+
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
                    bool general, bool analyze, int frames) {
@@ -164,6 +173,8 @@ int render_command(const Common& c, const std::string& backend_name, const std::
                 c.light_pass.samples, report.light.compile_ms, report.light.run_ms,
                 report.light.rays / (report.light.run_ms * 1e3), e.x, e.y, e.z);
   }
+  print_caches("light pass", report.light.caches);
+  print_caches("render", report.caches);
   shtrace::print_lazy_builds(report);
   return 0;
 }

@@ -106,6 +106,9 @@ struct TableCacheStats {
   CacheCounts counts;                        // summed over parts
 };
 
+// Adds `more`'s counts into `total`'s, table by table (by name).
+void add_cache_stats(std::vector<TableCacheStats>& total, const std::vector<TableCacheStats>& more);
+
 struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)

@@ -109,6 +109,16 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
 
 }  // namespace
 
+void add_cache_stats(std::vector<TableCacheStats>& total, const std::vector<TableCacheStats>& more) {
+  for (const TableCacheStats& m : more) {
+    auto it = std::find_if(total.begin(), total.end(), [&](const TableCacheStats& t) { return t.table == m.table; });
+    if (it == total.end())
+      total.push_back(m);
+    else
+      it->counts += m.counts;
+  }
+}
+
 Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t element, std::uint64_t cap) {
   return Error("program '" + p.name + "': element " + std::to_string(element) + " ran a loop more than " +
                std::to_string(cap) + " iterations (`" + ir::print(p, loop) +

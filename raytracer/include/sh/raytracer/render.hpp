@@ -56,6 +56,7 @@ struct RenderReport {
   double build_ms = 0;
   std::vector<std::string> refined;
   LightPassReport light;  // bidirectional: the light pass, when this render ran it
+  std::vector<TableCacheStats> caches;  // mpi with split tables: per table, over the render's runs
 };
 
 struct Hits {
