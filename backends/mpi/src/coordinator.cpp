@@ -121,6 +121,7 @@ class Coordinator : public Kernel {
     while (waiting_stats-- > 0) take_stats(receive(MPI_ANY_SOURCE, kStats, t), args, parts, stats);
     for (std::size_t i = 0, k = 0; i < args.tables.size(); ++i)
       if (split[i]) stats.caches[k++].counts += static_cast<SplitTable*>(args.tables[i].source)->take_counts();
+    mine.chunks = (mine.elements + chunk - 1) / chunk;  // rank 0 computes in pieces: its chunks' worth
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
@@ -310,7 +311,6 @@ class Coordinator : public Kernel {
       mine.waves += run.waves;
       mine.resumed += run.resumed;
       mine.elements += n;
-      if (piece == s.chunk || (begin + n) % s.chunk == 0 || begin + n == s.args.count) ++mine.chunks;
     } catch (const std::exception& e) {
       if (s.error.empty()) s.error = std::string("rank 0: ") + e.what();
     }

@@ -1,5 +1,6 @@
 #include "split_table.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -55,6 +56,9 @@ SplitTable::SplitTable(const BlockLayout& layout, const std::string& own_share, 
       capacity_(cache_blocks) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   slots_.resize(slot_bytes_ * capacity_);
+  slot_of_.assign(layout.blocks(), -1);
+  block_in_.resize(capacity_);
+  used_at_.resize(capacity_);
   // Memory MPI allocates: within a node it is shared memory that the
   // other ranks read directly; across nodes, memory registered for RDMA.
   MPI_Win_allocate(static_cast<MPI_Aint>(own_share.size()), 1, MPI_INFO_NULL, MPI_COMM_WORLD, &own_, &window_);
@@ -80,22 +84,20 @@ const void* SplitTable::element(std::size_t flat) {
 }
 
 const char* SplitTable::block(std::size_t b) {
-  auto it = where_.find(b);
-  if (it != where_.end()) {
-    recency_.splice(recency_.begin(), recency_, it->second);
-    return slots_.data() + it->second->second * slot_bytes_;
+  std::int32_t slot = slot_of_[b];
+  if (slot < 0) {
+    if (filled_ < capacity_) {
+      slot = static_cast<std::int32_t>(filled_++);
+    } else {  // evict the least recently used
+      slot = static_cast<std::int32_t>(std::min_element(used_at_.begin(), used_at_.end()) - used_at_.begin());
+      slot_of_[block_in_[static_cast<std::size_t>(slot)]] = -1;
+    }
+    fill(b, slots_.data() + static_cast<std::size_t>(slot) * slot_bytes_);
+    slot_of_[b] = slot;
+    block_in_[static_cast<std::size_t>(slot)] = b;
   }
-  std::size_t slot = recency_.size();
-  if (slot == capacity_) {  // evict the least recently used
-    slot = recency_.back().second;
-    where_.erase(recency_.back().first);
-    recency_.pop_back();
-  }
-  char* at = slots_.data() + slot * slot_bytes_;
-  fill(b, at);
-  recency_.emplace_front(b, slot);
-  where_[b] = recency_.begin();
-  return at;
+  used_at_[static_cast<std::size_t>(slot)] = ++clock_;
+  return slots_.data() + static_cast<std::size_t>(slot) * slot_bytes_;
 }
 
 void SplitTable::fill(std::size_t b, char* slot) {

@@ -10,11 +10,9 @@
 #include <mpi.h>
 
 #include <cstdint>
-#include <list>
 #include <map>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "sh/backend.hpp"
@@ -68,10 +66,13 @@ class SplitTable : public TableSource {
   char* own_ = nullptr;  // this rank's share, in the window's memory
   MPI_Win window_ = MPI_WIN_NULL;
   std::vector<char> slots_;
-  std::size_t slot_bytes_ = 0, capacity_ = 0;
-  // Most recent first; the map finds a block's place in it.
-  std::list<std::pair<std::size_t, std::size_t>> recency_;  // (block, slot)
-  std::unordered_map<std::size_t, std::list<std::pair<std::size_t, std::size_t>>::iterator> where_;
+  std::size_t slot_bytes_ = 0, capacity_ = 0, filled_ = 0;
+  // Least recently used by time stamps: a hit is two stores; a miss, rare,
+  // looks at every slot for the oldest.
+  std::vector<std::int32_t> slot_of_;  // per block: its slot, or -1
+  std::vector<std::size_t> block_in_;  // per slot: its block
+  std::vector<std::uint64_t> used_at_;  // per slot: when last read
+  std::uint64_t clock_ = 0;
   std::size_t last_block_ = SIZE_MAX;
   const char* last_slot_ = nullptr;
   CacheCounts counts_;
