@@ -26,17 +26,18 @@ class CpuKernel : public Kernel {
     for (const BufferView& b : args.outputs) outputs.push_back(b.data);
     std::vector<double> uniforms;
     for (const auto& u : args.uniforms) uniforms.insert(uniforms.end(), u.begin(), u.end());
-    std::vector<TableAccess> accesses(args.tables.size());
+    std::vector<TableAccess> accesses;
     std::vector<const void*> tables;
     std::vector<std::int32_t> dims;
     for (std::size_t i = 0; i < args.tables.size(); ++i) {
       const TableView& t = args.tables[i];
       check_gather_range(t, i);
       check_held(t, i);
-      accesses[i] = {&element_of, static_cast<const char*>(t.data), static_cast<std::size_t>(t.element.width * ir::storage_bytes(t.element.scalar)), t.source};
-      tables.push_back(fetched_ && !t.sums ? &accesses[i] : t.data);
+      accesses.push_back(access_of(t));
+      tables.push_back(t.data);
       dims.insert(dims.end(), t.dims.begin(), t.dims.end());
     }
+    std::vector<std::atomic<std::int64_t>> inline_reads(args.tables.size());
     alignas(16) std::int64_t status[2] = {0, 0};
     KernelFn fn = jitted_.entry();
     auto n = static_cast<std::int64_t>(args.count);
@@ -48,10 +49,22 @@ class CpuKernel : public Kernel {
       std::int64_t threads = arena_.max_concurrency();
       std::int64_t grain = std::clamp<std::int64_t>(sets / (threads * 16), 1, 4096 / lanes);
       tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, sets, grain), [&](const tbb::blocked_range<std::int64_t>& r) {
-        fn(r.begin() * lanes, std::min(r.end() * lanes, n), inputs.data(), outputs.data(), uniforms.data(), tables.data(),
-           dims.data(), status);
+        auto call = [&](const void* const* its_tables) {
+          fn(r.begin() * lanes, std::min(r.end() * lanes, n), inputs.data(), outputs.data(), uniforms.data(), its_tables,
+             dims.data(), status);
+        };
+        if (!fetched_) return call(tables.data());
+        // Each task moves windows of its own.
+        std::vector<TableAccess> mine = accesses;
+        std::vector<const void*> its_tables = tables;
+        for (std::size_t i = 0; i < mine.size(); ++i)
+          if (!args.tables[i].sums) its_tables[i] = &mine[i];
+        call(its_tables.data());
+        for (std::size_t i = 0; i < mine.size(); ++i) inline_reads[i] += mine[i].inline_reads;
       });
     });
+    for (std::size_t i = 0; i < args.tables.size(); ++i)
+      if (args.tables[i].source) args.tables[i].source->count_reads(static_cast<std::size_t>(inline_reads[i].load()));
     if (status[0] != 0) {
       const ir::Stmt* loop = jitted_.loops().at(static_cast<std::size_t>(status[0] - 1));
       throw runaway_loop(program_, *loop, static_cast<std::uint64_t>(status[1]), options_.max_loop_iterations);
@@ -78,9 +91,19 @@ class CpuKernel : public Kernel {
                   "' is not held in this process; the cpu backend reads it only with the setting \"tables\": \"fetched\"");
   }
 
-  static const void* element_of(const TableAccess* a, std::int64_t flat) {
-    if (!a->data) return a->source->element(static_cast<std::size_t>(flat));
-    return a->data + static_cast<std::size_t>(flat) * a->element_bytes;
+  // A whole table is one window; a source's starts empty.
+  static TableAccess access_of(const TableView& t) {
+    std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
+    std::int64_t elements = t.data ? static_cast<std::int64_t>(t.bytes()) / bytes : 0;
+    return {static_cast<const char*>(t.data), 0, elements, 0, &move_window, bytes, t.source};
+  }
+
+  static const char* move_window(TableAccess* a, std::int64_t flat) {
+    TableSource::Span span = a->source->span_of(static_cast<std::size_t>(flat));
+    a->window = static_cast<const char*>(span.data);
+    a->window_first = static_cast<std::int64_t>(span.first);
+    a->window_end = static_cast<std::int64_t>(span.end);
+    return a->window + (flat - a->window_first) * a->element_bytes;
   }
 
   ir::Program program_;  // the loops in error messages point into it

@@ -225,14 +225,34 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
 }
 
-// A fetched table's element: one call to its TableAccess, then the
-// components from the pointer it returns.
+// A fetched table's element (signature.hpp's TableAccess): inside the
+// window, read inline and counted; outside, one call moves the window.
 std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* ptr = b_.getPtrTy();
-  auto* element_fn = llvm::FunctionType::get(ptr, {ptr, b_.getInt64Ty()}, false);
-  Value* access = table_base_[table];
-  Value* element = b_.CreateCall(element_fn, b_.CreateLoad(ptr, access), {access, flat});
+  llvm::Type* i64 = b_.getInt64Ty();
+  auto* access_type = llvm::StructType::get(ctx_, {ptr, i64, i64, i64, ptr, i64, ptr});
+  auto field = [&](unsigned k) { return b_.CreateStructGEP(access_type, table_base_[table], k); };
+  Value* first = b_.CreateLoad(i64, field(1));
+  Value* offset = b_.CreateSub(flat, first);
+  Value* inside = b_.CreateICmpULT(offset, b_.CreateSub(b_.CreateLoad(i64, field(2)), first));
+  BasicBlock* from_window = BasicBlock::Create(ctx_, "fetch.window", fn_);
+  BasicBlock* by_call = BasicBlock::Create(ctx_, "fetch.call", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "fetch.done", fn_);
+  b_.CreateCondBr(inside, from_window, by_call);
+  b_.SetInsertPoint(from_window);
+  std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
+  Value* inline_element = b_.CreateInBoundsGEP(b_.getInt8Ty(), b_.CreateLoad(ptr, field(0)), b_.CreateMul(offset, b_.getInt64(bytes)));
+  b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, field(3)), b_.getInt64(1)), field(3));
+  b_.CreateBr(done);
+  b_.SetInsertPoint(by_call);
+  auto* element_fn = llvm::FunctionType::get(ptr, {ptr, i64}, false);
+  Value* called_element = b_.CreateCall(element_fn, b_.CreateLoad(ptr, field(4)), {table_base_[table], flat});
+  b_.CreateBr(done);
+  b_.SetInsertPoint(done);
+  llvm::PHINode* element = b_.CreatePHI(ptr, 2);
+  element->addIncoming(inline_element, from_window);
+  element->addIncoming(called_element, by_call);
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   std::array<Value*, 4> values{};
   for (int c = 0; c < t.element.width; ++c)

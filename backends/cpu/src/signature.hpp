@@ -17,12 +17,17 @@ using KernelFn = void (*)(std::int64_t begin, std::int64_t end, void* const* inp
 inline constexpr const char* kKernelSymbol = "sh_kernel";
 
 // With the setting "tables": "fetched", a table that is read (not an
-// accumulator) arrives as one of these in place of its data pointer, and
-// the kernel calls `element` for each element it reads.
+// accumulator) arrives as one of these in place of its data pointer.  The
+// kernel reads elements inside the window inline and calls `element` for
+// any other, which moves the window to the source's span holding it.  A
+// whole table is one window that never moves.  Field order is the
+// kernel's (lowering's access_type).
 struct TableAccess {
-  const void* (*element)(const TableAccess* self, std::int64_t flat);
-  const char* data;  // null: read through source
-  std::size_t element_bytes;
+  const char* window;
+  std::int64_t window_first, window_end;  // the elements [first, end) lie from window on
+  std::int64_t inline_reads;              // reads the kernel served from the window
+  const char* (*element)(TableAccess* self, std::int64_t flat);
+  std::int64_t element_bytes;
   TableSource* source;
 };
 

@@ -72,15 +72,10 @@ SplitTable::~SplitTable() {
   MPI_Win_free(&window_);
 }
 
-const void* SplitTable::element(std::size_t flat) {
+TableSource::Span SplitTable::span_of(std::size_t flat) {
   ++counts_.reads;
-  std::size_t b = flat / layout_.block_elements;
-  // Rays read runs of neighbouring elements: the last block is checked first.
-  if (b != last_block_) {
-    last_slot_ = block(b);
-    last_block_ = b;
-  }
-  return last_slot_ + (flat - b * layout_.block_elements) * layout_.element_bytes;
+  std::size_t b = flat / layout_.block_elements, first = b * layout_.block_elements;
+  return {block(b), first, std::min(first + layout_.block_elements, layout_.elements)};
 }
 
 const char* SplitTable::block(std::size_t b) {

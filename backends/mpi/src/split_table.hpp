@@ -53,7 +53,8 @@ class SplitTable : public TableSource {
   SplitTable(const SplitTable&) = delete;
   SplitTable& operator=(const SplitTable&) = delete;
 
-  const void* element(std::size_t flat) override;
+  Span span_of(std::size_t flat) override;
+  void count_reads(std::size_t reads) override { counts_.reads += reads; }
   // Reads and misses since the last call.
   CacheCounts take_counts();
 
@@ -73,8 +74,6 @@ class SplitTable : public TableSource {
   std::vector<std::size_t> block_in_;  // per slot: its block
   std::vector<std::uint64_t> used_at_;  // per slot: when last read
   std::uint64_t clock_ = 0;
-  std::size_t last_block_ = SIZE_MAX;
-  const char* last_slot_ = nullptr;
   CacheCounts counts_;
 };
 

@@ -44,15 +44,24 @@ struct BufferView {
 };
 
 // A table this process does not hold whole (the mpi backend splits big
-// tables across ranks): a kernel reads it one element at a time through
-// this.  The pointer returned stays valid until the next call; a source is
-// called from one thread at a time (the kernels that read one run on one).
-// The interpreter reads through sources; the cpu backend does when compiled
-// with the setting "tables": "fetched"; OpenCL kernels cannot call back.
+// tables across ranks): a kernel asks it for the span of elements held
+// together with the one it reads (a block), and reads that span's other
+// elements without asking again until it needs one outside.  A span stays
+// valid until the next call; a source is called from one thread at a time
+// (the kernels that read one run on one).  The interpreter reads through
+// sources; the cpu backend does when compiled with the setting "tables":
+// "fetched"; OpenCL kernels cannot call back.
 class TableSource {
  public:
+  struct Span {
+    const void* data;          // element `first` lies here, the others after it
+    std::size_t first, end;   // the elements [first, end)
+  };
   virtual ~TableSource() = default;
-  virtual const void* element(std::size_t flat) = 0;
+  // The span holding element `flat`, counted as one read.
+  virtual Span span_of(std::size_t flat) = 0;
+  // Reads a kernel served from spans without asking.
+  virtual void count_reads(std::size_t reads) = 0;
 };
 
 struct TableView {

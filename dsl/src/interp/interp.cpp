@@ -126,8 +126,9 @@ class Machine {
     if (o_.checked && index.clamped) note("first out-of-range table read", s);
     Reg r{};
     if (t.source) {
-      const void* element = t.source->element(index.element);
-      for (int k = 0; k < t.element.width; ++k) r[k] = read_component(t.element.scalar, element, k);
+      TableSource::Span span = t.source->span_of(index.element);
+      std::size_t at = (index.element - span.first) * t.element.width;
+      for (int k = 0; k < t.element.width; ++k) r[k] = read_component(t.element.scalar, span.data, at + k);
       return r;
     }
     for (int k = 0; k < t.element.width; ++k)
