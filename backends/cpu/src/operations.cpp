@@ -242,7 +242,8 @@ std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
   b_.CreateCondBr(inside, from_window, by_call);
   b_.SetInsertPoint(from_window);
   std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
-  Value* inline_element = b_.CreateInBoundsGEP(b_.getInt8Ty(), b_.CreateLoad(ptr, field(0)), b_.CreateMul(offset, b_.getInt64(bytes)));
+  Value* window = b_.CreateLoad(ptr, field(0));
+  Value* inline_element = b_.CreateInBoundsGEP(b_.getInt8Ty(), window, b_.CreateMul(offset, b_.getInt64(bytes)));
   b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, field(3)), b_.getInt64(1)), field(3));
   b_.CreateBr(done);
   b_.SetInsertPoint(by_call);

@@ -154,7 +154,9 @@ class Coordinator : public Kernel {
       local.settings["tables"] = "fetched";
       local.threads = 1;
     } else if (local_backend != "interp") {
-      std::fprintf(stderr, "sh: mpi backend: %s kernels cannot call back into the runtime; program '%s' keeps its tables whole on every rank\n",
+      std::fprintf(stderr,
+                   "sh: mpi backend: %s kernels cannot call back into the runtime; program '%s' keeps its tables "
+                   "whole on every rank\n",
                    local_backend.c_str(), program_.name.c_str());
       split_.enabled = false;
     }

@@ -137,8 +137,8 @@ class Worker {
   void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args, std::vector<SplitTable*>& split, Traffic& t) {
     for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
       auto id = u.get<std::uint64_t>();
-      Table& table = tables_[id];
       if (k.program.tables[i].accumulator) {
+        Table& table = tables_[id];
         table.view = u.get<TableView>();
         table.bytes.assign(table.view.bytes(), '\0');
         table.view.data = table.view.sums = table.bytes.data();
@@ -152,6 +152,7 @@ class Worker {
         args.tables.push_back(view);
         continue;
       }
+      Table& table = tables_[id];
       if (u.get<bool>()) {
         table.version = u.get<std::uint64_t>();
         table.view = u.get<TableView>();
