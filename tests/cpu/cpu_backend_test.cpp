@@ -7,6 +7,8 @@
 
 #include <sh/sh.hpp>
 
+#include <algorithm>
+
 namespace {
 
 using namespace sh;
@@ -201,6 +203,72 @@ TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("4294967296 values"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("width=scalar"), std::string::npos) << e.what();
+  }
+}
+
+// A table held elsewhere, in spans of 3 elements: every read the kernel
+// makes is either a span asked for or counted as served from the last one.
+class SpansOfThree : public TableSource {
+ public:
+  explicit SpansOfThree(std::vector<float> values) : values_(std::move(values)) {}
+  Span span_of(std::size_t flat) override {
+    ++spans;
+    std::size_t first = flat / 3 * 3;
+    return {values_.data() + first, first, std::min(first + 3, values_.size())};
+  }
+  void count_reads(std::size_t reads) override { inline_reads += reads; }
+  std::size_t spans = 0, inline_reads = 0;
+
+ private:
+  std::vector<float> values_;
+};
+
+TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
+  std::vector<float> values(100);
+  for (std::size_t k = 0; k < values.size(); ++k) values[k] = 0.5f * static_cast<float>(k);
+  Table1D<Attrib1f> table(100);
+  table.assign(values);
+  Program p = SH_BEGIN_PROGRAM("through_source") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    y = table[i];
+    SH_IF(i % 3 == 0) { y += table[i + 1]; } SH_ENDIF;  // a read only some lanes make
+  } SH_END;
+  std::vector<std::int32_t> is;
+  // Neighbours reading neighbours, then scattered reads; clamped at both ends too.
+  for (int k = 0; k < 1000; ++k) is.push_back(k < 300 ? k / 2 - 10 : (k * 37) % 120 - 10);
+  std::size_t reads = 0;
+  std::vector<float> expected;
+  for (std::int32_t i : is) {
+    auto at = [&](std::int32_t k) { return values[static_cast<std::size_t>(std::clamp(k, 0, 99))]; };
+    expected.push_back(i % 3 == 0 ? at(i) + at(i + 1) : at(i));
+    reads += i % 3 == 0 ? 2 : 1;
+  }
+  for (const char* width : {"scalar", "4", "16"}) {
+    Options o;
+    o.settings = {{"width", width}, {"tables", "fetched"}};
+    o.threads = 1;
+    std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
+    std::vector<float> out(is.size());
+    SpansOfThree source(values);
+    RunArgs args;
+    args.count = is.size();
+    args.inputs.push_back({ir::Type{ir::Scalar::I32, 1}, is.size(), is.data()});
+    args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, out.size(), out.data()});
+    args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 1, {100, 1, 1}, nullptr, nullptr, 7, 1, &source});
+    RunStats stats;
+    kernel->run(args, stats);
+    EXPECT_EQ(out, expected) << width;
+    EXPECT_EQ(source.spans + source.inline_reads, reads) << width;
+    EXPECT_GT(source.inline_reads, 0u) << width << ": no read was served from a span";
+    Options memory = o;
+    memory.settings.erase("tables");
+    try {
+      kernel_for(p, backend("cpu", memory))->run(args, stats);
+      ADD_FAILURE() << "a kernel that loads read a table it does not hold";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("\"tables\": \"fetched\""), std::string::npos) << e.what();
+    }
   }
 }
 
