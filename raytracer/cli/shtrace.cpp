@@ -112,13 +112,15 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   return s;
 }
 
-// mpi with split tables: each table's cache over a pass, in the seed's terms.
+// mpi with split tables: each table's cache over a pass, in the seed's terms
+// (a lazy octree's tables are each rank's own, read whole: not listed).
 void print_caches(const char* pass, const std::vector<TableCacheStats>& caches) {
   for (const TableCacheStats& c : caches)
-    std::printf("%s: split table %-18s %6zu blocks, cache %zu per rank: %9zu reads, hit rate %6.2f %%, %zu from other ranks, "
-                "%.1f ms filling\n",
-                pass, c.table.c_str(), c.blocks, c.cache_blocks, c.counts.reads, 100 * c.counts.hit_rate(),
-                c.counts.remote_misses, 1e3 * c.counts.fill_s);
+    if (c.counts.reads > 0)
+      std::printf("%s: split table %-18s %6zu blocks, cache %zu per rank: %9zu reads, hit rate %6.2f %%, %zu from other "
+                  "ranks, %.1f ms filling\n",
+                  pass, c.table.c_str(), c.blocks, c.cache_blocks, c.counts.reads, 100 * c.counts.hit_rate(),
+                  c.counts.remote_misses, 1e3 * c.counts.fill_s);
 }
 
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,

@@ -97,6 +97,7 @@ void OctreeRefiner::bind(std::vector<TableView>& tables) const {
     for (int k = 0; k < 2; ++k)
       if (t.id == stands_for_[k] || t.id == own_id_[k]) {
         t.data = data[k]->data();
+        t.source = nullptr;  // this process's own tree, whole, even where the run split the tables
         t.dims = {static_cast<int>(data[k]->size()), 1, 1};
         t.id = own_id_[k];
         t.version = version_;

@@ -35,6 +35,10 @@ echo "the light pass on 2 ranks delivers the energy it delivers on cpu: $(cat "$
   --output "$dir/mpi_split.png" | tee "$dir/mpi_split.txt"
 cmp "$dir/cpu.png" "$dir/mpi_split.png"
 grep -q "render: split table cell_start .* [1-9][0-9]* from other ranks" "$dir/mpi_split.txt"
+# With a lazy octree each rank's tree is its own and read whole; the rest split.
+"$mpirun" -np 2 "$shtrace" render --scene spheres --size 160x120 --backend mpi --accel lazy-octree --set split_tables=0 \
+  --set cache_blocks=8 --output "$dir/mpi_lazy_split.png" > /dev/null
+cmp "$dir/cpu.png" "$dir/mpi_lazy_split.png"
 "$mpirun" -np 2 "$shtrace" render --scene magg-glass --size 100x100 --backend mpi --bidirectional --set split_tables=0 \
   --set cache_blocks=8 --output "$dir/bidir_split.png" | grep "energy arrived" | sed 's/.*energy arrived/energy arrived/' \
   > "$dir/bidir_split.txt"
