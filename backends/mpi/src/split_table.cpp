@@ -55,7 +55,7 @@ std::string BlockLayout::share(const void* table, int rank) const {
 
 SplitTable::SplitTable(const BlockLayout& layout, const std::string& own_share, std::size_t cache_blocks)
     : layout_(layout), slot_bytes_(layout.block_elements * layout.element_bytes),
-      capacity_(cache_blocks) {
+      capacity_(std::min(cache_blocks, layout.blocks())) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   slots_.resize(slot_bytes_ * capacity_);
   slot_of_.assign(layout.blocks(), -1);
