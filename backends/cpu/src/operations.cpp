@@ -225,30 +225,36 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
 }
 
-// A fetched table's element (signature.hpp's TableAccess): inside the
-// window, read inline and counted; outside, one call moves the window.
+// Field k of a fetched table's TableAccess (signature.hpp).
+Value* Lowering::access_field(int table, unsigned k) {
+  llvm::Type* ptr = b_.getPtrTy();
+  llvm::Type* i64 = b_.getInt64Ty();
+  auto* access = llvm::StructType::get(ctx_, {ptr, i64, i64, i64, ptr, i64, ptr});
+  return b_.CreateStructGEP(access, table_base_[table], k);
+}
+
+// A fetched table's element: inside the window, read inline and counted;
+// outside, one call moves the window.
 std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* ptr = b_.getPtrTy();
   llvm::Type* i64 = b_.getInt64Ty();
-  auto* access_type = llvm::StructType::get(ctx_, {ptr, i64, i64, i64, ptr, i64, ptr});
-  auto field = [&](unsigned k) { return b_.CreateStructGEP(access_type, table_base_[table], k); };
-  Value* first = b_.CreateLoad(i64, field(1));
+  Value* first = b_.CreateLoad(i64, access_field(table, 1));
   Value* offset = b_.CreateSub(flat, first);
-  Value* inside = b_.CreateICmpULT(offset, b_.CreateSub(b_.CreateLoad(i64, field(2)), first));
+  Value* inside = b_.CreateICmpULT(offset, b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first));
   BasicBlock* from_window = BasicBlock::Create(ctx_, "fetch.window", fn_);
   BasicBlock* by_call = BasicBlock::Create(ctx_, "fetch.call", fn_);
   BasicBlock* done = BasicBlock::Create(ctx_, "fetch.done", fn_);
   b_.CreateCondBr(inside, from_window, by_call);
   b_.SetInsertPoint(from_window);
   std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
-  Value* window = b_.CreateLoad(ptr, field(0));
+  Value* window = b_.CreateLoad(ptr, access_field(table, 0));
   Value* inline_element = b_.CreateInBoundsGEP(b_.getInt8Ty(), window, b_.CreateMul(offset, b_.getInt64(bytes)));
-  b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, field(3)), b_.getInt64(1)), field(3));
+  b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), b_.getInt64(1)), access_field(table, 3));
   b_.CreateBr(done);
   b_.SetInsertPoint(by_call);
   auto* element_fn = llvm::FunctionType::get(ptr, {ptr, i64}, false);
-  Value* called_element = b_.CreateCall(element_fn, b_.CreateLoad(ptr, field(4)), {table_base_[table], flat});
+  Value* called_element = b_.CreateCall(element_fn, b_.CreateLoad(ptr, access_field(table, 4)), {table_base_[table], flat});
   b_.CreateBr(done);
   b_.SetInsertPoint(done);
   llvm::PHINode* element = b_.CreatePHI(ptr, 2);
@@ -261,22 +267,61 @@ std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
   return values;
 }
 
-// In SPMD each running lane fetches its own element, one after another.
+// In SPMD: where every running lane's element lies in the window (always,
+// for a whole table), one gather per component; otherwise each running
+// lane fetches its own, one after another, moving the window.
 std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
-  llvm::Type* vector = lanes(storage_scalar(t.element.scalar));
+  llvm::Type* scalar = storage_scalar(t.element.scalar);
+  llvm::Type* vector = lanes(scalar);
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* running = exec();
+  Value* first = b_.CreateLoad(i64, access_field(table, 1));
+  Value* offset = b_.CreateSub(b_.CreateZExt(flat, lanes(i64)), splat(first));
+  Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
+  Value* inside = b_.CreateOr(b_.CreateICmpULT(offset, splat(span)), b_.CreateNot(running));
+  BasicBlock* gather = BasicBlock::Create(ctx_, "fetch.gather", fn_);
+  BasicBlock* per_lane = BasicBlock::Create(ctx_, "fetch.lanes", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "fetch.done", fn_);
+  b_.CreateCondBr(b_.CreateAndReduce(inside), gather, per_lane);
+
+  b_.SetInsertPoint(gather);
+  std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
+  Value* elements = b_.CreateInBoundsGEP(b_.getInt8Ty(), b_.CreateLoad(b_.getPtrTy(), access_field(table, 0)),
+                                         b_.CreateMul(offset, splat(b_.getInt64(bytes))));
+  std::array<Value*, 4> gathered{};
+  for (int c = 0; c < t.element.width; ++c)
+    gathered[c] = b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, elements, b_.getInt64(c)), alignment(scalar),
+                                        running, llvm::Constant::getNullValue(vector));
+  Value* count = b_.CreateAddReduce(b_.CreateZExt(running, lanes(i64)));
+  b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), count), access_field(table, 3));
+  BasicBlock* gather_end = b_.GetInsertBlock();
+  b_.CreateBr(done);
+
+  b_.SetInsertPoint(per_lane);
   std::array<llvm::AllocaInst*, 4> slots{};
   for (int c = 0; c < t.element.width; ++c) {
     slots[c] = entry_alloca(vector, "fetched");
     b_.CreateStore(llvm::Constant::getNullValue(vector), slots[c]);
   }
   for_each_running_lane([&](std::uint64_t lane) {
-    std::array<Value*, 4> one = fetch(table, b_.CreateZExt(b_.CreateExtractElement(flat, lane), b_.getInt64Ty()));
+    std::array<Value*, 4> one = fetch(table, b_.CreateZExt(b_.CreateExtractElement(flat, lane), i64));
     for (int c = 0; c < t.element.width; ++c)
       b_.CreateStore(b_.CreateInsertElement(b_.CreateLoad(vector, slots[c]), one[c], lane), slots[c]);
   });
+  std::array<Value*, 4> fetched{};
+  for (int c = 0; c < t.element.width; ++c) fetched[c] = b_.CreateLoad(vector, slots[c]);
+  BasicBlock* per_lane_end = b_.GetInsertBlock();
+  b_.CreateBr(done);
+
+  b_.SetInsertPoint(done);
   std::array<Value*, 4> values{};
-  for (int c = 0; c < t.element.width; ++c) values[c] = b_.CreateLoad(vector, slots[c]);
+  for (int c = 0; c < t.element.width; ++c) {
+    llvm::PHINode* phi = b_.CreatePHI(vector, 2);
+    phi->addIncoming(gathered[c], gather_end);
+    phi->addIncoming(fetched[c], per_lane_end);
+    values[c] = phi;
+  }
   return values;
 }
 
