@@ -224,7 +224,8 @@ TEST(MpiSplitTables, TheCacheReplacesTheLeastRecentlyUsedBlock) {
   Channel<Attrib1i> in(is);
   for (std::size_t slots : {2, 5}) {
     Options o = split(std::to_string(slots).c_str());
-    o.settings["schedule"] = "static";  // each rank reads one contiguous share in order
+    o.settings["schedule"] = "static";  // each rank reads one contiguous share in order,
+    o.settings["width"] = "scalar";     // one element after another
     Channel<Attrib1f> out;
     RunStats s = run(p, {in}, {out}, backend("mpi", o));
     EXPECT_EQ(out[2999], 256.f);

@@ -233,9 +233,9 @@ Value* Lowering::access_field(int table, unsigned k) {
   return b_.CreateStructGEP(access, table_base_[table], k);
 }
 
-// A fetched table's element: inside the window, read inline and counted;
-// outside, one call moves the window.
-std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
+// Where a fetched table's element lies: inside the window, read inline and
+// counted; outside, one call moves the window to it.
+Value* Lowering::element_pointer(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* ptr = b_.getPtrTy();
   llvm::Type* i64 = b_.getInt64Ty();
@@ -260,68 +260,66 @@ std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
   llvm::PHINode* element = b_.CreatePHI(ptr, 2);
   element->addIncoming(inline_element, from_window);
   element->addIncoming(called_element, by_call);
+  return element;
+}
+
+std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
+  const ir::TableDecl& t = p_.tables[table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
+  Value* element = element_pointer(table, flat);
   std::array<Value*, 4> values{};
   for (int c = 0; c < t.element.width; ++c)
     values[c] = b_.CreateLoad(scalar, b_.CreateConstInBoundsGEP1_64(scalar, element, static_cast<std::uint64_t>(c)));
   return values;
 }
 
-// In SPMD: where every running lane's element lies in the window (always,
-// for a whole table), one gather per component; otherwise each running
-// lane fetches its own, one after another, moving the window.
+// In SPMD, in rounds: the first lane still waiting brings its element into
+// the window (a call only where it lies outside), then every waiting lane
+// whose element lies in the window reads it, one gather per component.  A
+// whole table takes one round; lanes reading k blocks, k rounds.
 std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   llvm::Type* vector = lanes(scalar);
   llvm::Type* i64 = b_.getInt64Ty();
-  Value* running = exec();
-  Value* first = b_.CreateLoad(i64, access_field(table, 1));
-  Value* offset = b_.CreateSub(b_.CreateZExt(flat, lanes(i64)), splat(first));
-  Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
-  Value* inside = b_.CreateOr(b_.CreateICmpULT(offset, splat(span)), b_.CreateNot(running));
-  BasicBlock* gather = BasicBlock::Create(ctx_, "fetch.gather", fn_);
-  BasicBlock* per_lane = BasicBlock::Create(ctx_, "fetch.lanes", fn_);
-  BasicBlock* done = BasicBlock::Create(ctx_, "fetch.done", fn_);
-  b_.CreateCondBr(b_.CreateAndReduce(inside), gather, per_lane);
-
-  b_.SetInsertPoint(gather);
-  std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
-  Value* elements = b_.CreateInBoundsGEP(b_.getInt8Ty(), b_.CreateLoad(b_.getPtrTy(), access_field(table, 0)),
-                                         b_.CreateMul(offset, splat(b_.getInt64(bytes))));
-  std::array<Value*, 4> gathered{};
-  for (int c = 0; c < t.element.width; ++c)
-    gathered[c] = b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, elements, b_.getInt64(c)), alignment(scalar),
-                                        running, llvm::Constant::getNullValue(vector));
-  Value* count = b_.CreateAddReduce(b_.CreateZExt(running, lanes(i64)));
-  b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), count), access_field(table, 3));
-  BasicBlock* gather_end = b_.GetInsertBlock();
-  b_.CreateBr(done);
-
-  b_.SetInsertPoint(per_lane);
+  Value* indices = b_.CreateZExt(flat, lanes(i64));
   std::array<llvm::AllocaInst*, 4> slots{};
   for (int c = 0; c < t.element.width; ++c) {
     slots[c] = entry_alloca(vector, "fetched");
     b_.CreateStore(llvm::Constant::getNullValue(vector), slots[c]);
   }
-  for_each_running_lane([&](std::uint64_t lane) {
-    std::array<Value*, 4> one = fetch(table, b_.CreateZExt(b_.CreateExtractElement(flat, lane), i64));
-    for (int c = 0; c < t.element.width; ++c)
-      b_.CreateStore(b_.CreateInsertElement(b_.CreateLoad(vector, slots[c]), one[c], lane), slots[c]);
-  });
-  std::array<Value*, 4> fetched{};
-  for (int c = 0; c < t.element.width; ++c) fetched[c] = b_.CreateLoad(vector, slots[c]);
-  BasicBlock* per_lane_end = b_.GetInsertBlock();
-  b_.CreateBr(done);
+  llvm::AllocaInst* waiting = entry_alloca(mask_type(), "waiting");
+  b_.CreateStore(exec(), waiting);
+  BasicBlock* head = BasicBlock::Create(ctx_, "fetch.rounds", fn_);
+  BasicBlock* round = BasicBlock::Create(ctx_, "fetch.round", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "fetch.rounds.done", fn_);
+  b_.CreateBr(head);
+  b_.SetInsertPoint(head);
+  Value* still = b_.CreateLoad(mask_type(), waiting);
+  b_.CreateCondBr(any(still), round, done);
+
+  b_.SetInsertPoint(round);
+  element_pointer(table, b_.CreateExtractElement(indices, first_lane(still)));
+  Value* first = b_.CreateLoad(i64, access_field(table, 1));
+  Value* offset = b_.CreateSub(indices, splat(first));
+  Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
+  Value* in_window = b_.CreateAnd(still, b_.CreateICmpULT(offset, splat(span)));
+  std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
+  Value* elements = b_.CreateInBoundsGEP(b_.getInt8Ty(), b_.CreateLoad(b_.getPtrTy(), access_field(table, 0)),
+                                         b_.CreateMul(offset, splat(b_.getInt64(bytes))));
+  for (int c = 0; c < t.element.width; ++c)
+    b_.CreateStore(b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, elements, b_.getInt64(c)),
+                                         alignment(scalar), in_window, b_.CreateLoad(vector, slots[c])),
+                   slots[c]);
+  // element_pointer counted the first lane's read.
+  Value* others = b_.CreateSub(b_.CreateAddReduce(b_.CreateZExt(in_window, lanes(i64))), b_.getInt64(1));
+  b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), others), access_field(table, 3));
+  b_.CreateStore(b_.CreateAnd(still, b_.CreateNot(in_window)), waiting);
+  b_.CreateBr(head);
 
   b_.SetInsertPoint(done);
   std::array<Value*, 4> values{};
-  for (int c = 0; c < t.element.width; ++c) {
-    llvm::PHINode* phi = b_.CreatePHI(vector, 2);
-    phi->addIncoming(gathered[c], gather_end);
-    phi->addIncoming(fetched[c], per_lane_end);
-    values[c] = phi;
-  }
+  for (int c = 0; c < t.element.width; ++c) values[c] = b_.CreateLoad(vector, slots[c]);
   return values;
 }
 
