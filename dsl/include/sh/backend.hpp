@@ -30,8 +30,9 @@ struct Options {
   bool optimize = true;                   // run the passes before compiling
   std::string device;                     // backend-specific device choice
   std::string local_backend;              // for backends that delegate (mpi): what each part runs; default cpu
-  // Backend-specific knobs by name (mpi: "chunk" elements per chunk,
-  // "schedule" dynamic or static).  Part of the kernel key.
+  // Backend-specific knobs by name (cpu: "width", "tables"; mpi: "chunk"
+  // elements per chunk, "schedule" dynamic or static, "split_tables",
+  // "block_bytes", "cache_blocks").  Part of the kernel key.
   std::map<std::string, std::string> settings;
 
   std::string key() const;  // what a compiled kernel depends on

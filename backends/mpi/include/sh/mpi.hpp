@@ -4,6 +4,12 @@
 // (Options::local_backend: cpu by default, opencl or interp).  The stream
 // is cut into many more chunks than ranks and handed out as ranks ask;
 // results land in order.  Tables and uniforms go out once per version.
+// With settings["split_tables"] = N, tables of N bytes or more are split
+// instead: blocks of settings["block_bytes"] (2048) dealt to the ranks in
+// turn, each rank reading through an LRU cache of settings["cache_blocks"]
+// (64) blocks per table, filled by one-sided MPI reads; hit rates come back
+// in RunStats::caches.  Local kernels that cannot call back into the
+// runtime (opencl) keep tables whole, and say so.
 // Including this header registers it as "mpi".
 //
 // Ranks other than 0 serve rank 0 from the first time they compile an mpi
