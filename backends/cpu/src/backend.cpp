@@ -33,7 +33,7 @@ class CpuKernel : public Kernel {
       const TableView& t = args.tables[i];
       check_gather_range(t, i);
       check_held(t, i);
-      accesses.push_back(access_of(t));
+      if (fetched_) accesses.push_back(access_of(t));
       tables.push_back(t.data);
       dims.insert(dims.end(), t.dims.begin(), t.dims.end());
     }

@@ -94,7 +94,7 @@ class Lowering {
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
   Value* flat_index(int table, const ir::Operand& coord, bool sample, bool gather);
   Value* access_field(int table, unsigned k);
-  Value* element_pointer(int table, Value* flat);
+  Value* fetched_element(int table, Value* flat);
   std::array<Value*, 4> fetch(int table, Value* flat);
   std::array<Value*, 4> fetch_lanes(int table, Value* flat);
   void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);

@@ -235,7 +235,7 @@ Value* Lowering::access_field(int table, unsigned k) {
 
 // Where a fetched table's element lies: inside the window, read inline and
 // counted; outside, one call moves the window to it.
-Value* Lowering::element_pointer(int table, Value* flat) {
+Value* Lowering::fetched_element(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* ptr = b_.getPtrTy();
   llvm::Type* i64 = b_.getInt64Ty();
@@ -266,7 +266,7 @@ Value* Lowering::element_pointer(int table, Value* flat) {
 std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
-  Value* element = element_pointer(table, flat);
+  Value* element = fetched_element(table, flat);
   std::array<Value*, 4> values{};
   for (int c = 0; c < t.element.width; ++c)
     values[c] = b_.CreateLoad(scalar, b_.CreateConstInBoundsGEP1_64(scalar, element, static_cast<std::uint64_t>(c)));
@@ -299,7 +299,7 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   b_.CreateCondBr(any(still), round, done);
 
   b_.SetInsertPoint(round);
-  element_pointer(table, b_.CreateExtractElement(indices, first_lane(still)));
+  fetched_element(table, b_.CreateExtractElement(indices, first_lane(still)));  // into the window
   Value* first = b_.CreateLoad(i64, access_field(table, 1));
   Value* offset = b_.CreateSub(indices, splat(first));
   Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
@@ -311,7 +311,7 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
     b_.CreateStore(b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, elements, b_.getInt64(c)),
                                          alignment(scalar), in_window, b_.CreateLoad(vector, slots[c])),
                    slots[c]);
-  // element_pointer counted the first lane's read.
+  // fetched_element counted the first lane's read.
   Value* others = b_.CreateSub(b_.CreateAddReduce(b_.CreateZExt(in_window, lanes(i64))), b_.getInt64(1));
   b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), others), access_field(table, 3));
   b_.CreateStore(b_.CreateAnd(still, b_.CreateNot(in_window)), waiting);

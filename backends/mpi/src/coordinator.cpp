@@ -43,7 +43,7 @@ class Coordinator : public Kernel {
     MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
     Options local = o;
     local.local_backend.clear();
-    if (split_.enabled) read_split_tables(o.local_backend, local);
+    if (split_.enabled) configure_split_reads(o.local_backend, local);
     local_ = find_backend(o.local_backend).compile(p, local);
     if (ranks_ > 1) compile_everywhere(local, o.local_backend);
   }
@@ -149,7 +149,7 @@ class Coordinator : public Kernel {
   // Local kernels that can call back into the runtime read split tables
   // (cpu with fetched reads, on one thread: MPI is called from the kernel);
   // OpenCL kernels cannot, and keep every table whole on every rank.
-  void read_split_tables(const std::string& local_backend, Options& local) {
+  void configure_split_reads(const std::string& local_backend, Options& local) {
     if (local_backend == "cpu") {
       local.settings["tables"] = "fetched";
       local.threads = 1;
