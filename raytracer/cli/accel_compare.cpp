@@ -65,9 +65,9 @@ int compare_accelerators(AccelOptions o) {
     RenderReport first, warm;
     Image image = r.render(&first);
     double first_ms = ms_since(t0);
-    std::size_t built = r.octree() ? r.octree()->built_keys().size() : 0;
+    std::size_t built = r.octree() ? r.octree()->built_count() : 0;
     r.render(&warm);
-    std::size_t second = r.octree() ? r.octree()->built_keys().size() - built : 0;
+    std::size_t second = r.octree() ? r.octree()->built_count() - built : 0;
     std::size_t nodes = r.grid() ? r.grid()->cells() : r.octree()->nodes().size();
     double build_ms = r.accelerator_build_ms();
     std::printf("%-12s %10zu %10.2f %11.1f %11.1f %12.1f %12zu %9zu %9.1f%%\n", accel_name(a), nodes,

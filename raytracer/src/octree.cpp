@@ -9,6 +9,23 @@
 #include "sh/error.hpp"
 
 namespace sh::rt {
+namespace {
+
+void put_leb128(std::vector<std::uint8_t>& out, std::uint32_t v) {
+  for (; v >= 0x80; v >>= 7) out.push_back(static_cast<std::uint8_t>(v | 0x80));
+  out.push_back(static_cast<std::uint8_t>(v));
+}
+
+std::uint32_t get_leb128(const std::vector<std::uint8_t>& in, std::size_t& at) {
+  std::uint32_t v = 0;
+  for (int shift = 0;; shift += 7) {
+    std::uint8_t b = in[at++];
+    v |= static_cast<std::uint32_t>(b & 0x7f) << shift;
+    if (b < 0x80) return v;
+  }
+}
+
+}  // namespace
 
 Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
     : positions_(std::move(positions)), bounds_(bounds), limits_(limits) {
@@ -77,15 +94,15 @@ Box Octree::box_of(std::uint64_t key) const { return box(place(key)); }
 
 // The candidates of each child: the node's triangles that overlap the
 // child's box (as the kernels compute it, widened by a hair).
-Octree::Children Octree::split(const Pending& node) const {
+Octree::Children Octree::split(Place place, const std::vector<std::int32_t>& candidates) const {
   Children lists;
   Box boxes[8];
   for (int c = 0; c < 8; ++c) {
-    boxes[c] = box(child(node.place, c));
+    boxes[c] = box(child(place, c));
     Vec3 hair = overlap_hair(bounds_, boxes[c].hi - boxes[c].lo);
     boxes[c] = {boxes[c].lo - hair, boxes[c].hi + hair};
   }
-  auto sort_into_children = [&](std::int32_t t) {
+  for (std::int32_t t : candidates) {
     Vec3 a = positions_[3 * t], b = positions_[3 * t + 1], c = positions_[3 * t + 2];
     Vec3 lo = min(min(a, b), c), hi = max(max(a, b), c);
     for (int k = 0; k < 8; ++k) {
@@ -95,9 +112,7 @@ Octree::Children Octree::split(const Pending& node) const {
       bool inside = lo.x >= x.lo.x && lo.y >= x.lo.y && lo.z >= x.lo.z && hi.x <= x.hi.x && hi.y <= x.hi.y && hi.z <= x.hi.z;
       if (inside || (!apart && triangle_overlaps_box(a, b, c, x.lo, x.hi))) lists[k].push_back(t);
     }
-  };
-  for (Run run : node.candidates)
-    for (std::int32_t t = run.first; t < run.first + run.count; ++t) sort_into_children(t);
+  }
   return lists;
 }
 
@@ -112,41 +127,102 @@ std::int32_t Octree::settle(Place place, const std::vector<std::int32_t>& list, 
     triangles_.push_back(-1);
     return -start - 2;
   }
-  Pending& p = pending_[index];
-  p.place = place;
-  for (std::int32_t t : list)
-    if (!p.candidates.empty() && p.candidates.back().first + p.candidates.back().count == t)
-      ++p.candidates.back().count;
-    else
-      p.candidates.push_back({t, 1});
-  p.candidates.shrink_to_fit();
+  keep_unbuilt(index, place, list);
   return 0;
 }
 
+void Octree::keep_unbuilt(std::int32_t node, Place place, const std::vector<std::int32_t>& list) {
+  if (candidate_bytes_.size() + 10 * list.size() > UINT32_MAX)  // a run takes at most 10 bytes
+    throw Error("octree: more than 4 GiB of triangle lists kept for unbuilt nodes; lower the depth limit");
+  unbuilt_.push_back({node, static_cast<std::uint32_t>(candidate_bytes_.size()), key(place)});
+  std::int32_t end = 0;  // where the previous run ended
+  for (std::size_t i = 0; i < list.size();) {
+    std::size_t j = i + 1;
+    while (j < list.size() && list[j] == list[j - 1] + 1) ++j;
+    put_leb128(candidate_bytes_, static_cast<std::uint32_t>(list[i] - end));
+    put_leb128(candidate_bytes_, static_cast<std::uint32_t>(j - i - 1));
+    end = list[j - 1] + 1;
+    i = j;
+  }
+}
+
+std::size_t Octree::entry_of(std::int32_t node) const {
+  auto it = std::lower_bound(unbuilt_.begin(), unbuilt_.end(), node,
+                             [](const Unbuilt& u, std::int32_t n) { return u.node < n; });
+  if (it == unbuilt_.end() || it->node != node || it->key == kDead)
+    throw Error("octree: node " + std::to_string(node) + " is not an unbuilt node");
+  return static_cast<std::size_t>(it - unbuilt_.begin());
+}
+
+std::vector<std::int32_t> Octree::candidates(std::size_t entry) const {
+  std::size_t at = unbuilt_[entry].first_byte;
+  std::size_t end = entry + 1 < unbuilt_.size() ? unbuilt_[entry + 1].first_byte : candidate_bytes_.size();
+  std::vector<std::int32_t> list;
+  std::int32_t run_end = 0;
+  while (at < end) {
+    auto first = run_end + static_cast<std::int32_t>(get_leb128(candidate_bytes_, at));
+    auto count = static_cast<std::int32_t>(get_leb128(candidate_bytes_, at)) + 1;
+    for (std::int32_t t = first; t < first + count; ++t) list.push_back(t);
+    run_end = first + count;
+  }
+  return list;
+}
+
+// Drops the entries of built nodes and their lists, and gives back what the
+// two vectors grew to: after a build, the store holds only what it needs.
+void Octree::compact_unbuilt() {
+  auto end_of = [&](std::size_t e) { return e + 1 < unbuilt_.size() ? unbuilt_[e + 1].first_byte : candidate_bytes_.size(); };
+  std::size_t live_bytes = 0;
+  for (std::size_t e = 0; e < unbuilt_.size(); ++e)
+    if (unbuilt_[e].key != kDead) live_bytes += end_of(e) - unbuilt_[e].first_byte;
+  std::vector<Unbuilt> live;
+  std::vector<std::uint8_t> bytes;
+  live.reserve(unbuilt_.size() - dead_);
+  bytes.reserve(live_bytes);
+  for (std::size_t e = 0; e < unbuilt_.size(); ++e) {
+    if (unbuilt_[e].key == kDead) continue;
+    live.push_back({unbuilt_[e].node, static_cast<std::uint32_t>(bytes.size()), unbuilt_[e].key});
+    bytes.insert(bytes.end(), candidate_bytes_.begin() + unbuilt_[e].first_byte,
+                 candidate_bytes_.begin() + static_cast<std::ptrdiff_t>(end_of(e)));
+  }
+  unbuilt_ = std::move(live);
+  candidate_bytes_ = std::move(bytes);
+  dead_ = 0;
+}
+
 std::size_t Octree::build(const std::vector<std::int32_t>& requested) {
+  std::size_t built = build_level(requested);
+  compact_unbuilt();
+  return built;
+}
+
+std::size_t Octree::build_level(const std::vector<std::int32_t>& requested) {
   auto t0 = std::chrono::steady_clock::now();
   std::vector<std::int32_t> todo;
   for (std::int32_t n : requested)
-    if (pending_.count(n)) todo.push_back(n);
+    if (n >= 0 && static_cast<std::size_t>(n) < nodes_.size() && nodes_[n] == 0) todo.push_back(n);
   std::sort(todo.begin(), todo.end());
   todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+  std::vector<std::size_t> entries(todo.size());
+  for (std::size_t i = 0; i < todo.size(); ++i) entries[i] = entry_of(todo[i]);
   // Splitting is the work and runs in parallel; placing children is a
   // sequential append.
   std::vector<Children> children(todo.size());
-  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) { children[i] = split(pending_.at(todo[i])); });
+  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
+    children[i] = split(place(unbuilt_[entries[i]].key), candidates(entries[i]));
+  });
   if (nodes_.size() + 8 * todo.size() > static_cast<std::size_t>(INT32_MAX) ||
       triangles_.size() > static_cast<std::size_t>(INT32_MAX) / 2)
     throw Error("octree: more than 2^31 nodes or listed triangles; lower the depth limit or raise the leaf size");
   for (std::size_t i = 0; i < todo.size(); ++i) {
-    Place place = pending_.at(todo[i]).place;
-    pending_.erase(todo[i]);
+    Place at = place(unbuilt_[entries[i]].key);
+    unbuilt_[entries[i]].key = kDead;
+    ++dead_;
     auto first = static_cast<std::int32_t>(nodes_.size());
     nodes_.resize(nodes_.size() + 8);
-    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(place, c), children[i][c], first + c);
+    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(at, c), children[i][c], first + c);
     nodes_[todo[i]] = first;
-    built_keys_.push_back(key(place));
   }
-  if (pending_.bucket_count() > 4 * pending_.size() + 16) pending_.rehash(0);  // give back what the map grew to
   build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return todo.size();
 }
@@ -166,12 +242,12 @@ std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
     std::vector<Walk> going_on;
     std::vector<Place> places;
     for (const Walk& w : walks)
-      if (auto it = pending_.find(w.node); it != pending_.end()) {
+      if (nodes_[w.node] == 0) {
         level.push_back(w.node);
         going_on.push_back(w);
-        places.push_back(it->second.place);
+        places.push_back(place(unbuilt_[entry_of(w.node)].key));
       }
-    built += build(level);
+    built += build_level(level);
     walks.clear();
     for (std::size_t i = 0; i < going_on.size(); ++i) {
       int half = resolution() >> (places[i].level + 1), which = 0;
@@ -180,6 +256,7 @@ std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
       if (nodes_[next] == 0) walks.push_back({next, going_on[i].cell});
     }
   }
+  compact_unbuilt();
   return built;
 }
 
@@ -189,21 +266,30 @@ void Octree::build_everything() {
 
 std::vector<std::int32_t> Octree::unbuilt() const {
   std::vector<std::int32_t> out;
-  out.reserve(pending_.size());
-  for (const auto& [index, p] : pending_) out.push_back(index);
+  out.reserve(unbuilt_.size() - dead_);
+  for (const Unbuilt& u : unbuilt_)
+    if (u.key != kDead) out.push_back(u.node);
   return out;
+}
+
+// The k-th node built got children 8k+1 .. 8k+8.
+std::vector<std::uint64_t> Octree::built_keys() const {
+  std::vector<std::uint64_t> keys(built_count());
+  std::vector<std::pair<std::int32_t, Place>> inner;
+  if (nodes_[0] >= 1) inner.emplace_back(0, Place{});
+  while (!inner.empty()) {
+    auto [node, at] = inner.back();
+    inner.pop_back();
+    keys[static_cast<std::size_t>(nodes_[node] - 1) / 8] = key(at);
+    for (int c = 0; c < 8; ++c)
+      if (nodes_[nodes_[node] + c] >= 1) inner.emplace_back(nodes_[node] + c, child(at, c));
+  }
+  return keys;
 }
 
 std::size_t Octree::bytes() const { return (nodes_.size() + triangles_.size()) * sizeof(std::int32_t); }
 
-// The map's own nodes and buckets included: with many small lists they are
-// a good part of it.
-std::size_t Octree::pending_bytes() const {
-  using Entry = decltype(pending_)::value_type;
-  std::size_t b = pending_.bucket_count() * sizeof(void*);
-  for (const auto& [index, p] : pending_) b += sizeof(void*) + sizeof(Entry) + p.candidates.capacity() * sizeof(Run);
-  return b;
-}
+std::size_t Octree::pending_bytes() const { return unbuilt_.capacity() * sizeof(Unbuilt) + candidate_bytes_.capacity(); }
 
 BuildOverlap build_overlap(const std::vector<std::vector<std::uint64_t>>& keys_per_part) {
   std::map<std::uint64_t, int> parts;

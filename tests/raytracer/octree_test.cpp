@@ -2,10 +2,12 @@
 // backend; a lazy render builds only nodes its rays walk into, nothing
 // when the view is rendered again, only what is new for a new view; depth
 // limits from 0 to the deepest; the waves end where every ray escapes and
-// where every ray hits.
+// where every ray hits; the order nodes are built in does not change them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <random>
 #include <set>
 
 #include "helpers.hpp"
@@ -189,6 +191,102 @@ TEST(LazyOctree, WavesEndWhereEveryRayEscapesAndWhereEveryRayHits) {
   EXPECT_TRUE(std::all_of(in.triangle.begin(), in.triangle.end(), [](int t) { return t >= 0; }));
   EXPECT_GT(report.waves, 0u);
   expect_same_image(sh::rt::Renderer(inside, small("cpu", Accel::Grid)).render(), in, "inside a closed box");
+}
+
+}  // namespace
+
+namespace {
+
+// Every leaf of a tree by its place (level and corner), with its triangles.
+std::map<std::array<int, 4>, std::vector<int>> leaves(const sh::rt::Octree& tree) {
+  std::map<std::array<int, 4>, std::vector<int>> out;
+  std::vector<std::pair<int, std::array<int, 4>>> todo{{0, {0, 0, 0, 0}}};
+  while (!todo.empty()) {
+    auto [node, at] = todo.back();
+    todo.pop_back();
+    int v = tree.nodes()[node];
+    EXPECT_NE(v, 0) << "an unbuilt node after building everything";
+    if (v >= 1) {
+      int half = tree.resolution() >> (at[0] + 1);
+      for (int c = 0; c < 8; ++c)
+        todo.push_back({v + c, {at[0] + 1, at[1] + (c & 1) * half, at[2] + (c >> 1 & 1) * half, at[3] + (c >> 2 & 1) * half}});
+      continue;
+    }
+    std::vector<int>& list = out[at];
+    for (int k = -v - 2; v <= -2 && tree.triangles()[k] >= 0; ++k) list.push_back(tree.triangles()[k]);
+  }
+  return out;
+}
+
+// Independently of how the tree kept its lists: each leaf lists every
+// triangle lying inside its box, and only triangles that reach into it.
+void expect_leaves_hold_their_triangles(const sh::rt::Octree& tree) {
+  const std::vector<Vec3>& p = tree.positions();
+  Vec3 fine = tree.finest_cell(), lo = tree.bounds().lo;
+  std::size_t inside_somewhere = 0;
+  for (const auto& [at, list] : leaves(tree)) {
+    float size = static_cast<float>(tree.resolution() >> at[0]);
+    Vec3 box_lo = lo + Vec3{at[1] * fine.x, at[2] * fine.y, at[3] * fine.z};
+    Vec3 box_hi = box_lo + Vec3{size * fine.x, size * fine.y, size * fine.z}, pad = 1e-3f * (box_hi - box_lo);
+    std::set<int> listed(list.begin(), list.end());
+    for (std::size_t t = 0; t < p.size() / 3; ++t) {
+      Vec3 t_lo = sh::rt::min(sh::rt::min(p[3 * t], p[3 * t + 1]), p[3 * t + 2]);
+      Vec3 t_hi = sh::rt::max(sh::rt::max(p[3 * t], p[3 * t + 1]), p[3 * t + 2]);
+      bool inside = true, apart = false;
+      for (int a = 0; a < 3; ++a) {
+        inside = inside && t_lo[a] > box_lo[a] + pad[a] && t_hi[a] < box_hi[a] - pad[a];
+        apart = apart || t_lo[a] > box_hi[a] + pad[a] || t_hi[a] < box_lo[a] - pad[a];
+      }
+      bool in_list = listed.count(static_cast<int>(t)) > 0;
+      if (inside) ++inside_somewhere;
+      ASSERT_TRUE(!inside || in_list) << "triangle " << t << " lies inside a leaf that does not list it";
+      ASSERT_FALSE(apart && in_list) << "triangle " << t << " is listed in a leaf it does not reach";
+    }
+  }
+  EXPECT_GT(inside_somewhere, p.size() / 3 / 2) << inside_somewhere << " of " << p.size() / 3 << "too few triangles inside a leaf for the check to mean much";
+}
+
+// Lazily, in a random order of small batches and walks towards random
+// cells, so that the store of unbuilt nodes is compacted between batches
+// that leave some of its entries alive.
+void build_in_random_order(sh::rt::Octree& lazy) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> cell(0, lazy.resolution() - 1);
+  for (int round = 0; !lazy.unbuilt().empty(); ++round) {
+    std::vector<std::int32_t> unbuilt = lazy.unbuilt();
+    std::shuffle(unbuilt.begin(), unbuilt.end(), random);
+    unbuilt.resize((unbuilt.size() + 2) / 3);
+    if (round % 2 == 0) {
+      EXPECT_EQ(lazy.build(unbuilt), unbuilt.size());
+      continue;
+    }
+    std::vector<std::int32_t> requests;
+    for (std::int32_t node : unbuilt) requests.insert(requests.end(), {node, cell(random), cell(random), cell(random)});
+    EXPECT_GE(lazy.build_towards(requests), unbuilt.size());
+  }
+  EXPECT_EQ(lazy.pending_bytes(), 0u);
+}
+
+TEST(LazyOctree, TheOrderNodesAreBuiltInDoesNotChangeThem) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("procedural", 3000);
+  sh::rt::OctreeLimits limits{7, 3};
+  sh::rt::Octree whole = sh::rt::Octree::full(scene, limits);
+  sh::rt::Octree lazy = sh::rt::Octree::lazy(scene, limits);
+  build_in_random_order(lazy);
+  EXPECT_EQ(lazy.nodes().size(), whole.nodes().size());
+  EXPECT_EQ(lazy.built_count(), whole.built_count());
+  std::vector<std::uint64_t> lazy_keys = lazy.built_keys(), whole_keys = whole.built_keys();
+  EXPECT_EQ(lazy_keys.size(), lazy.built_count());
+  EXPECT_EQ(std::set<std::uint64_t>(lazy_keys.begin(), lazy_keys.end()), std::set<std::uint64_t>(whole_keys.begin(), whole_keys.end()));
+  EXPECT_EQ(leaves(lazy), leaves(whole));
+}
+
+// Coarse leaves over a fine mesh, so that most triangles lie inside one.
+TEST(LazyOctree, LeavesListTheTrianglesInsideThem) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("procedural", 20000);
+  sh::rt::Octree lazy = sh::rt::Octree::lazy(scene, {4, 16});
+  build_in_random_order(lazy);
+  expect_leaves_hold_their_triangles(lazy);
 }
 
 }  // namespace

@@ -18,7 +18,6 @@
 #include <array>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "sh/raytracer/accelerator.hpp"
@@ -58,12 +57,15 @@ class Octree {
   Vec3 finest_cell() const;
 
   // Nodes built on request (not counting the root made at construction),
-  // each as a key of its level and place: the same node has the same key in
-  // every process.
-  const std::vector<std::uint64_t>& built_keys() const { return built_keys_; }
+  // in the order they were built, each as a key of its level and place: the
+  // same node has the same key in every process.  Found by walking the tree
+  // (an inner node's children were appended when it was built), so the
+  // tree keeps no record of them.
+  std::vector<std::uint64_t> built_keys() const;
+  std::size_t built_count() const { return (nodes_.size() - 1) / 8; }
   Box box_of(std::uint64_t key) const;  // the box of the node with this key
   std::size_t bytes() const;          // the two tables
-  std::size_t pending_bytes() const;  // triangle lists kept for unbuilt nodes
+  std::size_t pending_bytes() const;  // what is kept for unbuilt nodes: places and triangle lists
   double build_ms() const { return build_ms_; }
 
  private:
@@ -71,18 +73,25 @@ class Octree {
     int level = 0;
     std::array<int, 3> corner{0, 0, 0};  // finest-level coordinates
   };
-  // Runs of consecutive triangle numbers: meshes number neighbouring
-  // triangles closely, so the list an unbuilt node keeps is a few runs.
-  struct Run {
-    std::int32_t first, count;
+  // An unbuilt node: its index and place, and where its triangles start in
+  // `candidate_bytes_` (they end where the next entry's start).  Entries are
+  // appended as nodes are made, so they are sorted by node index; a built
+  // one is marked dead until the entries are compacted.
+  struct Unbuilt {
+    std::int32_t node;
+    std::uint32_t first_byte;
+    std::uint64_t key;
   };
-  struct Pending {
-    Place place;
-    std::vector<Run> candidates;
-  };
+  static constexpr std::uint64_t kDead = ~std::uint64_t{0};
   using Children = std::array<std::vector<std::int32_t>, 8>;
 
-  Children split(const Pending& node) const;
+  std::size_t build_level(const std::vector<std::int32_t>& nodes);  // build() but keeps dead entries
+  std::size_t entry_of(std::int32_t node) const;  // an unbuilt node's entry
+  std::vector<std::int32_t> candidates(std::size_t entry) const;
+  void keep_unbuilt(std::int32_t node, Place place, const std::vector<std::int32_t>& list);
+  void compact_unbuilt();
+  Children split(Place place, const std::vector<std::int32_t>& candidates) const;
+
   std::int32_t settle(Place place, const std::vector<std::int32_t>& list, std::int32_t index);
   Place child(Place parent, int which) const;
   Box box(Place p) const;  // as the kernels compute it
@@ -94,8 +103,12 @@ class Octree {
   OctreeLimits limits_;
   std::vector<std::int32_t> nodes_;
   std::vector<std::int32_t> triangles_;
-  std::unordered_map<std::int32_t, Pending> pending_;
-  std::vector<std::uint64_t> built_keys_;
+  std::vector<Unbuilt> unbuilt_;
+  // Each unbuilt node's triangles as runs of consecutive numbers (meshes
+  // number neighbouring triangles closely), each run two LEB128 numbers:
+  // its distance from the previous run's end, and its length less one.
+  std::vector<std::uint8_t> candidate_bytes_;
+  std::size_t dead_ = 0;
   double build_ms_ = 0;
 };
 
