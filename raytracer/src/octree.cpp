@@ -227,34 +227,39 @@ std::size_t Octree::build_level(const std::vector<std::int32_t>& requested) {
   return todo.size();
 }
 
+// Level by level: each round builds the node every walk stands on (in
+// parallel), then each walk steps into the child holding its cell and goes
+// on while that child is unbuilt.  A node's place follows from its level
+// and any cell inside it, so a walk carries no more.
 std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
   struct Walk {
-    std::int32_t node;
+    std::int32_t node, level;
     std::array<int, 3> cell;
   };
   std::vector<Walk> walks;
-  for (std::size_t i = 0; i + 3 < requests.size(); i += 4)
-    walks.push_back({requests[i], {requests[i + 1], requests[i + 2], requests[i + 3]}});
+  walks.reserve(requests.size() / 4);
+  for (std::size_t i = 0; i + 3 < requests.size(); i += 4) {
+    std::int32_t node = requests[i];
+    if (node < 0 || static_cast<std::size_t>(node) >= nodes_.size() || nodes_[node] != 0) continue;
+    Place at = place(unbuilt_[entry_of(node)].key);
+    std::array<int, 3> cell;
+    for (int a = 0; a < 3; ++a) cell[a] = std::clamp(requests[i + 1 + a], at.corner[a], at.corner[a] + (resolution() >> at.level) - 1);
+    walks.push_back({node, at.level, cell});
+  }
   std::size_t built = 0;
-  // Level by level: each round builds one node per walk, in parallel.
+  std::vector<std::int32_t> level;
   while (!walks.empty()) {
-    std::vector<std::int32_t> level;
-    std::vector<Walk> going_on;
-    std::vector<Place> places;
-    for (const Walk& w : walks)
-      if (nodes_[w.node] == 0) {
-        level.push_back(w.node);
-        going_on.push_back(w);
-        places.push_back(place(unbuilt_[entry_of(w.node)].key));
-      }
+    level.clear();
+    for (const Walk& w : walks) level.push_back(w.node);
     built += build_level(level);
-    walks.clear();
-    for (std::size_t i = 0; i < going_on.size(); ++i) {
-      int half = resolution() >> (places[i].level + 1), which = 0;
-      for (int a = 0; a < 3; ++a) which |= (going_on[i].cell[a] >= places[i].corner[a] + half) << a;
-      std::int32_t next = nodes_[going_on[i].node] + which;
-      if (nodes_[next] == 0) walks.push_back({next, going_on[i].cell});
+    std::size_t going_on = 0;
+    for (Walk w : walks) {
+      int shift = limits_.max_depth - w.level - 1, which = 0;
+      for (int a = 0; a < 3; ++a) which |= (w.cell[a] >> shift & 1) << a;
+      std::int32_t next = nodes_[w.node] + which;
+      if (nodes_[next] == 0) walks[going_on++] = {next, w.level + 1, w.cell};
     }
+    walks.resize(going_on);
   }
   compact_unbuilt();
   return built;

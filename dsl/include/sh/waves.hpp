@@ -4,9 +4,8 @@
 // allocate, so an element that needs a part of a table not built yet stops
 // and writes a request to the program's request output (an int, or up to
 // four: the first >= 0 says the element stopped, the others say more about
-// what it needs); after
-// the run, a Refiner builds every distinct request, and the stopped elements
-// run again.  Outputs named as carried are fed back into inputs, so an
+// what it needs); after the run, a Refiner builds what the requests ask
+// for, and the stopped elements run again.  Outputs named as carried are fed back into inputs, so an
 // element resumes where it stopped; without them it starts over.  An
 // element that finished writes a first request component of -1.
 //
@@ -39,8 +38,9 @@ class Refiner {
   // built so far (each table it owns keeps an id of its own, and a version
   // bumped whenever it grows).
   virtual void bind(std::vector<TableView>& tables) const = 0;
-  // Builds what the requests ask for (distinct ones, `width` ints each);
-  // returns how many things it built.
+  // Builds what the requests ask for (`width` ints each, one per stopped
+  // element, in the order of the stream: many elements may ask for the
+  // same thing); returns how many things it built.
   virtual std::size_t refine(const std::vector<std::int32_t>& requests, int width) = 0;
   // What it has built, in bytes a caller of that kind can read (per rank
   // in RunStats::refined).

@@ -46,12 +46,10 @@ class Stopped {
   bool empty() const { return positions_.empty(); }
   int width() const { return width_; }
   const std::vector<std::size_t>& positions() const { return positions_; }
-  std::vector<std::int32_t> distinct_requests() const {
-    std::vector<std::array<std::int32_t, 4>> d = requests_;
-    std::sort(d.begin(), d.end());
-    d.erase(std::unique(d.begin(), d.end()), d.end());
+  std::vector<std::int32_t> requests() const {
     std::vector<std::int32_t> flat;
-    for (const auto& r : d) flat.insert(flat.end(), r.begin(), r.begin() + width_);
+    flat.reserve(requests_.size() * static_cast<std::size_t>(width_));
+    for (const auto& r : requests_) flat.insert(flat.end(), r.begin(), r.begin() + width_);
     return flat;
   }
 
@@ -61,17 +59,30 @@ class Stopped {
   std::vector<std::array<std::int32_t, 4>> requests_;  // unused components zero
 };
 
+// Space for the stopped elements' streams, one buffer per input and
+// output, kept from wave to wave: the stopped set only shrinks, so after
+// the first wave no page is touched for the first time.
+class Scratch {
+ public:
+  char* take(std::size_t slot, std::size_t bytes) {
+    if (buffers_.size() <= slot) buffers_.resize(slot + 1);
+    if (buffers_[slot].size() < bytes) buffers_[slot].resize(bytes);
+    return buffers_[slot].data();
+  }
+
+ private:
+  std::vector<std::vector<char>> buffers_;
+};
+
 // The stopped elements' arguments: inputs gathered from the caller's
 // streams (carried ones from its outputs), outputs into scratch space.
-RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_t>& at, std::vector<std::string>& scratch) {
+RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_t>& at, Scratch& scratch) {
   RunArgs c = full;
   c.count = at.size();
-  scratch.clear();
-  scratch.reserve(full.inputs.size() + full.outputs.size());
+  std::size_t slot = 0;
   auto gathered = [&](const BufferView& from) {
     std::size_t n = element_bytes(from);
-    scratch.emplace_back(at.size() * n, '\0');
-    char* to = scratch.back().data();
+    char* to = scratch.take(slot++, at.size() * n);
     for (std::size_t k = 0; k < at.size(); ++k) std::memcpy(to + k * n, static_cast<const char*>(from.data) + at[k] * n, n);
     return BufferView{from.type, at.size(), to};
   };
@@ -79,10 +90,7 @@ RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_
     auto carried = std::find_if(w.carried.begin(), w.carried.end(), [&](const auto& p) { return p.second == static_cast<int>(i); });
     c.inputs[i] = gathered(carried == w.carried.end() ? full.inputs[i] : full.outputs[carried->first]);
   }
-  for (BufferView& out : c.outputs) {
-    scratch.emplace_back(at.size() * element_bytes(out), '\0');
-    out = BufferView{out.type, at.size(), scratch.back().data()};
-  }
+  for (BufferView& out : c.outputs) out = BufferView{out.type, at.size(), scratch.take(slot++, at.size() * element_bytes(out))};
   return c;
 }
 
@@ -130,9 +138,9 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
   kernel.run(all, stats);
   Stopped stopped;
   stopped.collect(all, w.request_output, {});
-  std::vector<std::string> scratch;
+  Scratch scratch;
   while (!stopped.empty()) {
-    std::vector<std::int32_t> requests = stopped.distinct_requests();
+    std::vector<std::int32_t> requests = stopped.requests();
     if (w.refiner->refine(requests, stopped.width()) == 0)
       throw Error("running in waves: the " + w.refiner->kind() + " refiner built nothing for request " +
                   std::to_string(requests.front()) + " (element " + std::to_string(stopped.positions().front()) +
