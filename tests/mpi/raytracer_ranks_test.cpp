@@ -1,8 +1,12 @@
 // The ray tracer on the mpi backend under mpirun (-np 3 in CTest): the
 // bidirectional images agree with cpu's at this rank count, with whole
-// tables and with tables split over the ranks and read through caches.
+// tables and with tables split over the ranks and read through caches; a
+// lazy octree that each rank builds for its own share gives cpu's image,
+// and a second render of the view builds nothing on any rank.
 #include <gtest/gtest.h>
 
+#include <numeric>
+#include <sh/raytracer/octree_refiner.hpp>
 #include <sh/raytracer/render.hpp>
 #include <sh/raytracer/scene.hpp>
 #include <sh/sh.hpp>
@@ -38,6 +42,48 @@ TEST(RaytracerOnRanks, BidirectionalImagesAgreeWithCpuWholeAndSplit) {
       EXPECT_GT(remote, 0u) << "blocks came from other ranks";
     }
   }
+}
+
+std::vector<sh::rt::OctreeSummary> summaries(const sh::rt::RenderReport& report) {
+  std::vector<sh::rt::OctreeSummary> out;
+  for (const std::string& bytes : report.refined) out.push_back(sh::rt::OctreeSummary::read(bytes));
+  return out;
+}
+
+TEST(RaytracerOnRanks, LazyOctreeBuiltPerRankForItsShareAndKeptForTheNextRender) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("procedural", 20000);
+  sh::rt::RenderSettings s;
+  s.width = 64;
+  s.height = 48;
+  s.accel = sh::rt::Accel::LazyOctree;
+  s.octree = {10, 4};
+  s.backend = "cpu";
+  sh::rt::Image want = sh::rt::Renderer(scene, s).render();
+  s.backend = "mpi";
+  sh::rt::Renderer on_ranks(scene, s);
+  sh::rt::RenderReport first, second;
+  sh::rt::Image got = on_ranks.render(&first);
+  EXPECT_EQ(got.rgb, want.rgb);
+  EXPECT_EQ(got.triangle, want.triangle);
+  std::vector<sh::rt::OctreeSummary> built = summaries(first);
+  ASSERT_EQ(built.size(), static_cast<std::size_t>(sh::mpi::size()));
+  std::vector<std::vector<std::uint64_t>> keys;
+  for (const sh::rt::OctreeSummary& rank : built) {
+    EXPECT_GT(rank.built.size(), 0u) << "a rank built nothing for its share";
+    keys.push_back(rank.built);
+  }
+  sh::rt::BuildOverlap overlap = sh::rt::build_overlap(keys);
+  // Each rank traces a band of the image of its own, the same each render:
+  // the nodes near the root are shared, most of the rest are not.
+  if (sh::mpi::size() > 1) {
+    EXPECT_LT(overlap.shared, overlap.distinct / 2);
+  }
+
+  on_ranks.render(&second);
+  EXPECT_EQ(second.waves, 0u) << "the second render of the view stopped on unbuilt nodes";
+  std::vector<sh::rt::OctreeSummary> again = summaries(second);
+  ASSERT_EQ(again.size(), built.size());
+  for (std::size_t r = 0; r < built.size(); ++r) EXPECT_EQ(again[r].built.size(), built[r].built.size()) << "rank " << r;
 }
 
 }  // namespace

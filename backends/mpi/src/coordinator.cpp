@@ -64,6 +64,7 @@ class Coordinator : public Kernel {
     std::string error;
     std::size_t outstanding;
     const Waves* waves;
+    bool fixed;  // static: one share per rank, the same in every run
   };
 
   void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
@@ -76,20 +77,25 @@ class Coordinator : public Kernel {
     PartStats mine;
     mine.part = 0;
     // Dynamic: many more chunks than ranks (16 each unless a size is set);
-    // static: one contiguous share per rank.
-    std::size_t shares = schedule_ == "static" ? ranks_ : 16 * ranks_;
-    std::size_t chunk = chunk_ > 0 && schedule_ != "static" ? chunk_ : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
-    Schedule s{args, chunk, 0, {}, 0, waves};
+    // static: one contiguous share per rank.  Runs in waves are static
+    // unless the settings say otherwise: each rank's refiner keeps what it
+    // built for its share, which the next run hands it again.
+    bool fixed = schedule_ == "static" || (schedule_.empty() && waves);
+    std::size_t shares = fixed ? ranks_ : 16 * ranks_;
+    std::size_t chunk = chunk_ > 0 && !fixed ? chunk_ : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
+    Schedule s{args, chunk, 0, {}, 0, waves, fixed};
     std::size_t served = 0;  // serving ranks that have been told they are done
     std::vector<PartStats> parts{};
     int waiting_stats = ranks_ - 1;
     // Every serving rank gets its first chunk before rank 0 computes any:
     // a rank busy computing does not see requests (MPI progresses only in
-    // MPI calls), and a static split needs each rank to take its share.
+    // MPI calls), and a static split needs each rank to take its share,
+    // the same share in every run (rank r the r-th, rank 0 the last), so
+    // that what a rank keeps between runs (a lazy accelerator) fits it.
     for (int i = 1; i < ranks_; ++i) {
       auto idle = Clock::now();
       int source = 0;
-      receive(MPI_ANY_SOURCE, kReady, t, &source);
+      receive(fixed ? i : MPI_ANY_SOURCE, kReady, t, &source);
       mine.idle_s += seconds_since(idle);
       served += hand_out(s, source, t);
     }
@@ -99,7 +105,7 @@ class Coordinator : public Kernel {
       MPI_Status status;
       MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &pending, &status);
       // A static split keeps rank 0's share for rank 0.
-      if ((!pending || schedule_ == "static") && s.next < args.count && s.error.empty()) {
+      if ((!pending || fixed) && s.next < args.count && s.error.empty()) {
         auto busy = Clock::now();
         compute_here(s, mine);
         mine.busy_s += seconds_since(busy);
@@ -297,7 +303,7 @@ class Coordinator : public Kernel {
   // that it answers the other ranks often: MPI moves messages only while
   // rank 0 is in an MPI call, and a waiting rank is an idle rank.
   void compute_here(Schedule& s, PartStats& mine) {
-    std::size_t piece = schedule_ == "static" ? s.chunk : std::max<std::size_t>(1, s.chunk / 8);
+    std::size_t piece = s.fixed ? s.chunk : std::max<std::size_t>(1, s.chunk / 8);
     std::size_t begin = s.next, n = std::min(piece, s.args.count - begin);
     s.next += n;
     RunArgs slice = s.args;
@@ -318,9 +324,11 @@ class Coordinator : public Kernel {
     }
   }
 
+  // Empty where the settings do not say.
   static std::string schedule_of(const Options& o) {
     auto it = o.settings.find("schedule");
-    std::string s = it == o.settings.end() ? "dynamic" : it->second;
+    if (it == o.settings.end()) return "";
+    std::string s = it->second;
     if (s != "dynamic" && s != "static") throw Error("mpi backend: schedule must be dynamic or static, not '" + s + "'");
     return s;
   }

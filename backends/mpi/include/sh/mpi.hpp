@@ -2,8 +2,11 @@
 // The distributed backend: under `mpirun -np N`, rank 0 owns the streams
 // and every rank (rank 0 too) computes chunks with a local backend
 // (Options::local_backend: cpu by default, opencl or interp).  The stream
-// is cut into many more chunks than ranks and handed out as ranks ask;
-// results land in order.  Tables and uniforms go out once per version.
+// is cut into many more chunks than ranks and handed out as ranks ask
+// (settings["schedule"] = "dynamic"), or into one share per rank, rank r
+// taking the r-th in every run ("static", the default for runs in waves,
+// whose per-rank refiners keep what they built for their share); results
+// land in order.  Tables and uniforms go out once per version.
 // With settings["split_tables"] = N, tables of N bytes or more are split
 // instead: blocks of settings["block_bytes"] (2048) dealt to the ranks in
 // turn, each rank reading through an LRU cache of settings["cache_blocks"]
