@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
+#include <tbb/global_control.h>
 
 #include "accel_compare.hpp"
 #include "embree_anchor.hpp"
@@ -44,7 +46,8 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--triangles", c.triangles, "triangles of the procedural scene")->capture_default_str();
   app->add_option("--precision", c.precision, "f32 or f64")->check(CLI::IsMember({"f32", "f64"}))->capture_default_str();
   app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
-  app->add_option("--threads", c.threads, "CPU threads (0: all)")->capture_default_str();
+  app->add_option("--threads", c.threads, "CPU threads, for tracing and for building accelerators (0: all)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   app->add_option("--set", c.settings, "backend setting KEY=VALUE, repeatable (cpu: width=scalar|4|8|16; mpi: chunk=N, "
                   "schedule=dynamic|static)");
   app->add_option("--samples", c.samples, "shadow rays per disk light and shading point")
@@ -312,6 +315,10 @@ int main(int argc, char** argv) {
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
   try {
+    // The backend runs kernels on --threads; this holds the rest (building
+    // accelerators) to as many, on every rank.
+    std::optional<tbb::global_control> threads;
+    if (common.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(common.threads));
 #if __has_include(<sh/mpi.hpp>)
     // Under mpirun, serving ranks wait for rank 0 from here on.
     if (backend_name == "mpi") sh::mpi::start();
