@@ -94,11 +94,11 @@ Box Octree::box_of(std::uint64_t key) const { return box(place(key)); }
 
 // The candidates of each child: the node's triangles that overlap the
 // child's box (as the kernels compute it, widened by a hair).
-Octree::Children Octree::split(Place place, const std::vector<std::int32_t>& candidates) const {
+Octree::Children Octree::split(Place at, const std::vector<std::int32_t>& candidates) const {
   Children lists;
   Box boxes[8];
   for (int c = 0; c < 8; ++c) {
-    boxes[c] = box(child(place, c));
+    boxes[c] = box(child(at, c));
     Vec3 hair = overlap_hair(bounds_, boxes[c].hi - boxes[c].lo);
     boxes[c] = {boxes[c].lo - hair, boxes[c].hi + hair};
   }
@@ -171,6 +171,7 @@ std::vector<std::int32_t> Octree::candidates(std::size_t entry) const {
 // Drops the entries of built nodes and their lists, and gives back what the
 // two vectors grew to: after a build, the store holds only what it needs.
 void Octree::compact_unbuilt() {
+  auto t0 = std::chrono::steady_clock::now();
   auto end_of = [&](std::size_t e) { return e + 1 < unbuilt_.size() ? unbuilt_[e + 1].first_byte : candidate_bytes_.size(); };
   std::size_t live_bytes = 0;
   for (std::size_t e = 0; e < unbuilt_.size(); ++e)
@@ -188,6 +189,7 @@ void Octree::compact_unbuilt() {
   unbuilt_ = std::move(live);
   candidate_bytes_ = std::move(bytes);
   dead_ = 0;
+  build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::size_t Octree::build(const std::vector<std::int32_t>& requested) {

@@ -90,7 +90,7 @@ class Octree {
   std::vector<std::int32_t> candidates(std::size_t entry) const;
   void keep_unbuilt(std::int32_t node, Place place, const std::vector<std::int32_t>& list);
   void compact_unbuilt();
-  Children split(Place place, const std::vector<std::int32_t>& candidates) const;
+  Children split(Place at, const std::vector<std::int32_t>& candidates) const;
 
   std::int32_t settle(Place place, const std::vector<std::int32_t>& list, std::int32_t index);
   Place child(Place parent, int which) const;
