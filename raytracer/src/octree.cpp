@@ -279,17 +279,19 @@ std::vector<std::int32_t> Octree::unbuilt() const {
   return out;
 }
 
-// The k-th node built got children 8k+1 .. 8k+8.
+// The k-th node built got children 8k+1 .. 8k+8, so one pass over the
+// nodes finds each block's parent, and a pass over the blocks in the order
+// they were built places every parent: its own block came before.
 std::vector<std::uint64_t> Octree::built_keys() const {
-  std::vector<std::uint64_t> keys(built_count());
-  std::vector<std::pair<std::int32_t, Place>> inner;
-  if (nodes_[0] >= 1) inner.emplace_back(0, Place{});
-  while (!inner.empty()) {
-    auto [node, at] = inner.back();
-    inner.pop_back();
-    keys[static_cast<std::size_t>(nodes_[node] - 1) / 8] = key(at);
-    for (int c = 0; c < 8; ++c)
-      if (nodes_[nodes_[node] + c] >= 1) inner.emplace_back(nodes_[node] + c, child(at, c));
+  std::vector<std::int32_t> parent(built_count());
+  for (std::size_t n = 0; n < nodes_.size(); ++n)
+    if (nodes_[n] >= 1) parent[static_cast<std::size_t>(nodes_[n] - 1) / 8] = static_cast<std::int32_t>(n);
+  std::vector<Place> parent_place(parent.size());
+  std::vector<std::uint64_t> keys(parent.size());
+  for (std::size_t k = 0; k < parent.size(); ++k) {
+    std::int32_t n = parent[k];
+    parent_place[k] = n == 0 ? Place{} : child(parent_place[static_cast<std::size_t>(n - 1) / 8], (n - 1) % 8);
+    keys[k] = key(parent_place[k]);
   }
   return keys;
 }
