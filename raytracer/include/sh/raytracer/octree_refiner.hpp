@@ -2,7 +2,9 @@
 // The lazy octree as a Refiner (sh/waves.hpp): it builds the nodes rays
 // ask for, and shows the kernels the octree's tables as built so far.  On
 // mpi each rank gets one started from the seed (the triangles and an
-// unbuilt root), so each rank builds only what its own chunks need.
+// unbuilt root), so each rank builds only what its own chunks need; the
+// mpi backend runs waves on a static schedule, so a rank's chunks, and
+// the tree it built for them, are the same from render to render.
 #include <memory>
 #include <string>
 
