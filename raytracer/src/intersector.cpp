@@ -1,16 +1,47 @@
 // The intersector of the seed: enter the accelerator's box, walk its cells
 // front to back, test each cell's triangles, and accept a hit only inside
 // the current cell (a nearer hit in a later cell cannot exist then).
+#include "rounding.hpp"
 #include "walk.hpp"
 
 namespace sh::rt {
 namespace walk {
 namespace {
 
-// Barycentric tolerance: a ray through a shared edge or vertex hits both
-// sides rather than slipping between them (watertight closed meshes).
-constexpr float kEdgeTolerance = 1e-6f;
 constexpr float kTieTolerance = 1e-6f;
+
+// A vertex in the ray's space: translated to the origin, turned, sheared.
+// Each vertex is carried there on its own, so the triangles that share a
+// vertex or an edge see it at exactly the same place.
+Attrib3f to_ray_space(const Ray& r, const Attrib3f& vertex) {
+  Attrib3f p = r.turn(vertex - r.o);
+  return join(p(0, 1) + r.shear(0, 1) * p(2), r.shear(2) * p(2));
+}
+
+// Twice the signed area of (origin, p, q) in the ray's xy plane.  Two
+// products and a difference: rounding may take it to zero but never to the
+// wrong sign, and the edge's other triangle computes exactly its negation.
+Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) { return p(0) * q(1) - p(1) * q(0); }
+
+// The same in double: products of floats are exact there, so the sign is.
+Attrib1f exact_edge_function(const Attrib3f& p, const Attrib3f& q) {
+  Attrib2d a = p(0, 1).cast<double>(), b = q(0, 1).cast<double>();
+  return (a(0) * b(1) - a(1) * b(0)).cast<float>();
+}
+
+// How far t = (u za + v zb + w zc) / det may be from the exact distance,
+// given the errors of the ray-space coordinates and edge functions: a hit
+// nearer than this may lie behind the origin (a ray leaving a surface, or
+// starting on one, must not meet it there).
+Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c, const Attrib3f& edges,
+                        const Attrib1f& inv_det) {
+  Attrib3f largest = max(max(abs(a), abs(b)), abs(c));
+  Attrib1f x = largest(0), y = largest(1), z = largest(2);
+  Attrib1f dz = gamma(3) * z, dx = gamma(5) * (x + z), dy = gamma(5) * (y + z);
+  Attrib1f de = 2.0f * (gamma(2) * x * y + dy * x + dx * y);
+  Attrib1f e = max_component(abs(edges));
+  return 3.0f * (gamma(3) * e * z + de * z + dz * e) * abs(inv_det);
+}
 
 }  // namespace
 
@@ -18,6 +49,20 @@ Ray::Ray(const Point3f& origin, const Vector3f& direction) : o(origin), d(direct
   nonzero = abs(d) > kTinyDirection;
   inv = 1.0f / cond(nonzero, d, Attrib3f(kTinyDirection));
   step = sign(cond(nonzero, d, Attrib3f(0.0f)));
+  Attrib3f size = abs(d);
+  last_is_x = size(0) > size(1) && size(0) > size(2);
+  last_is_y = !last_is_x && size(1) > size(2);
+  swap_xy = 0.0f;
+  Attrib3f turned = turn(d);
+  swap_xy = turned(2) < 0.0f;
+  turned = cond(swap_xy, turned(1, 0, 2), turned);
+  Attrib1f dz = cond(turned(2) != 0.0f, turned(2), ConstAttrib1f(1.0f));
+  shear = join(-turned(0, 1) / dz, 1.0f / dz);
+}
+
+Attrib3f Ray::turn(const Attrib3f& v) const {
+  Attrib3f turned = cond(last_is_x, v(1, 2, 0), cond(last_is_y, v(2, 0, 1), v));
+  return cond(swap_xy, turned(1, 0, 2), turned);
 }
 
 void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& t_limit, Attrib1f& t_enter,
@@ -27,28 +72,33 @@ void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& 
   t_leave = min(min_component(max(ta, tb)), t_limit);
 }
 
+// A ray through a shared edge or vertex meets every triangle around it
+// whose edge functions are all >= 0 or all <= 0, so it cannot slip between
+// them: the test is exact in the ray's space.
 void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
                    Attrib2f& best_uv) {
-  Attrib3f v0 = s.v0[tri], e1 = s.e1[tri], e2 = s.e2[tri];
-  Attrib3f p = cross(r.d, e2);
-  Attrib1f det = dot(e1, p);
+  Attrib3f a = to_ray_space(r, s.v0[tri]), b = to_ray_space(r, s.v1[tri]), c = to_ray_space(r, s.v2[tri]);
+  Attrib1f u = edge_function(b, c), v = edge_function(c, a), w = edge_function(a, b);
+  SH_IF(u == 0.0f || v == 0.0f || w == 0.0f) {
+    u = exact_edge_function(b, c);
+    v = exact_edge_function(c, a);
+    w = exact_edge_function(a, b);
+  } SH_ENDIF;
+  Attrib1f outside = (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f);
+  Attrib1f det = u + v + w;
   Attrib1f usable = det != 0.0f;
   Attrib1f inv = 1.0f / cond(usable, det, ConstAttrib1f(1.0f));
-  Attrib3f sv = r.o - v0;
-  Attrib1f u = dot(sv, p) * inv;
-  Attrib3f q = cross(sv, e1);
-  Attrib1f v = dot(r.d, q) * inv;
-  Attrib1f t = dot(e2, q) * inv;
+  Attrib1f t = (u * a(2) + v * b(2) + w * c(2)) * inv;
+  Attrib1f in_front = t > distance_error(a, b, c, join(join(u, v), w), inv);
   // Of triangles at the same distance (to rounding: backends may differ in
   // the last bits) the lowest numbered wins, whatever order the accelerator
   // tests them in: every accelerator and backend gives the same hit.
   Attrib1f tie = (best_tri >= 0).cast<float>() && abs(t - best) <= best * kTieTolerance;
   Attrib1f nearer = cond(tie, (tri < best_tri).cast<float>(), t < best);
-  Attrib1f hit = usable && u >= -kEdgeTolerance && v >= -kEdgeTolerance && u + v <= 1.0f + kEdgeTolerance &&
-                 t > 0.0f && nearer;
+  Attrib1f hit = usable && !outside && in_front && nearer;
   best = cond(hit, t, best);
   best_tri = cond(hit, tri, best_tri);
-  best_uv = cond(hit, join(u, v), best_uv);
+  best_uv = cond(hit, join(v, w) * inv, best_uv);
 }
 
 Attrib3f nearest_axis(const Attrib3f& t_exits) {

@@ -26,7 +26,8 @@ Attrib2f sample_in_triangle(const Attrib1i& k) {
 }
 
 Point3f lattice_point(const SceneTables& s, const Attrib1i& tri, const Attrib1f& i, const Attrib1f& j, const Attrib1f& k) {
-  return s.v0[tri] + (i * s.e1[tri] + j * s.e2[tri]) / k;
+  Attrib3f v0 = s.v0[tri];
+  return v0 + (i * (s.v1[tri] - v0) + j * (s.v2[tri] - v0)) / k;
 }
 
 LightPassSettings checked(LightPassSettings settings) {
@@ -122,9 +123,9 @@ LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSet
     if (f.reflections || f.refractions) {
       Attrib1f bounces = 0.0f;
       SH_WHILE(arrives) {
-        Surface x = surface_at(s, o, d, t, tri, uv, f);
+        Surface x = surface_at(s, d, tri, uv, f);
         leave_energy(x);
-        Continuation next = go_on(s, x, d, f);
+        Continuation next = go_on(x, d, f);
         power *= next.share;
         bounces += 1.0f;
         SH_BREAK(bounces > depth_ || max_component(power) <= 0.0f);
@@ -133,7 +134,7 @@ LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSet
         arrives = intersect(o, d, kFar, t, tri, uv);
       } SH_ENDWHILE;
     } else {
-      SH_IF(arrives) { leave_energy(surface_at(s, o, d, t, tri, uv, f)); } SH_ENDIF;
+      SH_IF(arrives) { leave_energy(surface_at(s, d, tri, uv, f)); } SH_ENDIF;
     }
   } SH_END;
 }

@@ -77,8 +77,8 @@ SceneTables::SceneTables(const Scene& scene, const Octree& tree, bool lazy) : Sc
 
 SceneTables::SceneTables(const Scene& scene)
     : v0(at_least_one(scene.mesh.triangles())),
-      e1(at_least_one(scene.mesh.triangles())),
-      e2(at_least_one(scene.mesh.triangles())),
+      v1(at_least_one(scene.mesh.triangles())),
+      v2(at_least_one(scene.mesh.triangles())),
       normals(at_least_one(scene.mesh.normals.size())),
       colors(at_least_one(scene.mesh.colors.size())),
       material(at_least_one(scene.mesh.triangles())),
@@ -87,15 +87,14 @@ SceneTables::SceneTables(const Scene& scene)
       disks(at_least_one(4 * scene.disk_lights.size())),
       samples(kMaxShadowSamples) {
   const Mesh& m = scene.mesh;
-  std::vector<Vec3> first(m.triangles()), edge1(m.triangles()), edge2(m.triangles());
-  for (std::size_t t = 0; t < m.triangles(); ++t) {
-    first[t] = m.positions[3 * t];
-    edge1[t] = m.positions[3 * t + 1] - m.positions[3 * t];
-    edge2[t] = m.positions[3 * t + 2] - m.positions[3 * t];
+  std::vector<Vec3> corner[3];
+  for (int k = 0; k < 3; ++k) {
+    corner[k].resize(m.triangles());
+    for (std::size_t t = 0; t < m.triangles(); ++t) corner[k][t] = m.positions[3 * t + k];
   }
-  v0.name("v0").assign(flatten(first));
-  e1.name("e1").assign(flatten(edge1));
-  e2.name("e2").assign(flatten(edge2));
+  v0.name("v0").assign(flatten(corner[0]));
+  v1.name("v1").assign(flatten(corner[1]));
+  v2.name("v2").assign(flatten(corner[2]));
   normals.name("normals").assign(flatten(m.normals));
   colors.name("colors").assign(m.colors.empty() ? std::vector<float>{1, 1, 1} : flatten(m.colors));
   material.name("material").assign(m.material);
@@ -125,10 +124,6 @@ SceneTables::SceneTables(const Scene& scene)
   use_vertex_colors = scene.has_vertex_colors() ? 1.0f : 0.0f;
   ambient = scene.ambient;
   background = Attrib3f(scene.background.x, scene.background.y, scene.background.z);
-  // Secondary rays leave a surface this far along its normal (and at least
-  // a few ulps of the hit point's coordinates, see the tracer).
-  Box bounds = accelerator_bounds(scene);
-  surface_offset = std::max(length(bounds.hi - bounds.lo) * 1e-5f, std::numeric_limits<float>::min());
   max_bounces = 0.0f;
   set_camera(scene.camera, 1, 1);
 }

@@ -1,12 +1,22 @@
 #include "shading.hpp"
 
+#include "rounding.hpp"
+
 namespace sh::rt {
 
-Surface surface_at(const SceneTables& s, const Point3f& o, const Vector3f& d, const Attrib1f& t,
-                   const Attrib1i& tri, const Attrib2f& uv, const Features& f) {
+Surface surface_at(const SceneTables& s, const Vector3f& d, const Attrib1i& tri, const Attrib2f& uv,
+                   const Features& f) {
   Surface out;
-  out.p = o + d * t;
   Attrib1f w = 1.0f - uv(0) - uv(1);
+  Attrib3f v0 = s.v0[tri], v1 = s.v1[tri], v2 = s.v2[tri];
+  Attrib3f p0 = w * v0, p1 = uv(0) * v1, p2 = uv(1) * v2;
+  out.p = p0 + p1 + p2;
+  // The error of p is within gamma(7) of the terms' sizes (the barycentric
+  // interpolation's bound); adding the offset rounds by at most an ulp of
+  // p's largest coordinate more.
+  Attrib3f error = gamma(7) * (abs(p0) + abs(p1) + abs(p2));
+  out.ng = normalize(cross(v1 - v0, v2 - v0));
+  out.clearance = dot(abs(out.ng), error) + max_component(abs(out.p)) * 0x1p-22f;
   Attrib3f n = w * s.normals[3 * tri] + uv(0) * s.normals[3 * tri + 1] + uv(1) * s.normals[3 * tri + 2];
   out.n = faceforward(normalize(n), -d);
   Attrib1f entering = dot(n, d) < 0.0f;
@@ -25,9 +35,9 @@ Surface surface_at(const SceneTables& s, const Point3f& o, const Vector3f& d, co
   return out;
 }
 
-Point3f lift(const SceneTables& s, const Surface& x, float side) {
-  Attrib1f offset = max(s.surface_offset, max_component(abs(x.p)) * 1e-6f);
-  return x.p + x.n * (side * offset);
+Point3f leave(const Surface& x, const Vector3f& dir) {
+  Attrib1f side = cond(dot(x.ng, dir) < 0.0f, ConstAttrib1f(-1.0f), ConstAttrib1f(1.0f));
+  return x.p + x.ng * (side * x.clearance);
 }
 
 Vector3f refract_or_mirror(const Vector3f& d, const Normal3f& n, const Attrib1f& eta, Attrib1f& mirrored) {
@@ -36,15 +46,16 @@ Vector3f refract_or_mirror(const Vector3f& d, const Normal3f& n, const Attrib1f&
   return cond(mirrored, reflect(-d, n), normalize(through));
 }
 
-Continuation go_on(const SceneTables& s, const Surface& x, const Vector3f& d, const Features& f) {
-  Continuation c{lift(s, x), reflect(-d, x.n), x.reflectivity};
+Continuation go_on(const Surface& x, const Vector3f& d, const Features& f) {
+  Vector3f mirrored_d = reflect(-d, x.n);
+  Continuation c{leave(x, mirrored_d), mirrored_d, x.reflectivity};
   if (f.refractions) {
     Attrib1f mirrored;
     Vector3f onward = refract_or_mirror(d, x.n, x.eta, mirrored);
     Attrib1f transmits = x.transparency > 0.0f;
     c.share = cond(transmits, x.transparency, c.share);
     c.d = cond(transmits, onward, c.d);
-    c.o = cond(transmits && !mirrored, lift(s, x, -1.0f), c.o);
+    c.o = cond(transmits, leave(x, onward), c.o);
   }
   return c;
 }

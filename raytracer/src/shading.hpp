@@ -8,8 +8,10 @@
 namespace sh::rt {
 
 struct Surface {
-  Point3f p;
-  Normal3f n;        // faces the incoming ray
+  Point3f p;         // from the barycentrics: closer to the plane than o + t d
+  Normal3f n;        // shading normal, facing the incoming ray
+  Normal3f ng;       // geometric normal (unit)
+  Attrib1f clearance;  // along ng, beyond the rounding error of p
   Color3f diffuse;   // material times vertex colour
   Attrib1f specular, shininess, reflectivity, transparency;
   Attrib1f eta;      // index of refraction it is entered with: 1/ior on the way in, ior on the way out
@@ -18,13 +20,15 @@ struct Surface {
   Attrib1f shaded() const { return 1.0f - reflectivity - transparency; }
 };
 
-Surface surface_at(const SceneTables& s, const Point3f& o, const Vector3f& d, const Attrib1f& t,
-                   const Attrib1i& tri, const Attrib2f& uv, const Features& f);
+// The surface a ray going along d met at barycentrics uv of triangle tri.
+Surface surface_at(const SceneTables& s, const Vector3f& d, const Attrib1i& tri, const Attrib2f& uv,
+                   const Features& f);
 
-// Where rays leave a surface: pushed along the normal (side 1, towards the
-// ray that came; -1, through), by at least a few ulps of the point's
-// coordinates so that scenes far from the origin do not shadow themselves.
-Point3f lift(const SceneTables& s, const Surface& x, float side = 1.0f);
+// Where a ray going along `dir` leaves the surface: the hit point pushed
+// along the geometric normal, to the side `dir` goes, by its clearance.
+// The point is then strictly on that side of the triangle's plane, so the
+// ray cannot meet its own triangle again, at any distance from the origin.
+Point3f leave(const Surface& x, const Vector3f& dir);
 
 // Where a path goes on from a surface that mirrors or transmits, and with
 // what share of its light: through it (refracted) where it is transparent
@@ -35,6 +39,6 @@ struct Continuation {
   Vector3f d;
   Attrib1f share;
 };
-Continuation go_on(const SceneTables& s, const Surface& x, const Vector3f& d, const Features& f);
+Continuation go_on(const Surface& x, const Vector3f& d, const Features& f);
 
 }  // namespace sh::rt

@@ -31,10 +31,9 @@ Color3f vertex_light(const SceneTables& s, const Attrib1i& tri, const Attrib2f& 
 // Direct light from every point light the point sees: Phong, shadowed.
 Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view, bool diffuse) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
-  Point3f from = lift(s, x);
   SH_FOR(Attrib1i l = 0, l < s.light_count, l += 1) {
     Attrib3f light_pos = s.lights[2 * l], light_color = s.lights[2 * l + 1];
-    Vector3f to_light = light_pos - from;
+    Vector3f to_light = light_pos - x.p;
     Attrib1f dist = length(to_light);
     Vector3f dir = to_light / dist;
     Attrib1f facing = dot(x.n, dir);
@@ -42,7 +41,7 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
       Attrib1f t;
       Attrib1i blocker;
       Attrib2f uv;
-      Attrib1f shadowed = intersect(from, dir, dist, t, blocker, uv);
+      Attrib1f shadowed = intersect(leave(x, dir), dir, dist, t, blocker, uv);
       sum += (1.0f - shadowed) * phong(x, view, dir, facing, diffuse) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;
@@ -56,10 +55,9 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
 Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view,
                     const Attrib2f& turn) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
-  Point3f from = lift(s, x);
   SH_FOR(Attrib1i l = 0, l < s.disk_count, l += 1) {
     Attrib3f centre = s.disks[4 * l], du = s.disks[4 * l + 1], dv = s.disks[4 * l + 2], color = s.disks[4 * l + 3];
-    Vector3f to_centre = centre - from;
+    Vector3f to_centre = centre - x.p;
     Vector3f dir = to_centre / length(to_centre);
     Attrib1f facing = dot(x.n, dir);
     SH_IF(facing > 0.0f) {
@@ -67,12 +65,13 @@ Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface&
       SH_FOR(Attrib1i k = 0, k < s.sample_count, k += 1) {
         Attrib2f xy = s.samples[k];
         Attrib1f a = xy(0) * turn(0) - xy(1) * turn(1), b = xy(0) * turn(1) + xy(1) * turn(0);
-        Vector3f to_sample = centre + a * du + b * dv - from;
+        Vector3f to_sample = centre + a * du + b * dv - x.p;
         Attrib1f dist = length(to_sample);
+        Vector3f towards = to_sample / dist;
         Attrib1f t;
         Attrib1i blocker;
         Attrib2f uv;
-        reached += 1.0f - intersect(from, to_sample / dist, dist, t, blocker, uv);
+        reached += 1.0f - intersect(leave(x, towards), towards, dist, t, blocker, uv);
       } SH_ENDFOR;
       sum += reached / s.sample_count.cast<float>() * phong(x, view, dir, facing) * color;
     } SH_ENDIF;
@@ -142,13 +141,13 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
     Point3f o = p.o;
     Vector3f d = p.d;
     SH_IF(hit) {
-      Surface x = surface_at(s, p.o, p.d, p.walk.best, p.walk.triangle, p.walk.uv, f);
+      Surface x = surface_at(s, p.d, p.walk.triangle, p.walk.uv, f);
       Color3f local = s.ambient * x.diffuse;
       if (f.luminance) local += x.diffuse * vertex_light(s, p.walk.triangle, p.walk.uv);
       if (f.shadows) local += direct(s, intersect, x, -p.d, !f.luminance);
       if (f.soft_shadows) local += soft_direct(s, intersect, x, -p.d, turn);
       if (f.reflections || f.refractions) {
-        Continuation next = go_on(s, x, p.d, f);
+        Continuation next = go_on(x, p.d, f);
         Attrib1f shaded = f.refractions ? x.shaded() : 1.0f - x.reflectivity;
         add = p.weight * shaded * local;
         weight = p.weight * next.share;

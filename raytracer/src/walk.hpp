@@ -14,6 +14,12 @@ struct Ray {
   const Point3f& o;
   const Vector3f& d;
   Attrib3f nonzero, inv, step;  // step: the sign of each usable component
+  // Ray space of the watertight test: axes turned so that the direction's
+  // largest component comes last (x and y swapped where it is negative,
+  // keeping the winding), then sheared so the direction becomes +z.
+  Attrib1f last_is_x, last_is_y, swap_xy;
+  Attrib3f shear;  // (-dx / dz, -dy / dz, 1 / dz) in turned axes
+  Attrib3f turn(const Attrib3f& v) const;
 };
 
 // The ray's parameters where it enters and leaves the box [lo, hi] (t_enter
@@ -21,7 +27,8 @@ struct Ray {
 void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& t_limit, Attrib1f& t_enter,
           Attrib1f& t_leave);
 
-// Möller–Trumbore against triangle `tri`; keeps the nearest hit in (0, best).
+// The watertight test (Woop, Benthin and Wald, JCGT 2013) against triangle
+// `tri`; keeps the nearest hit in (0, best).
 void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
                    Attrib2f& best_uv);
 

@@ -82,6 +82,8 @@ Agreement compare_with_embree(const sh::rt::Scene& scene, const Rays& rays, cons
     } else if ((we_hit && !they_hit && near_edge(scene, tri, o, d, 2e-5)) ||
                (!we_hit && they_hit && near_edge(scene, e.triangle, o, d, 2e-5))) {
       ++a.edge_grazes;
+    } else if ((they_hit && e.t <= slack) || (we_hit && t <= slack)) {
+      ++a.starts_on_surface;
     } else if (a.disagreements.size() < 5) {
       a.disagreements.push_back("ray " + std::to_string(i) + ": ours t=" + std::to_string(t) + " tri " +
                                 std::to_string(tri) + ", Embree t=" + std::to_string(e.t) + " tri " +

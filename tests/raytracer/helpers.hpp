@@ -32,7 +32,11 @@ Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& back
            sh::rt::Accel accel = sh::rt::Accel::Grid);
 
 struct Agreement {
-  std::size_t rays = 0, agree = 0, ties = 0, edge_grazes = 0;
+  // starts_on_surface: one tracer's hit lies within the coordinates'
+  // precision of the origin, which the other counts as behind it (ours
+  // rejects hits nearer than the intersection's error bound).
+  std::size_t rays = 0, agree = 0, ties = 0, edge_grazes = 0, starts_on_surface = 0;
+  std::size_t unexplained() const { return rays - agree - ties - edge_grazes - starts_on_surface; }
   std::vector<std::string> disagreements;  // the first few, described
 };
 

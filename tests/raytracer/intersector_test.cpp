@@ -1,7 +1,7 @@
 // The DSL intersector agrees with Embree 3 on 100 000 random rays per
 // built-in scene: same triangle and t within 1e-4 relative, except where
-// two triangles tie or a ray grazes an edge within the intersector's
-// tolerance.
+// two triangles tie, a ray grazes an edge (the two tests round differently
+// there), or a ray starts within rounding of a surface.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,7 +18,7 @@ class IntersectorAgainstEmbree : public testing::TestWithParam<sh::rt::Accel> {
     rt_test::Rays rays = rt_test::random_rays(scene, n, seed);
     rt_test::Hits hits = rt_test::trace(scene, rays, "cpu", GetParam());
     rt_test::Agreement a = rt_test::compare_with_embree(scene, rays, hits);
-    std::size_t bad = a.rays - a.agree - a.ties - a.edge_grazes;
+    std::size_t bad = a.unexplained();
     std::string detail;
     for (const std::string& d : a.disagreements) detail += "\n  " + d;
     EXPECT_EQ(bad, 0u) << scene.name << ": " << bad << " of " << a.rays << " rays disagree with Embree" << detail;

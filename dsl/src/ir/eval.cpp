@@ -54,7 +54,6 @@ double float_op(Op op, double a, double b, double c) {
     case Op::Ceil: return std::ceil(a);
     case Op::Round: return std::round(a);
     case Op::Sqrt: return std::sqrt(a);
-    case Op::Rsqrt: return 1.0 / std::sqrt(a);
     case Op::Rcp: return 1.0 / a;
     case Op::Pow: return std::pow(a, b);
     case Op::Exp: return std::exp(a);
@@ -103,6 +102,9 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     default: break;
   }
   if (operand == Scalar::I32 || operand == Scalar::Bool) return int_op(op, a, b);
+  // Two roundings, as every backend computes it: the root, then its
+  // reciprocal (so that normalize gives the same bits everywhere).
+  if (op == Op::Rsqrt) return hold(result, p, 1.0 / hold(result, p, std::sqrt(a)));
   return hold(result, p, float_op(op, a, b, c));
 }
 

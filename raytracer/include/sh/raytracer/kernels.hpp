@@ -79,9 +79,10 @@ class SceneTables {
   std::unique_ptr<GridTables> grid;
   std::unique_ptr<OctreeTables> octree;
   std::unique_ptr<LuminanceTables> luminance;  // bidirectional tracing only
-  // Triangles: first vertex and two edges (for the intersection), vertex
-  // normals and colours (three per triangle), material per triangle.
-  Table1D<Attrib3f> v0, e1, e2, normals, colors;
+  // Triangles: the three vertices as the scene has them (the watertight
+  // test needs a shared vertex to be the same number in every triangle),
+  // vertex normals and colours (three per triangle), material per triangle.
+  Table1D<Attrib3f> v0, v1, v2, normals, colors;
   Table1D<Attrib1i> material;
   // Materials, two entries each: (diffuse rgb, specular), (shininess,
   // reflectivity, transparency, ior).  Lights, two each: position, colour.
@@ -95,7 +96,7 @@ class SceneTables {
   Table1D<Attrib2f> samples;
   Attrib1i sample_count;
   Attrib1f use_vertex_colors;  // 0 or 1: the general kernel's switch
-  Attrib1f max_bounces, ambient, surface_offset;
+  Attrib1f max_bounces, ambient;
   Attrib3f background;
   // Camera.
   Attrib3f eye, forward, right, up;
