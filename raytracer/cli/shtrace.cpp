@@ -35,6 +35,7 @@ struct Common {
   std::vector<std::string> settings;  // KEY=VALUE for the backend
   bool bidirectional = false;
   LightPassSettings light_pass;
+  LoadLimits load;
 };
 
 void add_common(CLI::App* app, Common& c) {
@@ -68,6 +69,12 @@ void add_common(CLI::App* app, Common& c) {
       ->capture_default_str()->check(CLI::Range(1, 64));
   app->add_option("--light-samples", c.light_pass.samples, "light pass: rays per light and element")
       ->capture_default_str()->check(CLI::Range(1, 4096));
+  app->add_option("--load-memory", c.load.memory_mib, "model files are read in a child process: memory it may use, MiB")
+      ->capture_default_str()->check(CLI::Range(std::size_t{16}, std::size_t{1} << 30));
+  app->add_option("--load-seconds", c.load.seconds, "model files are read in a child process: CPU and wall-clock seconds it may take")
+      ->capture_default_str()->check(CLI::Range(0.1, 1e6));
+  app->add_flag("--load-in-process", c.load.in_process,
+                "read model files in this process, without the child or its limits (for debuggers)");
 }
 
 std::pair<int, int> parse_size(const std::string& s) {
@@ -88,7 +95,7 @@ Vec3 parse_vec3(const std::string& option, const std::string& s) {
 }
 
 Scene scene_for(const Common& c) {
-  return c.scene == "procedural" ? builtin_scene("procedural", c.triangles) : load_scene(c.scene);
+  return c.scene == "procedural" ? builtin_scene("procedural", c.triangles) : load_scene(c.scene, c.load);
 }
 
 RenderSettings settings_for(const Common& c, const std::string& backend_name) {

@@ -1,6 +1,9 @@
 // JSON scene files.  Every error names the file and the field (as a path
 // like objects[2].radius) or, for malformed JSON, the line and column.
+#include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -13,6 +16,12 @@ namespace sh::rt {
 namespace {
 
 using nlohmann::json;
+
+std::string text(double v) {
+  char t[32];
+  std::snprintf(t, sizeof t, "%g", v);
+  return t;
+}
 
 class Reader {
  public:
@@ -30,11 +39,21 @@ class Reader {
       if (!names.count(key)) fail(at.empty() ? key : at + "." + key, "unknown field");
   }
 
+  // Every number a scene holds is bounded by what the tracer supports (a
+  // coordinate, a scale, a radius alike).
   float number(const json& j, const std::string& at) const {
     if (!j.is_number()) fail(at, "expected a number");
     double v = j.get<double>();
     if (!std::isfinite(v)) fail(at, "must be finite");
+    if (std::fabs(v) > kMaxCoordinate)
+      fail(at, text(v) + " is outside the range the tracer supports (|v| <= 1e18)");
     return static_cast<float>(v);
+  }
+
+  int integer(const json& j, const std::string& at, int lo, int hi) const {
+    float v = number(j, at);
+    if (!(v >= lo && v <= hi)) fail(at, "must be " + std::to_string(lo) + " .. " + std::to_string(hi));
+    return static_cast<int>(v);
   }
 
   float number(const json& parent, const std::string& at, const char* key, float fallback) const {
@@ -164,8 +183,15 @@ Transform read_transform(const Reader& r, const json& j, const std::string& at) 
   return t;
 }
 
+// Shapes whose triangles are too small for single precision lose them: a
+// warning counts them.
+void zero_area(const Reader& r, const std::string& at, std::size_t dropped, Scene& s) {
+  if (dropped > 0)
+    s.warnings.push_back(r.file() + ": " + at + ": " + std::to_string(dropped) + " zero-area triangles left out");
+}
+
 void read_object(const Reader& r, const json& o, const std::string& at, Scene& s,
-                 const std::map<std::string, int>& materials) {
+                 const std::map<std::string, int>& materials, const LoadLimits& limits) {
   if (!o.is_object()) r.fail(at, "expected an object");
   if (!o.contains("type") || !o["type"].is_string()) r.fail(at + ".type", "missing (mesh, sphere, quad or box)");
   std::string type = o["type"];
@@ -184,7 +210,7 @@ void read_object(const Reader& r, const json& o, const std::string& at, Scene& s
     if (!path.empty() && path[0] != '/') path = directory_of(r.file()) + path;
     Transform t = o.contains("transform") ? read_transform(r, o["transform"], at + ".transform") : Transform{};
     try {
-      load_model(s, path, t, material);
+      load_model(s, path, t, material, limits);
     } catch (const Error& e) {
       r.fail(at + ".file", e.what());
     }
@@ -192,39 +218,102 @@ void read_object(const Reader& r, const json& o, const std::string& at, Scene& s
     r.only(o, at, {"type", "center", "radius", "segments", "material"});
     float radius = r.number(r.required(o, at, "radius"), at + ".radius");
     if (radius <= 0) r.fail(at + ".radius", "must be positive");
-    int segments = o.contains("segments") ? static_cast<int>(r.number(o["segments"], at + ".segments")) : 32;
-    if (segments < 3 || segments > 4096) r.fail(at + ".segments", "must be 3 .. 4096");
-    add_sphere(s, r.vec3(r.required(o, at, "center"), at + ".center"), radius, material, segments);
+    // Fewer than 4 segments make one ring, all pole triangles: nothing.
+    int segments = o.contains("segments") ? r.integer(o["segments"], at + ".segments", 4, 4096) : 32;
+    std::size_t before = s.mesh.triangles();
+    std::size_t dropped = add_sphere(s, r.vec3(r.required(o, at, "center"), at + ".center"), radius, material, segments);
+    if (s.mesh.triangles() == before)
+      r.fail(at + ".radius", text(radius) + " is too small for the sphere's place: all " + std::to_string(dropped) +
+                                 " of its triangles have zero area in single precision");
+    zero_area(r, at, dropped, s);
   } else if (type == "quad") {
     r.only(o, at, {"type", "corner", "u", "v", "material"});
-    add_quad(s, r.vec3(r.required(o, at, "corner"), at + ".corner"), r.vec3(r.required(o, at, "u"), at + ".u"),
-             r.vec3(r.required(o, at, "v"), at + ".v"), material);
+    std::size_t dropped = add_quad(s, r.vec3(r.required(o, at, "corner"), at + ".corner"),
+                                   r.vec3(r.required(o, at, "u"), at + ".u"), r.vec3(r.required(o, at, "v"), at + ".v"), material);
+    if (dropped == 2) r.fail(at, "u and v span no area (parallel, zero, or too small for the quad's place)");
   } else if (type == "box") {
     r.only(o, at, {"type", "min", "max", "material"});
-    add_box(s, r.vec3(r.required(o, at, "min"), at + ".min"), r.vec3(r.required(o, at, "max"), at + ".max"), material);
+    std::size_t dropped = add_box(s, r.vec3(r.required(o, at, "min"), at + ".min"), r.vec3(r.required(o, at, "max"), at + ".max"),
+                                  material);
+    if (dropped == 12) r.fail(at, "min and max span no area (equal, or too close for the box's place)");
+    zero_area(r, at, dropped, s);
   } else {
     r.fail(at + ".type", "unknown object type '" + type + "' (known: mesh, sphere, quad, box)");
   }
 }
 
-Scene read_scene(const json& j, const std::string& path);
+Scene read_scene(const json& j, const std::string& path, const LoadLimits& limits);
+
+// Follows the parser through the document, so that an error it finds (a
+// number out of double range, nesting deeper than a scene has) names the
+// field where it happened.
+class FieldTracker {
+ public:
+  static constexpr int kMaxDepth = 64;
+
+  bool operator()(int depth, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    if (event == E::object_start || event == E::array_start) {
+      if (depth > kMaxDepth) throw Error(at() + "nested deeper than " + std::to_string(kMaxDepth) + " levels");
+      frames_.push_back({event == E::array_start, 0, ""});
+    } else if (event == E::key && !frames_.empty()) {
+      frames_.back().key = parsed.is_string() ? parsed.get<std::string>() : "?";
+    } else if (event == E::object_end || event == E::array_end) {
+      if (!frames_.empty()) frames_.pop_back();
+      next();
+    } else if (event == E::value) {
+      next();
+    }
+    return true;
+  }
+
+  // "objects[2].radius: ", or "" at the top level.
+  std::string at() const {
+    std::string path;
+    for (const Frame& f : frames_) {
+      if (f.array) path += "[" + std::to_string(f.index) + "]";
+      else if (!f.key.empty()) path += (path.empty() ? "" : ".") + f.key;
+    }
+    return path.empty() ? "" : path + ": ";
+  }
+
+ private:
+  struct Frame {
+    bool array;
+    std::size_t index;
+    std::string key;
+  };
+  void next() {
+    if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
+  }
+  std::vector<Frame> frames_;
+};
+
+json parse(const std::string& text, const std::string& path) {
+  FieldTracker tracker;
+  try {
+    return json::parse(text, std::ref(tracker));
+  } catch (const json::parse_error& e) {
+    throw Error(path + ": " + location(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + tracker.at() + "not valid JSON (" +
+                e.what() + ")");
+  } catch (const json::exception& e) {
+    throw Error(path + ": " + tracker.at() + "not valid JSON (" + e.what() + ")");
+  } catch (const Error& e) {
+    throw Error(path + ": " + e.what());
+  }
+}
 
 }  // namespace
 
-Scene load_scene_file(const std::string& path) {
+Scene load_scene_file(const std::string& path, const LoadLimits& limits) {
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open the scene file");
   std::stringstream buffer;
   buffer << in.rdbuf();
   std::string text = buffer.str();
-  json j;
+  json j = parse(text, path);
   try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw Error(path + ": " + location(text, e.byte == 0 ? 0 : e.byte - 1) + ": not valid JSON (" + e.what() + ")");
-  }
-  try {
-    return read_scene(j, path);
+    return read_scene(j, path, limits);
   } catch (const json::exception& e) {
     // A value of the wrong JSON type where the reader did not check first.
     throw Error(path + ": " + e.what());
@@ -233,7 +322,7 @@ Scene load_scene_file(const std::string& path) {
 
 namespace {
 
-Scene read_scene(const json& j, const std::string& path) {
+Scene read_scene(const json& j, const std::string& path, const LoadLimits& limits) {
   Reader r(path);
   r.only(j, "", {"camera", "lights", "materials", "objects", "background", "ambient"});
   Scene s;
@@ -250,12 +339,8 @@ Scene read_scene(const json& j, const std::string& path) {
   s.ambient = r.number(j, "", "ambient", s.ambient);
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
     r.fail("objects", "missing or empty: the scene has nothing to trace");
-  for (std::size_t i = 0; i < j["objects"].size(); ++i) {
-    std::size_t before = s.mesh.triangles();
-    read_object(r, j["objects"][i], "objects[" + std::to_string(i) + "]", s, materials);
-    if (s.mesh.triangles() == before)
-      s.warnings.push_back(path + ": objects[" + std::to_string(i) + "] has no triangles of non-zero area");
-  }
+  for (std::size_t i = 0; i < j["objects"].size(); ++i)
+    read_object(r, j["objects"][i], "objects[" + std::to_string(i) + "]", s, materials, limits);
   validate(s, path);
   return s;
 }

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "sh/error.hpp"
+#include "model_reader.hpp"
 #include "sh/raytracer/scene.hpp"
 
 namespace sh::rt {
@@ -34,55 +35,117 @@ Vec3 Transform::apply_normal(Vec3 n) const {
   return normalize(rotate({n.x / scale.x, n.y / scale.y, n.z / scale.z}, rotate_degrees));
 }
 
-void load_model(Scene& scene, const std::string& path, const Transform& t, int material) {
+namespace {
+
+std::string mesh_name(const aiMesh& mesh, unsigned m) {
+  std::string name = "mesh " + std::to_string(m);
+  return mesh.mName.length > 0 ? name + " '" + mesh.mName.C_Str() + "'" : name;
+}
+
+// Checks what assimp promises but a broken importer may not keep: arrays
+// present for what the mesh claims, indices within its vertices.
+void check_mesh(const aiMesh* mesh, unsigned m, const std::string& path) {
+  if (!mesh) throw Error(path + ": mesh " + std::to_string(m) + " is missing");
+  std::string where = path + ": " + mesh_name(*mesh, m);
+  if (mesh->mNumVertices > 0 && !mesh->mVertices) throw Error(where + ": " + std::to_string(mesh->mNumVertices) + " vertices without positions");
+  if (mesh->mNumFaces > 0 && !mesh->mFaces) throw Error(where + ": " + std::to_string(mesh->mNumFaces) + " faces without indices");
+  for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+    const aiFace& face = mesh->mFaces[f];
+    if (face.mNumIndices > 0 && !face.mIndices) throw Error(where + ", face " + std::to_string(f) + ": no vertex indices");
+    for (unsigned k = 0; k < face.mNumIndices; ++k)
+      if (face.mIndices[k] >= mesh->mNumVertices)
+        throw Error(where + ", face " + std::to_string(f) + ": vertex index " + std::to_string(face.mIndices[k]) +
+                    " is past the mesh's " + std::to_string(mesh->mNumVertices) + " vertices");
+  }
+}
+
+// The transformed position of vertex i, checked against what the tracer supports.
+Vec3 position(const aiMesh& mesh, unsigned m, unsigned i, const Transform& t, const std::string& path) {
+  const aiVector3D& v = mesh.mVertices[i];
+  Vec3 p = t.apply({v.x, v.y, v.z});
+  std::string problem = coordinate_problem(p);
+  if (problem.empty()) return p;
+  bool moved = t.scale.x != 1 || t.scale.y != 1 || t.scale.z != 1 || length(t.translate) != 0;
+  throw Error(path + ": " + mesh_name(mesh, m) + ", vertex " + std::to_string(i) + ": " + problem +
+              (moved ? " (after the transform)" : ""));
+}
+
+Vec3 color(const aiMesh& mesh, unsigned m, unsigned i, const std::string& path) {
+  const aiColor4D& c = mesh.mColors[0][i];
+  Vec3 rgb{c.r, c.g, c.b};
+  if (!finite(rgb)) throw Error(path + ": " + mesh_name(mesh, m) + ", vertex " + std::to_string(i) + ": colour is not a finite number");
+  return rgb;
+}
+
+void add_mesh(const aiMesh& mesh, unsigned m, const Transform& t, const std::string& path, MeshBuilder& b) {
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    if (face.mNumIndices != 3) continue;  // points and lines
+    const unsigned* i = face.mIndices;
+    Vec3 p[3], n[3] = {};
+    for (int k = 0; k < 3; ++k) p[k] = position(mesh, m, i[k], t, path);
+    if (mesh.HasNormals())
+      for (int k = 0; k < 3; ++k) {
+        const aiVector3D& v = mesh.mNormals[i[k]];
+        n[k] = t.apply_normal({v.x, v.y, v.z});  // a zero or NaN normal: the face's (MeshBuilder)
+      }
+    if (mesh.HasVertexColors(0))
+      b.colored(p[0], p[1], p[2], n[0], n[1], n[2], color(mesh, m, i[0], path), color(mesh, m, i[1], path),
+                color(mesh, m, i[2], path));
+    else
+      b.triangle(p[0], p[1], p[2], n[0], n[1], n[2]);
+  }
+}
+
+}  // namespace
+
+Scene triangles_of(const aiScene& model, const std::string& path, const Transform& t) {
+  Scene s;
+  MeshBuilder b(s, 0);
+  if (model.mNumMeshes > 0 && !model.mMeshes) throw Error(path + ": " + std::to_string(model.mNumMeshes) + " meshes missing");
+  for (unsigned m = 0; m < model.mNumMeshes; ++m) {
+    check_mesh(model.mMeshes[m], m, path);
+    add_mesh(*model.mMeshes[m], m, t, path, b);
+  }
+  if (s.mesh.triangles() == 0)
+    throw Error(path + ": the model has no triangles" +
+                (b.degenerate() > 0 ? " of non-zero area (" + std::to_string(b.degenerate()) +
+                                          " have zero area in single precision: is the model too small for its place?)"
+                                    : ""));
+  if (b.degenerate() > 0)
+    s.warnings.push_back(path + ": " + std::to_string(b.degenerate()) + " zero-area triangles left out");
+  return s;
+}
+
+Scene read_model_file(const std::string& path, const Transform& t) {
   if (!std::ifstream(path)) throw Error(path + ": cannot open the model file");
   Assimp::Importer importer;
   // Triangulate fans each polygon from its first vertex, in file order.
-  const aiScene* model = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices);
+  // ValidateDataStructure rejects indices and counts that do not add up;
+  // FindInvalidData drops normals and texture coordinates that are NaN or
+  // all alike.
+  unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure |
+                   aiProcess_FindInvalidData;
+  const aiScene* model = importer.ReadFile(path, flags);
   if (!model || !model->mRootNode || (model->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw Error(path + ": cannot load the model: " + importer.GetErrorString());
-  MeshBuilder b(scene, material);
-  std::size_t before = scene.mesh.triangles();
-  for (unsigned m = 0; m < model->mNumMeshes; ++m) {
-    const aiMesh* mesh = model->mMeshes[m];
-    auto vertex = [&](unsigned i) {
-      const aiVector3D& v = mesh->mVertices[i];
-      return t.apply({v.x, v.y, v.z});
-    };
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines
-      const unsigned* i = face.mIndices;
-      Vec3 n[3] = {};
-      if (mesh->HasNormals())
-        for (int k = 0; k < 3; ++k) {
-          const aiVector3D& v = mesh->mNormals[i[k]];
-          n[k] = t.apply_normal({v.x, v.y, v.z});
-        }
-      if (mesh->HasVertexColors(0)) {
-        auto color = [&](unsigned k) {
-          const aiColor4D& c = mesh->mColors[0][k];
-          return Vec3{c.r, c.g, c.b};
-        };
-        b.colored(vertex(i[0]), vertex(i[1]), vertex(i[2]), n[0], n[1], n[2], color(i[0]), color(i[1]), color(i[2]));
-      } else {
-        b.triangle(vertex(i[0]), vertex(i[1]), vertex(i[2]), n[0], n[1], n[2]);
-      }
-    }
-  }
-  if (b.degenerate() > 0)
-    scene.warnings.push_back(path + ": " + std::to_string(b.degenerate()) + " zero-area triangles left out");
-  if (scene.mesh.triangles() == before) throw Error(path + ": the model has no triangles");
+  return triangles_of(*model, path, t);
 }
 
-Scene load_model_as_scene(const std::string& path) {
+void load_model(Scene& scene, const std::string& path, const Transform& t, int material, const LoadLimits& limits) {
+  Scene model = limits.in_process ? read_model_file(path, t) : read_model_isolated(path, t, limits);
+  scene.mesh.append(model.mesh, material);
+  scene.warnings.insert(scene.warnings.end(), model.warnings.begin(), model.warnings.end());
+}
+
+Scene load_model_as_scene(const std::string& path, const LoadLimits& limits) {
   Scene s;
   s.name = path;
   Material m;
   m.name = "default";
   m.specular = 0.3f;
   s.materials.push_back(m);
-  load_model(s, path, Transform{}, 0);
+  load_model(s, path, Transform{}, 0, limits);
   // Frame the model: look at its centre from the front, a light above.
   Vec3 lo = s.bounds_min(), hi = s.bounds_max(), centre = (lo + hi) * 0.5f;
   float radius = std::max(length(hi - lo) * 0.5f, 1e-6f);
@@ -92,15 +155,15 @@ Scene load_model_as_scene(const std::string& path) {
   return s;
 }
 
-Scene load_scene(const std::string& what) {
+Scene load_scene(const std::string& what, const LoadLimits& limits) {
   for (const std::string& name : builtin_scene_names())
     if (what == name) return builtin_scene(name);
   auto dot = what.find_last_of('.');
   std::string ext = dot == std::string::npos ? "" : what.substr(dot + 1);
-  if (ext == "json") return load_scene_file(what);
+  if (ext == "json") return load_scene_file(what, limits);
   if (!std::ifstream(what))
     throw Error(what + ": no such file, and not a built-in scene (built in: cornell, spheres, procedural)");
-  return load_model_as_scene(what);
+  return load_model_as_scene(what, limits);
 }
 
 }  // namespace sh::rt

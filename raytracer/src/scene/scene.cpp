@@ -1,3 +1,6 @@
+#include <cmath>
+#include <cstdio>
+
 #include "sh/error.hpp"
 #include "sh/raytracer/scene.hpp"
 
@@ -27,46 +30,72 @@ Vec3 Scene::bounds_max() const {
   return hi;
 }
 
+void Mesh::append(const Mesh& other, std::int32_t material_of_other) {
+  const Vec3 white{1, 1, 1};
+  if (colors.empty() && !other.colors.empty()) colors.assign(positions.size(), white);
+  positions.insert(positions.end(), other.positions.begin(), other.positions.end());
+  normals.insert(normals.end(), other.normals.begin(), other.normals.end());
+  if (!other.colors.empty()) colors.insert(colors.end(), other.colors.begin(), other.colors.end());
+  else if (!colors.empty()) colors.resize(positions.size(), white);
+  material.insert(material.end(), other.triangles(), material_of_other);
+}
+
 void MeshBuilder::triangle(Vec3 a, Vec3 b, Vec3 c) {
   Vec3 n = normalize(cross(b - a, c - a));
   triangle(a, b, c, n, n, n);
 }
 
 void MeshBuilder::triangle(Vec3 a, Vec3 b, Vec3 c, Vec3 na, Vec3 nb, Vec3 nc) {
-  if (length(cross(b - a, c - a)) == 0) {
-    ++degenerate_;
-    return;
-  }
-  for (Vec3 p : {a, b, c}) scene_.mesh.positions.push_back(p);
-  Vec3 face = normalize(cross(b - a, c - a));
-  for (Vec3 n : {na, nb, nc}) scene_.mesh.normals.push_back(length(n) > 0 ? normalize(n) : face);
-  if (scene_.has_vertex_colors())
-    for (int i = 0; i < 3; ++i) scene_.mesh.colors.push_back({1, 1, 1});
-  scene_.mesh.material.push_back(material_);
+  if (add(a, b, c, na, nb, nc) && scene_.has_vertex_colors()) scene_.mesh.colors.resize(scene_.mesh.positions.size(), {1, 1, 1});
 }
 
 void MeshBuilder::colored(Vec3 a, Vec3 b, Vec3 c, Vec3 na, Vec3 nb, Vec3 nc, Vec3 ca, Vec3 cb, Vec3 cc) {
+  if (!add(a, b, c, na, nb, nc)) return;
   // The first coloured triangle gives every earlier one white vertices.
-  if (!scene_.has_vertex_colors()) scene_.mesh.colors.assign(scene_.mesh.positions.size(), {1, 1, 1});
-  std::size_t before = scene_.mesh.positions.size();
-  triangle(a, b, c, na, nb, nc);
-  if (scene_.mesh.positions.size() == before) return;
-  std::size_t at = scene_.mesh.colors.size() - 3;
-  scene_.mesh.colors[at] = ca;
-  scene_.mesh.colors[at + 1] = cb;
-  scene_.mesh.colors[at + 2] = cc;
+  std::vector<Vec3>& colors = scene_.mesh.colors;
+  colors.resize(scene_.mesh.positions.size() - 3, {1, 1, 1});
+  colors.insert(colors.end(), {ca, cb, cc});
+}
+
+bool MeshBuilder::add(Vec3 a, Vec3 b, Vec3 c, Vec3 na, Vec3 nb, Vec3 nc) {
+  if (length(cross(b - a, c - a)) == 0) {
+    ++degenerate_;
+    return false;
+  }
+  for (Vec3 p : {a, b, c}) scene_.mesh.positions.push_back(p);
+  Vec3 face = normalize(cross(b - a, c - a));
+  for (Vec3 n : {na, nb, nc}) scene_.mesh.normals.push_back(length(n) > 0 && finite(n) ? normalize(n) : face);
+  scene_.mesh.material.push_back(material_);
+  return true;
+}
+
+std::string coordinate_problem(Vec3 p) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(p[k]) <= kMaxCoordinate)) {
+      char text[96];
+      std::snprintf(text, sizeof text, "coordinate %c = %g is %s", "xyz"[k], static_cast<double>(p[k]),
+                    std::isfinite(p[k]) ? "outside the range the tracer supports (|x|, |y|, |z| <= 1e18)"
+                                        : "not a finite number");
+      return text;
+    }
+  return "";
 }
 
 void validate(const Scene& s, const std::string& where) {
   if (s.mesh.triangles() == 0) throw Error(where + ": the scene has no triangles (nothing to trace)");
   for (std::size_t i = 0; i < s.mesh.positions.size(); ++i)
-    if (!finite(s.mesh.positions[i]))
-      throw Error(where + ": triangle " + std::to_string(i / 3) + " has a NaN or infinite vertex coordinate");
+    if (std::string problem = coordinate_problem(s.mesh.positions[i]); !problem.empty())
+      throw Error(where + ": triangle " + std::to_string(i / 3) + ", vertex " + std::to_string(i % 3) + ": " + problem);
   for (std::int32_t m : s.mesh.material)
     if (m < 0 || m >= static_cast<std::int32_t>(s.materials.size()))
       throw Error(where + ": a triangle names material " + std::to_string(m) + ", which does not exist");
-  if (!finite(s.camera.eye) || !finite(s.camera.look_at) || !finite(s.camera.up))
-    throw Error(where + ": camera: NaN or infinite coordinate");
+  // The camera and lights may lie a little beyond the vertices' range (a
+  // model's framing does): they need only be finite.
+  const std::pair<const char*, Vec3> camera[] = {{"eye", s.camera.eye}, {"look_at", s.camera.look_at}, {"up", s.camera.up}};
+  for (const auto& [field, v] : camera)
+    if (!finite(v)) throw Error(where + ": camera." + field + ": NaN or infinite coordinate");
+  for (std::size_t i = 0; i < s.lights.size(); ++i)
+    if (!finite(s.lights[i].position)) throw Error(where + ": lights[" + std::to_string(i) + "].position: NaN or infinite coordinate");
   if (length(s.camera.look_at - s.camera.eye) == 0) throw Error(where + ": camera: eye and look_at coincide");
   if (length(cross(s.camera.look_at - s.camera.eye, s.camera.up)) == 0)
     throw Error(where + ": camera: up is parallel to the view direction");

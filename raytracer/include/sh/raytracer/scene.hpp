@@ -55,6 +55,12 @@ struct Material {
   float ior = 1;
 };
 
+// The largest coordinate magnitude a scene may hold.  Squared distances
+// (framing, light fall-off, intersection determinants) must stay finite in
+// single precision (FLT_MAX is 3.4e38); 1e18 squared leaves a factor of
+// 340 for sums and products of a few such terms.
+inline constexpr float kMaxCoordinate = 1e18f;
+
 // Triangle soup, three vertices per triangle.
 struct Mesh {
   std::vector<Vec3> positions;  // 3 per triangle
@@ -63,6 +69,9 @@ struct Mesh {
   std::vector<std::int32_t> material;  // 1 per triangle
 
   std::size_t triangles() const { return positions.size() / 3; }
+  // Appends `other`'s triangles with the given material; where one of the
+  // two has vertex colours and the other none, the other's are white.
+  void append(const Mesh& other, std::int32_t material_of_other);
 };
 
 struct Scene {
@@ -84,6 +93,7 @@ struct Scene {
 };
 
 // Appends one triangle; a zero-area one is counted, not added (a warning).
+// Coloured and plain triangles mix in any order: plain ones are white.
 class MeshBuilder {
  public:
   MeshBuilder(Scene& scene, int material) : scene_(scene), material_(material) {}
@@ -93,18 +103,21 @@ class MeshBuilder {
   std::size_t degenerate() const { return degenerate_; }
 
  private:
+  bool add(Vec3 a, Vec3 b, Vec3 c, Vec3 na, Vec3 nb, Vec3 nc);
   Scene& scene_;
   int material_;
   std::size_t degenerate_ = 0;
 };
 
-// Built-in shapes, tessellated into the scene with a material.
-void add_sphere(Scene& s, Vec3 centre, float radius, int material, int segments = 24);
-void add_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int material);
-void add_box(Scene& s, Vec3 lo, Vec3 hi, int material);
+// Built-in shapes, tessellated into the scene with a material.  Each
+// returns how many of its triangles had zero area in single precision and
+// were left out (all of them when the shape is too small for its place).
+std::size_t add_sphere(Scene& s, Vec3 centre, float radius, int material, int segments = 24);
+std::size_t add_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int material);
+std::size_t add_box(Scene& s, Vec3 lo, Vec3 hi, int material);
 // A quad cut into tiles x tiles quads: light-pass elements small enough to
 // show a caustic.
-void add_tiled_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int tiles, int material);
+std::size_t add_tiled_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int tiles, int material);
 
 // Built-in scenes: "cornell", "spheres" (the flagship), "procedural"
 // (about `triangles` triangles), and the soft-shadow paper's "soft" (a
@@ -116,14 +129,28 @@ void add_tiled_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int tiles, 
 Scene builtin_scene(const std::string& name, std::size_t triangles = 100000);
 std::vector<std::string> builtin_scene_names();
 
+// How a model file is loaded.  By default in a child process (see
+// isolated_load.cpp) under these limits, so that a crash, hang or runaway
+// allocation in the model library is an error naming the file, not the end
+// of this process.
+struct LoadLimits {
+  std::size_t memory_mib = 4096;  // address space the load may add, MiB
+  double seconds = 60;            // CPU time and wall-clock time of the load
+  bool in_process = false;        // no child, no limits (debuggers, fuzzers)
+  // Tests only: runs in the loading child before the file is read (to make
+  // it crash, hang or allocate).
+  void (*in_child)() = nullptr;
+};
+
 // A JSON scene file, a bare model file (framed by a default camera and
 // light) or a built-in name.  Errors name the file and the field or line.
-Scene load_scene(const std::string& what);
-Scene load_scene_file(const std::string& path);
-Scene load_model_as_scene(const std::string& path);
+Scene load_scene(const std::string& what, const LoadLimits& limits = {});
+Scene load_scene_file(const std::string& path, const LoadLimits& limits = {});
+Scene load_model_as_scene(const std::string& path, const LoadLimits& limits = {});
 
 // Loads a model file into the scene with transform and material; throws
-// sh::Error naming the file when the loader fails.
+// sh::Error naming the file (and the mesh, face or vertex) when the file
+// cannot be loaded or holds what the tracer cannot use.
 struct Transform {
   Vec3 translate{0, 0, 0};
   Vec3 scale{1, 1, 1};
@@ -131,10 +158,15 @@ struct Transform {
   Vec3 apply(Vec3 p) const;
   Vec3 apply_normal(Vec3 n) const;
 };
-void load_model(Scene& scene, const std::string& path, const Transform& t, int material);
+void load_model(Scene& scene, const std::string& path, const Transform& t, int material, const LoadLimits& limits = {});
 
-// Throws sh::Error if the scene cannot be traced (no triangles, NaN or
-// infinite coordinates), naming `where`.
+// What is wrong with a point for the tracer ("coordinate x = 1e+30 is
+// outside the range ..."), or "" when it is finite and within
+// kMaxCoordinate.
+std::string coordinate_problem(Vec3 p);
+
+// Throws sh::Error if the scene cannot be traced (no triangles, NaN,
+// infinite or out-of-range coordinates), naming `where`.
 void validate(const Scene& s, const std::string& where);
 
 }  // namespace sh::rt

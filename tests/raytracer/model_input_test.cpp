@@ -1,0 +1,283 @@
+// Model input that cannot take the process down: vertex colours in any
+// mix, every index and array assimp hands over checked, the load in a child
+// process under limits, and errors that name the cause.
+#include <gtest/gtest.h>
+
+#include <assimp/scene.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include <sh/raytracer.hpp>
+
+#include "model_reader.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using sh::rt::Vec3;
+
+class ModelInput : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("sh_model_input_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    std::string path = (dir_ / name).string();
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+
+  // The error message of loading `path`, or a test failure if it loads.
+  std::string error_of(const std::string& path, const sh::rt::LoadLimits& limits = {}) {
+    try {
+      sh::rt::load_scene(path, limits);
+    } catch (const sh::Error& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "expected an error loading " << path;
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+bool same(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+testing::AssertionResult mentions(const std::string& text, const std::string& fragment) {
+  if (text.find(fragment) != std::string::npos) return testing::AssertionSuccess();
+  return testing::AssertionFailure() << "'" << text << "' does not mention '" << fragment << "'";
+}
+
+const Vec3 kWhite{1, 1, 1}, kRed{1, 0, 0}, kGreen{0, 1, 0}, kBlue{0, 0, 1};
+
+TEST_F(ModelInput, VertexColoursOnTheFirstTriangle) {
+  std::string path = write("vc.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n");
+  sh::rt::Scene s = sh::rt::load_scene(path);
+  ASSERT_EQ(s.mesh.colors.size(), 3u);
+  EXPECT_TRUE(same(s.mesh.colors[0], kRed));
+  EXPECT_TRUE(same(s.mesh.colors[2], kBlue));
+}
+
+TEST(MeshBuilder, ColouredAndPlainTrianglesMixInAnyOrder) {
+  sh::rt::Scene s;
+  sh::rt::MeshBuilder b(s, 0);
+  Vec3 o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, n{0, 0, 1};
+  b.colored(o, x, y, n, n, n, kRed, kGreen, kBlue);   // first: coloured
+  b.triangle(o, y, x);                                // plain after coloured
+  b.colored(o, o, x, n, n, n, kRed, kRed, kRed);      // zero area: left out
+  b.colored(x, y, o, n, n, n, kBlue, kBlue, kGreen);
+  ASSERT_EQ(s.mesh.triangles(), 3u);
+  ASSERT_EQ(s.mesh.colors.size(), 9u);
+  EXPECT_TRUE(same(s.mesh.colors[0], kRed));
+  for (int i = 3; i < 6; ++i) EXPECT_TRUE(same(s.mesh.colors[i], kWhite)) << i;
+  EXPECT_TRUE(same(s.mesh.colors[8], kGreen));
+  EXPECT_EQ(b.degenerate(), 1u);
+
+  sh::rt::Scene plain_first;
+  sh::rt::MeshBuilder p(plain_first, 0);
+  p.triangle(o, x, y);
+  p.colored(o, y, x, n, n, n, kRed, kGreen, kBlue);
+  ASSERT_EQ(plain_first.mesh.colors.size(), 6u);
+  EXPECT_TRUE(same(plain_first.mesh.colors[0], kWhite));
+  EXPECT_TRUE(same(plain_first.mesh.colors[5], kBlue));
+}
+
+TEST(MeshBuilder, AppendGivesTheUncolouredSideWhiteVertices) {
+  sh::rt::Scene coloured, plain;
+  Vec3 o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, n{0, 0, 1};
+  sh::rt::MeshBuilder(coloured, 0).colored(o, x, y, n, n, n, kRed, kGreen, kBlue);
+  sh::rt::MeshBuilder(plain, 0).triangle(o, y, x);
+  sh::rt::Mesh m = plain.mesh;
+  m.append(coloured.mesh, 2);
+  m.append(plain.mesh, 3);
+  ASSERT_EQ(m.colors.size(), 9u);
+  EXPECT_TRUE(same(m.colors[0], kWhite));
+  EXPECT_TRUE(same(m.colors[3], kRed));
+  EXPECT_TRUE(same(m.colors[8], kWhite));
+  EXPECT_EQ(m.material, (std::vector<std::int32_t>{0, 2, 3}));
+}
+
+// One triangle as assimp would hand it over, for breaking by hand.
+std::unique_ptr<aiScene> one_triangle() {
+  auto scene = std::make_unique<aiScene>();
+  auto* mesh = new aiMesh;
+  mesh->mName = "tri";
+  mesh->mNumVertices = 3;
+  mesh->mVertices = new aiVector3D[3]{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh->mNumFaces = 1;
+  mesh->mFaces = new aiFace[1];
+  mesh->mFaces[0].mNumIndices = 3;
+  mesh->mFaces[0].mIndices = new unsigned[3]{0, 1, 2};
+  scene->mNumMeshes = 1;
+  scene->mMeshes = new aiMesh*[1]{mesh};
+  return scene;
+}
+
+std::string reader_error(const aiScene& model) {
+  try {
+    sh::rt::triangles_of(model, "m.ply", {});
+  } catch (const sh::Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ModelReader, AWholeTriangleLoads) {
+  EXPECT_EQ(sh::rt::triangles_of(*one_triangle(), "m.ply", {}).mesh.triangles(), 1u);
+}
+
+TEST(ModelReader, FaceIndexPastTheVerticesNamesFileMeshAndFace) {
+  auto model = one_triangle();
+  model->mMeshes[0]->mFaces[0].mIndices[2] = 7;
+  std::string e = reader_error(*model);
+  EXPECT_TRUE(mentions(e, "m.ply: mesh 0 'tri', face 0: vertex index 7 is past the mesh's 3 vertices"));
+}
+
+TEST(ModelReader, MissingArraysAreErrors) {
+  auto no_positions = one_triangle();
+  delete[] no_positions->mMeshes[0]->mVertices;
+  no_positions->mMeshes[0]->mVertices = nullptr;
+  EXPECT_TRUE(mentions(reader_error(*no_positions), "mesh 0 'tri': 3 vertices without positions"));
+
+  auto no_indices = one_triangle();
+  delete[] no_indices->mMeshes[0]->mFaces[0].mIndices;
+  no_indices->mMeshes[0]->mFaces[0].mIndices = nullptr;
+  EXPECT_TRUE(mentions(reader_error(*no_indices), "face 0: no vertex indices"));
+
+  auto no_mesh = one_triangle();
+  delete no_mesh->mMeshes[0];
+  no_mesh->mMeshes[0] = nullptr;
+  EXPECT_TRUE(mentions(reader_error(*no_mesh), "m.ply: mesh 0 is missing"));
+}
+
+TEST(ModelReader, BadColourAndCoordinateNameTheVertex) {
+  auto nan_colour = one_triangle();
+  nan_colour->mMeshes[0]->mColors[0] = new aiColor4D[3]{{1, 1, 1, 1}, {NAN, 0, 0, 1}, {1, 1, 1, 1}};
+  EXPECT_TRUE(mentions(reader_error(*nan_colour), "mesh 0 'tri', vertex 1: colour is not a finite number"));
+
+  auto far = one_triangle();
+  far->mMeshes[0]->mVertices[2].y = 1e30f;
+  EXPECT_TRUE(mentions(reader_error(*far), "vertex 2: coordinate y = 1e+30 is outside the range the tracer supports"));
+}
+
+TEST_F(ModelInput, PlyFaceIndexPastTheVertexCountIsAnErrorNamingTheFile) {
+  std::string path = write("far.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
+  EXPECT_TRUE(mentions(error_of(path), "far.ply: "));
+}
+
+TEST_F(ModelInput, VertexOutsideTheSupportedRangeNamesVertexAndCoordinate) {
+  std::string path = write("huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1e30 0\nf 1 2 3\n");
+  std::string e = error_of(path);
+  EXPECT_TRUE(mentions(e, "huge.obj: mesh 0"));
+  EXPECT_TRUE(mentions(e, "coordinate y = 1e+30 is outside the range the tracer supports (|x|, |y|, |z| <= 1e18)"));
+}
+
+// The load in a child process: what goes wrong there comes back as an error.
+TEST_F(ModelInput, CrashWhileLoadingIsAnErrorNamingFileAndSignal) {
+  std::string path = write("crash.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  sh::rt::LoadLimits limits;
+  limits.in_child = [] { std::raise(SIGSEGV); };
+  EXPECT_TRUE(mentions(error_of(path, limits), "crash.obj: the model loader was killed by signal 11"));
+}
+
+TEST_F(ModelInput, HangWhileLoadingStopsAtTheWallClockLimit) {
+  std::string path = write("hang.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  sh::rt::LoadLimits limits;
+  limits.seconds = 0.5;
+  limits.in_child = [] {
+    for (;;) ::pause();
+  };
+  EXPECT_TRUE(mentions(error_of(path, limits), "hang.obj: the model loader ran past the 0.5 s limit"));
+}
+
+volatile char sink;
+
+TEST_F(ModelInput, HugeAllocationStopsAtTheMemoryLimit) {
+  std::string path = write("greedy.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  sh::rt::LoadLimits limits;
+  limits.memory_mib = 256;
+  limits.in_child = [] {
+    std::vector<char> huge(std::size_t{1} << 33);
+    sink = huge[12345];
+  };
+  EXPECT_TRUE(mentions(error_of(path, limits), "greedy.obj: the model loader used more than the 256 MiB memory limit"));
+}
+
+TEST_F(ModelInput, AssimpsOwnOutOfMemoryModelIsStoppedAtTheLimit) {
+  const char* corpus = "/usr/share/assimp/models/invalid/OutOfMemory.off";  // package assimp-testmodels
+  if (!fs::exists(corpus)) GTEST_SKIP() << corpus << " not installed";
+  sh::rt::LoadLimits limits;
+  limits.memory_mib = 512;
+  EXPECT_TRUE(mentions(error_of(corpus, limits), "OutOfMemory.off: the model loader used more than the 512 MiB"));
+}
+
+TEST_F(ModelInput, IsolatedLoadGivesWhatTheInProcessLoadGives) {
+  std::string path = write("pair.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 1 1 0 1 1 1\nvn 0 0 1\n"
+                                       "f 1//1 2//1 3//1\nf 2//1 4//1 3//1\nf 1 2 2\n");
+  sh::rt::LoadLimits in_process;
+  in_process.in_process = true;
+  sh::rt::Scene a = sh::rt::load_scene(path), b = sh::rt::load_scene(path, in_process);
+  ASSERT_EQ(a.mesh.triangles(), 2u);
+  ASSERT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+  ASSERT_EQ(a.mesh.colors.size(), b.mesh.colors.size());
+  for (std::size_t i = 0; i < a.mesh.positions.size(); ++i) {
+    EXPECT_TRUE(same(a.mesh.positions[i], b.mesh.positions[i])) << i;
+    EXPECT_TRUE(same(a.mesh.normals[i], b.mesh.normals[i])) << i;
+    EXPECT_TRUE(same(a.mesh.colors[i], b.mesh.colors[i])) << i;
+  }
+  EXPECT_EQ(a.warnings, b.warnings);
+  ASSERT_EQ(a.warnings.size(), 1u);
+  EXPECT_TRUE(mentions(a.warnings[0], "pair.obj: 1 zero-area triangles left out"));
+}
+
+TEST_F(ModelInput, JsonSceneMeshesLoadInTheChildToo) {
+  write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  std::string path = write("s.json", R"({"objects": [{"type": "mesh", "file": "m.obj"}]})");
+  sh::rt::LoadLimits limits;
+  limits.in_child = [] { std::raise(SIGBUS); };
+  std::string e = error_of(path, limits);
+  EXPECT_TRUE(mentions(e, "s.json: objects[0].file: "));
+  EXPECT_TRUE(mentions(e, "m.obj: the model loader was killed by signal 7"));
+}
+
+// Errors that name the cause, not a consequence.
+TEST_F(ModelInput, JsonNumberBeyondDoubleRangeNamesFileAndField) {
+  std::string e = error_of(write("inf.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1e999}]})"));
+  EXPECT_TRUE(mentions(e, "inf.json: objects[0].radius: "));
+  EXPECT_TRUE(mentions(e, "1e999"));
+  std::string far = error_of(write("far.json", R"({"objects": [{"type": "sphere", "center": [0, 1e30, 0], "radius": 1}]})"));
+  EXPECT_TRUE(mentions(far, "far.json: objects[0].center[1]: 1e+30 is outside the range the tracer supports"));
+}
+
+TEST_F(ModelInput, DeepNestingIsAnErrorNamingTheField) {
+  std::string nested = R"({"objects": [{"type": "sphere", "center": )" + std::string(100, '[') + std::string(100, ']') + "}]}";
+  EXPECT_TRUE(mentions(error_of(write("deep.json", nested)), "deep.json: objects[0].center"));
+}
+
+TEST_F(ModelInput, SphereTooSmallForItsPlaceSaysSo) {
+  std::string e = error_of(write("tiny.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1e-30}]})"));
+  EXPECT_TRUE(mentions(e, "tiny.json: objects[0].radius: 1e-30 is too small"));
+  std::string few = error_of(write("few.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "segments": 3}]})"));
+  EXPECT_TRUE(mentions(few, "objects[0].segments: must be 4 .. 4096"));
+}
+
+TEST_F(ModelInput, FlatShapesAreCountedOrRefused) {
+  std::string path = write("flat.json", R"({"objects": [{"type": "box", "min": [0, 0, 0], "max": [1, 0, 1]}]})");
+  sh::rt::Scene s = sh::rt::load_scene(path);
+  EXPECT_EQ(s.mesh.triangles(), 4u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_TRUE(mentions(s.warnings[0], "flat.json: objects[0]: 8 zero-area triangles left out"));
+  std::string e = error_of(write("line.json", R"({"objects": [{"type": "quad", "corner": [0, 0, 0], "u": [1, 0, 0], "v": [2, 0, 0]}]})"));
+  EXPECT_TRUE(mentions(e, "line.json: objects[0]: u and v span no area"));
+}
+
+}  // namespace
