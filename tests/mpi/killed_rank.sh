@@ -8,7 +8,9 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 "$mpirun" --oversubscribe -np 3 "$helper" "$dir" > "$dir/out.txt" 2>&1 &
 job=$!
-for _ in $(seq 100); do [ -s "$dir/rank1.pid" ] && break; sleep 0.1; done
+# Rank 1 may be slow to start on a loaded machine: wait up to a minute.
+for _ in $(seq 600); do [ -s "$dir/rank1.pid" ] && break; sleep 0.1; done
+[ -s "$dir/rank1.pid" ] || { echo "FAIL: rank 1 did not start within 60 s"; kill -9 "$job"; exit 1; }
 sleep 2
 kill -9 "$(cat "$dir/rank1.pid")"
 killed_at=$(date +%s)

@@ -115,7 +115,17 @@ TEST(Mpi, StaticScheduleGivesEachRankOneShareAndBadSettingsAreErrors) {
   Options o;
   o.settings["schedule"] = "static";
   RunStats s = run(p, {in}, {out}, backend("mpi", o));
-  for (const PartStats& part : s.parts) EXPECT_EQ(part.chunks, 1u) << "rank " << part.part;
+  ASSERT_EQ(static_cast<int>(s.parts.size()), mpi::size());
+  // Rank r at r, whatever order the ranks reported in; each has the share
+  // that is its rank's (rank r the r-th, rank 0 the last): the sizes tell.
+  std::size_t share = (xs.size() + s.parts.size() - 1) / s.parts.size();
+  for (std::size_t r = 0; r < s.parts.size(); ++r) {
+    const PartStats& part = s.parts[r];
+    EXPECT_EQ(part.part, static_cast<int>(r));
+    EXPECT_EQ(part.chunks, 1u) << "rank " << part.part;
+    std::size_t index = r == 0 ? s.parts.size() - 1 : r - 1, begin = std::min(index * share, xs.size());
+    EXPECT_EQ(part.elements, std::min(share, xs.size() - begin)) << "rank " << r;
+  }
   EXPECT_EQ(out[9000], 3.f);
   o.settings["schedule"] = "round-robin";
   EXPECT_THROW(run(p, {in}, {out}, backend("mpi", o)), Error);

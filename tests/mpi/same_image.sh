@@ -19,14 +19,20 @@ grep -q "overlap: [1-9][0-9]* distinct nodes built" "$dir/mpi_lazy.txt"
 echo "the lazy octree built on each rank gives the same image; both ranks built nodes"
 # Bidirectional: the light pass's elements are handed out in chunks to both
 # ranks, each adding into its own sums that rank 0 adds up; the sums differ
-# from cpu's only in the order of the additions, so the energy that arrived
-# agrees to the digits printed.
+# from cpu's only in the order of the additions, which depends on which
+# rank (and thread) took which chunk, so the energy that arrived agrees to
+# the digits printed, give or take one in the last (a sum near a rounding
+# boundary may print either way).
+same_energy() {
+  test -s "$1" && test -s "$2"
+  paste "$1" "$2" | awk '{ for (i = 4; i <= 6; ++i) { a = $i; b = $(i + 6); d = a > b ? a - b : b - a;
+    m = a < 0 ? -a : a; if (d > 1.5e-3 * m) { print "energy differs: " $0; exit 1 } } }'
+}
 "$shtrace" render --scene magg-glass --size 100x100 --backend cpu --bidirectional --output "$dir/bidir_cpu.png" \
   | grep "energy arrived" | sed 's/.*energy arrived/energy arrived/' > "$dir/bidir_cpu.txt"
 "$mpirun" -np 2 "$shtrace" render --scene magg-glass --size 100x100 --backend mpi --bidirectional \
   --output "$dir/bidir_mpi.png" | grep "energy arrived" | sed 's/.*energy arrived/energy arrived/' > "$dir/bidir_mpi.txt"
-test -s "$dir/bidir_cpu.txt"
-cmp "$dir/bidir_cpu.txt" "$dir/bidir_mpi.txt"
+same_energy "$dir/bidir_cpu.txt" "$dir/bidir_mpi.txt"
 echo "the light pass on 2 ranks delivers the energy it delivers on cpu: $(cat "$dir/bidir_mpi.txt")"
 # Split tables: every scene table in blocks spread over the 2 ranks, read
 # through caches of 8 blocks filled by one-sided reads; the image and the
@@ -42,5 +48,5 @@ cmp "$dir/cpu.png" "$dir/mpi_lazy_split.png"
 "$mpirun" -np 2 "$shtrace" render --scene magg-glass --size 100x100 --backend mpi --bidirectional --set split_tables=0 \
   --set cache_blocks=8 --output "$dir/bidir_split.png" | grep "energy arrived" | sed 's/.*energy arrived/energy arrived/' \
   > "$dir/bidir_split.txt"
-cmp "$dir/bidir_cpu.txt" "$dir/bidir_split.txt"
+same_energy "$dir/bidir_cpu.txt" "$dir/bidir_split.txt"
 echo "split tables read through caches give the same image and the same light-pass energy"

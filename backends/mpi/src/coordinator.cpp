@@ -57,14 +57,40 @@ class Coordinator : public Kernel {
   std::string listing() const override { return local_->listing(); }
 
  private:
+  // Dynamic: chunks in stream order to whichever rank asks.  Static
+  // (fixed): share r - 1 to rank r and the last to rank 0, whatever order
+  // the ranks ask in, so a rank gets the same share in every run.
   struct Schedule {
     const RunArgs& args;
     std::size_t chunk;
-    std::size_t next;
+    std::size_t next;  // dynamic: the first element not handed out
     std::string error;
-    std::size_t outstanding;
     const Waves* waves;
-    bool fixed;  // static: one share per rank, the same in every run
+    bool fixed;
+    std::vector<bool> share_taken;  // static: per rank
+
+    struct Range {
+      std::size_t begin, count;
+    };
+    Range share_of(int rank, int ranks) const {
+      std::size_t index = rank == 0 ? static_cast<std::size_t>(ranks - 1) : static_cast<std::size_t>(rank - 1);
+      std::size_t begin = std::min(index * chunk, args.count);
+      return {begin, std::min(chunk, args.count - begin)};
+    }
+    bool left_here() const { return error.empty() && (fixed ? !share_taken[0] : next < args.count); }
+    // What `rank` computes next: its share, once (static), or the next
+    // `piece` elements (dynamic); nothing when no work is left for it.
+    Range take(int rank, int ranks, std::size_t piece) {
+      if (!error.empty()) return {0, 0};
+      if (fixed) {
+        if (share_taken[static_cast<std::size_t>(rank)]) return {0, 0};
+        share_taken[static_cast<std::size_t>(rank)] = true;
+        return share_of(rank, ranks);
+      }
+      std::size_t begin = std::min(next, args.count), n = std::min(piece, args.count - begin);
+      next = begin + n;
+      return {begin, n};
+    }
   };
 
   void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
@@ -83,29 +109,29 @@ class Coordinator : public Kernel {
     bool fixed = schedule_ == "static" || (schedule_.empty() && waves);
     std::size_t shares = fixed ? ranks_ : 16 * ranks_;
     std::size_t chunk = chunk_ > 0 && !fixed ? chunk_ : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
-    Schedule s{args, chunk, 0, {}, 0, waves, fixed};
+    Schedule s{args, chunk, 0, {}, waves, fixed, std::vector<bool>(static_cast<std::size_t>(ranks_), false)};
     std::size_t served = 0;  // serving ranks that have been told they are done
-    std::vector<PartStats> parts{};
+    // Per serving rank (rank r at r - 1), however their stats arrive.
+    std::vector<PartStats> parts(static_cast<std::size_t>(ranks_ - 1));
+    std::vector<std::string> summaries(parts.size());
     int waiting_stats = ranks_ - 1;
     // Every serving rank gets its first chunk before rank 0 computes any:
     // a rank busy computing does not see requests (MPI progresses only in
-    // MPI calls), and a static split needs each rank to take its share,
-    // the same share in every run (rank r the r-th, rank 0 the last), so
-    // that what a rank keeps between runs (a lazy accelerator) fits it.
+    // MPI calls), and a static split needs each rank to take its share.
     for (int i = 1; i < ranks_; ++i) {
       auto idle = Clock::now();
       int source = 0;
-      receive(fixed ? i : MPI_ANY_SOURCE, kReady, t, &source);
+      receive(MPI_ANY_SOURCE, kReady, t, &source);
       mine.idle_s += seconds_since(idle);
       served += hand_out(s, source, t);
     }
-    while (served < static_cast<std::size_t>(ranks_ - 1) || (s.next < args.count && s.error.empty())) {
+    while (served < static_cast<std::size_t>(ranks_ - 1) || s.left_here()) {
       // Answer every rank that is asking, then compute a chunk here.
       int pending = 0;
       MPI_Status status;
       MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &pending, &status);
       // A static split keeps rank 0's share for rank 0.
-      if ((!pending || fixed) && s.next < args.count && s.error.empty()) {
+      if ((!pending || fixed) && s.left_here()) {
         auto busy = Clock::now();
         compute_here(s, mine);
         mine.busy_s += seconds_since(busy);
@@ -116,7 +142,7 @@ class Coordinator : public Kernel {
       std::string message = receive(MPI_ANY_SOURCE, MPI_ANY_TAG, t, &source, &tag);
       mine.idle_s += seconds_since(idle);
       if (tag == kStats) {
-        take_stats(message, args, parts, stats);
+        take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), stats);
         --waiting_stats;
         continue;
       }
@@ -124,14 +150,22 @@ class Coordinator : public Kernel {
       if (tag == kFailed && s.error.empty()) s.error = "rank " + std::to_string(source) + ": " + message;
       served += hand_out(s, source, t);
     }
-    while (waiting_stats-- > 0) take_stats(receive(MPI_ANY_SOURCE, kStats, t), args, parts, stats);
+    for (; waiting_stats > 0; --waiting_stats) {
+      int source = 0;
+      std::string message = receive(MPI_ANY_SOURCE, kStats, t, &source);
+      take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), stats);
+    }
     for (std::size_t i = 0, k = 0; i < args.tables.size(); ++i)
       if (split[i]) stats.caches[k++].counts += static_cast<SplitTable*>(args.tables[i].source)->take_counts();
     mine.chunks = (mine.elements + chunk - 1) / chunk;  // rank 0 computes in pieces: its chunks' worth
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
-    if (waves) stats.refined.insert(stats.refined.begin(), waves->refiner->summary());
+    if (waves) {
+      stats.refined = {waves->refiner->summary()};
+      for (std::string& summary : summaries)
+        if (!summary.empty()) stats.refined.push_back(std::move(summary));
+    }
     for (const PartStats& p : parts) {
       stats.waves += p.waves;
       stats.resumed += p.resumed;
@@ -140,13 +174,14 @@ class Coordinator : public Kernel {
     if (!s.error.empty()) throw Error("mpi backend: " + s.error);
   }
 
-  // A serving rank's stats, with waves its refiner's summary (in rank
-  // order after rank 0's), its accumulators' sums, added into ours, and its
-  // caches' counts.
-  static void take_stats(const std::string& message, const RunArgs& args, std::vector<PartStats>& parts, RunStats& stats) {
+  // A serving rank's stats, with waves its refiner's summary, its
+  // accumulators' sums, added into ours, and its caches' counts.  Stats
+  // arrive in any order; they are kept by rank.
+  static void take_stats(const std::string& message, const RunArgs& args, PartStats& part, std::string& summary,
+                         RunStats& stats) {
     Unpacker u(message);
-    parts.push_back(u.get<PartStats>());
-    if (u.get<bool>()) stats.refined.push_back(u.text());
+    part = u.get<PartStats>();
+    if (u.get<bool>()) summary = u.text();
     for (const TableView& table : args.tables)
       if (table.sums) add_sums(table, u.take(table.bytes()));
     for (TableCacheStats& cache : stats.caches) cache.counts += u.get<CacheCounts>();
@@ -272,14 +307,14 @@ class Coordinator : public Kernel {
     for (const auto& [out, in] : w.carried) p.put(out).put(in);
   }
 
-  // Gives `rank` the next chunk, or tells it the run is over (returns 1).
+  // Gives `rank` its next chunk (static: its share, once), or tells it the
+  // run is over (returns 1).
   std::size_t hand_out(Schedule& s, int rank, Traffic& t) {
-    if (s.next >= s.args.count || !s.error.empty()) {
+    auto [begin, n] = s.take(rank, ranks_, s.chunk);
+    if (n == 0) {
       send({}, rank, kDone, t);
       return 1;
     }
-    std::size_t begin = s.next, n = std::min(s.chunk, s.args.count - begin);
-    s.next += n;
     Packer p;
     p.put(static_cast<std::uint64_t>(begin)).put(static_cast<std::uint64_t>(n));
     for (const BufferView& in : s.args.inputs)
@@ -303,9 +338,8 @@ class Coordinator : public Kernel {
   // that it answers the other ranks often: MPI moves messages only while
   // rank 0 is in an MPI call, and a waiting rank is an idle rank.
   void compute_here(Schedule& s, PartStats& mine) {
-    std::size_t piece = s.fixed ? s.chunk : std::max<std::size_t>(1, s.chunk / 8);
-    std::size_t begin = s.next, n = std::min(piece, s.args.count - begin);
-    s.next += n;
+    auto [begin, n] = s.take(0, ranks_, std::max<std::size_t>(1, s.chunk / 8));
+    if (n == 0) return;
     RunArgs slice = s.args;
     slice.count = n;
     for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
