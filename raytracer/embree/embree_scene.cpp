@@ -4,10 +4,10 @@
 
 namespace sh::rt {
 
-EmbreeScene::EmbreeScene(const Scene& scene, const char* device_config) {
+EmbreeScene::EmbreeScene(const Scene& scene, const char* device_config, bool robust) {
   device_ = rtcNewDevice(device_config);
   scene_ = rtcNewScene(device_);
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  if (robust) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   std::size_t n = scene.mesh.triangles();
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3 * n));

@@ -10,7 +10,9 @@ namespace sh::rt {
 
 class EmbreeScene {
  public:
-  explicit EmbreeScene(const Scene& scene, const char* device_config = nullptr);
+  // robust: Embree's robust mode (RTC_SCENE_FLAG_ROBUST), which avoids
+  // optimisations that lose hits on edges and vertices; else its default.
+  explicit EmbreeScene(const Scene& scene, const char* device_config = nullptr, bool robust = true);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
