@@ -2,7 +2,10 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -97,6 +100,45 @@ void add_mesh(const aiMesh& mesh, unsigned m, const Transform& t, const std::str
   }
 }
 
+// Collects what assimp reports as errors while it reads a file: an importer
+// that repairs a file (OFF: an index past the vertices becomes the last
+// vertex) says so only there, and the tracer passes it on as a warning.
+// assimp's logger is global: loads in this process must not overlap (the
+// child process of isolated_load.cpp loads one file).
+class LibraryErrors {
+ public:
+  LibraryErrors() {
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(new Stream(messages_), Assimp::Logger::Err);
+  }
+  ~LibraryErrors() { Assimp::DefaultLogger::kill(); }
+  LibraryErrors(const LibraryErrors&) = delete;
+  LibraryErrors& operator=(const LibraryErrors&) = delete;
+
+  void add_warnings(const std::string& path, std::vector<std::string>& warnings) const {
+    for (const std::string& m : messages_) warnings.push_back(path + ": the model library reports: " + m);
+  }
+
+ private:
+  static constexpr std::size_t kMostMessages = 5;
+
+  class Stream : public Assimp::LogStream {
+   public:
+    explicit Stream(std::vector<std::string>& to) : to_(to) {}
+    void write(const char* message) override {
+      std::string m = message;
+      if (auto colon = m.find(": "); m.rfind("Error", 0) == 0 && colon != std::string::npos) m.erase(0, colon + 2);
+      while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+      if (to_.size() < kMostMessages && std::find(to_.begin(), to_.end(), m) == to_.end()) to_.push_back(m);
+    }
+
+   private:
+    std::vector<std::string>& to_;
+  };
+
+  std::vector<std::string> messages_;
+};
+
 }  // namespace
 
 Scene triangles_of(const aiScene& model, const std::string& path, const Transform& t) {
@@ -119,6 +161,7 @@ Scene triangles_of(const aiScene& model, const std::string& path, const Transfor
 
 Scene read_model_file(const std::string& path, const Transform& t) {
   if (!std::ifstream(path)) throw Error(path + ": cannot open the model file");
+  LibraryErrors errors;
   Assimp::Importer importer;
   // Triangulate fans each polygon from its first vertex, in file order.
   // ValidateDataStructure rejects indices and counts that do not add up;
@@ -129,7 +172,9 @@ Scene read_model_file(const std::string& path, const Transform& t) {
   const aiScene* model = importer.ReadFile(path, flags);
   if (!model || !model->mRootNode || (model->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw Error(path + ": cannot load the model: " + importer.GetErrorString());
-  return triangles_of(*model, path, t);
+  Scene s = triangles_of(*model, path, t);
+  errors.add_warnings(path, s.warnings);
+  return s;
 }
 
 void load_model(Scene& scene, const std::string& path, const Transform& t, int material, const LoadLimits& limits) {
