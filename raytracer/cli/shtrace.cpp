@@ -95,7 +95,9 @@ Vec3 parse_vec3(const std::string& option, const std::string& s) {
 }
 
 Scene scene_for(const Common& c) {
-  return c.scene == "procedural" ? builtin_scene("procedural", c.triangles) : load_scene(c.scene, c.load);
+  Scene scene = c.scene == "procedural" ? builtin_scene("procedural", c.triangles) : load_scene(c.scene, c.load);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  return scene;
 }
 
 RenderSettings settings_for(const Common& c, const std::string& backend_name) {
@@ -137,7 +139,6 @@ int render_command(const Common& c, const std::string& backend_name, const std::
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
                    bool general, bool analyze, int frames) {
   Scene scene = scene_for(c);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
   if (!up.empty()) scene.camera.up = parse_vec3("--up", up);

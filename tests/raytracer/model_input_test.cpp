@@ -235,7 +235,7 @@ TEST_F(ModelInput, IsolatedLoadGivesWhatTheInProcessLoadGives) {
     EXPECT_TRUE(same(a.mesh.colors[i], b.mesh.colors[i])) << i;
   }
   EXPECT_EQ(a.warnings, b.warnings);
-  ASSERT_EQ(a.warnings.size(), 1u);
+  ASSERT_GE(a.warnings.size(), 1u);  // and assimp's note on the zero normal it dropped
   EXPECT_TRUE(mentions(a.warnings[0], "pair.obj: 1 zero-area triangles left out"));
 }
 

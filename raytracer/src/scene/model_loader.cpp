@@ -122,6 +122,14 @@ class LibraryErrors {
  private:
   static constexpr std::size_t kMostMessages = 5;
 
+  // Materials, textures and texture coordinates of a model are not used
+  // (the scene gives the material): what goes wrong with them is no news.
+  static bool about_what_the_tracer_ignores(const std::string& m) {
+    for (const char* word : {"material", "Material", "texture", "Texture", "uvcoords"})
+      if (m.find(word) != std::string::npos) return true;
+    return false;
+  }
+
   class Stream : public Assimp::LogStream {
    public:
     explicit Stream(std::vector<std::string>& to) : to_(to) {}
@@ -129,6 +137,7 @@ class LibraryErrors {
       std::string m = message;
       if (auto colon = m.find(": "); m.rfind("Error", 0) == 0 && colon != std::string::npos) m.erase(0, colon + 2);
       while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+      if (about_what_the_tracer_ignores(m)) return;
       if (to_.size() < kMostMessages && std::find(to_.begin(), to_.end(), m) == to_.end()) to_.push_back(m);
     }
 
