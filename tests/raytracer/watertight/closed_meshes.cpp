@@ -90,8 +90,10 @@ bool crosses(const sh::rt::Mesh& m, const std::vector<std::int32_t>& faces, Vec3
   return true;
 }
 
-// Where the ray o + t d meets triangle f, in double with edges included
-// (products of floats are exact there, sums nearly): -1 where it does not.
+// Where the ray o + t d meets the inside of triangle f, in double (products
+// of floats are exact there, sums nearly): -1 where it does not.  Exactly on
+// an edge does not count: far from the origin, where rounding has folded a
+// fine mesh, such a ray may only touch the surface there.
 double exact_hit(const sh::rt::Mesh& m, std::int32_t f, Vec3 o, Vec3 d) {
   using D3 = std::array<double, 3>;
   auto from_o = [&](Vec3 v) { return D3{double(v.x) - o.x, double(v.y) - o.y, double(v.z) - o.z}; };
@@ -100,7 +102,7 @@ double exact_hit(const sh::rt::Mesh& m, std::int32_t f, Vec3 o, Vec3 d) {
   D3 a = from_o(m.positions[3 * f]), b = from_o(m.positions[3 * f + 1]), c = from_o(m.positions[3 * f + 2]);
   D3 dd{d.x, d.y, d.z};
   double u = dot(dd, cross(b, c)), v = dot(dd, cross(c, a)), w = dot(dd, cross(a, b));
-  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return -1;
+  if (!((u > 0 && v > 0 && w > 0) || (u < 0 && v < 0 && w < 0))) return -1;
   D3 n = cross({b[0] - a[0], b[1] - a[1], b[2] - a[2]}, {c[0] - a[0], c[1] - a[1], c[2] - a[2]});
   double along = dot(n, dd);
   return along == 0 ? -1 : dot(n, a) / along;
