@@ -25,6 +25,25 @@ std::uint32_t get_leb128(const std::vector<std::uint8_t>& in, std::size_t& at) {
   }
 }
 
+// Does a split into these children separate the node's `n` triangles?  Not
+// when each child would hold all of them or none, two or more all (the
+// triangles cover the same ground: one child alone holding all is a
+// smaller box around them, and worth going on), nor when the eight
+// together would hold four times as many: a ray through the node crosses a
+// child with a chance of a quarter (the child's surface over the node's),
+// so it would test no fewer triangles below the split than in the node.
+bool separates(const std::array<std::vector<std::int32_t>, 8>& children, std::size_t n) {
+  constexpr std::size_t kNoGain = 4;
+  std::size_t total = 0;
+  int whole = 0, part = 0;
+  for (const auto& list : children) {
+    total += list.size();
+    whole += list.size() == n;
+    part += !list.empty() && list.size() < n;
+  }
+  return (whole < 2 || part > 0) && total < kNoGain * n;
+}
+
 }  // namespace
 
 Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
@@ -34,8 +53,13 @@ Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
     throw Error("octree depth limit must be 0.." + std::to_string(kMaxOctreeDepth) + ", got " +
                 std::to_string(limits_.max_depth));
   if (limits_.leaf_size < 1) throw Error("octree leaf size must be at least 1, got " + std::to_string(limits_.leaf_size));
+  if (!(limits_.references_per_triangle >= 1))
+    throw Error("octree references per triangle must be at least 1, got " + std::to_string(limits_.references_per_triangle));
   std::vector<std::int32_t> all(positions_.size() / 3);
   for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  reference_budget_ = std::max(kMinReferenceBudget, static_cast<std::size_t>(limits_.references_per_triangle *
+                                                                             static_cast<double>(all.size())));
+  references_ = all.size();
   nodes_.push_back(0);
   triangles_.push_back(-1);  // a table is never empty
   nodes_[0] = settle(Place{}, all, 0);
@@ -121,14 +145,16 @@ Octree::Children Octree::split(Place at, const std::vector<std::int32_t>& candid
 // keeps them as runs.
 std::int32_t Octree::settle(Place place, const std::vector<std::int32_t>& list, std::int32_t index) {
   if (list.empty()) return -1;
-  if (place.level == limits_.max_depth || list.size() <= static_cast<std::size_t>(limits_.leaf_size)) {
-    auto start = static_cast<std::int32_t>(triangles_.size());
-    triangles_.insert(triangles_.end(), list.begin(), list.end());
-    triangles_.push_back(-1);
-    return -start - 2;
-  }
+  if (place.level == limits_.max_depth || list.size() <= static_cast<std::size_t>(limits_.leaf_size)) return leaf(list);
   keep_unbuilt(index, place, list);
   return 0;
+}
+
+std::int32_t Octree::leaf(const std::vector<std::int32_t>& list) {
+  auto start = static_cast<std::int32_t>(triangles_.size());
+  triangles_.insert(triangles_.end(), list.begin(), list.end());
+  triangles_.push_back(-1);
+  return -start - 2;
 }
 
 void Octree::keep_unbuilt(std::int32_t node, Place place, const std::vector<std::int32_t>& list) {
@@ -210,8 +236,11 @@ std::size_t Octree::build_level(const std::vector<std::int32_t>& requested) {
   // Splitting is the work and runs in parallel; placing children is a
   // sequential append.
   std::vector<Children> children(todo.size());
+  std::vector<std::size_t> counts(todo.size());
   tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
-    children[i] = split(place(unbuilt_[entries[i]].key), candidates(entries[i]));
+    std::vector<std::int32_t> list = candidates(entries[i]);
+    counts[i] = list.size();
+    children[i] = split(place(unbuilt_[entries[i]].key), list);
   });
   if (nodes_.size() + 8 * todo.size() > static_cast<std::size_t>(INT32_MAX) ||
       triangles_.size() > static_cast<std::size_t>(INT32_MAX) / 2)
@@ -220,13 +249,30 @@ std::size_t Octree::build_level(const std::vector<std::int32_t>& requested) {
     Place at = place(unbuilt_[entries[i]].key);
     unbuilt_[entries[i]].key = kDead;
     ++dead_;
-    auto first = static_cast<std::int32_t>(nodes_.size());
-    nodes_.resize(nodes_.size() + 8);
-    for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(at, c), children[i][c], first + c);
-    nodes_[todo[i]] = first;
+    if (!place_children(todo[i], at, children[i], counts[i])) nodes_[todo[i]] = leaf(candidates(entries[i]));
   }
   build_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return todo.size();
+}
+
+// Appends the node's eight children; false (nothing appended) where they
+// would not separate its triangles or would take the references past the
+// budget: the node is to be a leaf.
+bool Octree::place_children(std::int32_t node, Place at, const Children& children, std::size_t candidates) {
+  std::size_t added = 0;
+  for (const auto& list : children) added += list.size();
+  bool apart = separates(children, candidates);
+  if (!apart || references_ - candidates + added > reference_budget_) {
+    ++(apart ? over_budget_ : unseparated_);
+    largest_capped_leaf_ = std::max(largest_capped_leaf_, candidates);
+    return false;
+  }
+  references_ = references_ - candidates + added;
+  auto first = static_cast<std::int32_t>(nodes_.size());
+  nodes_.resize(nodes_.size() + 8);
+  for (int c = 0; c < 8; ++c) nodes_[first + c] = settle(child(at, c), children[c], first + c);
+  nodes_[node] = first;
+  return true;
 }
 
 // Level by level: each round builds the node every walk stands on (in
@@ -256,6 +302,7 @@ std::size_t Octree::build_towards(const std::vector<std::int32_t>& requests) {
     built += build_level(level);
     std::size_t going_on = 0;
     for (Walk w : walks) {
+      if (nodes_[w.node] < 0) continue;  // made a leaf: the walk ends in it
       int shift = limits_.max_depth - w.level - 1, which = 0;
       for (int a = 0; a < 3; ++a) which |= (w.cell[a] >> shift & 1) << a;
       std::int32_t next = nodes_[w.node] + which;
@@ -294,6 +341,24 @@ std::vector<std::uint64_t> Octree::built_keys() const {
     keys[k] = key(parent_place[k]);
   }
   return keys;
+}
+
+// Said when the budget was spent, or when a split refused made a leaf of
+// more than twice the leaf size: on clean meshes the refusals are few and
+// small (a handful of triangles round a vertex on a node's face).
+std::string Octree::warning() const {
+  bool large = largest_capped_leaf_ > 2 * static_cast<std::size_t>(limits_.leaf_size);
+  if (over_budget_ == 0 && !large) return "";
+  std::string w = "octree: ";
+  if (unseparated_ > 0)
+    w += std::to_string(unseparated_) + " nodes not split: splitting would not separate their triangles (coincident, "
+         "overlapping or degenerate triangles, or coordinates too large for the cells)";
+  if (unseparated_ > 0 && over_budget_ > 0) w += "; ";
+  if (over_budget_ > 0)
+    w += std::to_string(over_budget_) + " nodes not split: the tree holds its budget of " + std::to_string(reference_budget_) +
+         " triangle references";
+  return w + "; their leaves hold up to " + std::to_string(largest_capped_leaf_) + " triangles (leaf size " +
+         std::to_string(limits_.leaf_size) + ")";
 }
 
 std::size_t Octree::bytes() const { return (nodes_.size() + triangles_.size()) * sizeof(std::int32_t); }

@@ -186,8 +186,11 @@ std::string Renderer::describe_accelerator() const {
                   octree_->limits().max_depth, octree_->limits().leaf_size, octree_->nodes().size(), octree_->build_ms(),
                   octree_->bytes() / 1048576.0, refiner_ ? ", built so far" : "");
   }
-  return line;
+  std::string warning = accelerator_warning();
+  return warning.empty() ? line : std::string(line) + "; warning: " + warning;
 }
+
+std::string Renderer::accelerator_warning() const { return grid_ ? grid_->warning : octree_->warning(); }
 
 double Renderer::accelerator_build_ms() const { return grid_ ? grid_->build_ms : octree_->build_ms(); }
 

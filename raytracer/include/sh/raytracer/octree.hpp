@@ -15,6 +15,17 @@
 // triangles a leaf, any other one is left unbuilt.  Nodes are placed in
 // integer coordinates of the finest level (2^max_depth cells per axis), so
 // the kernels find the leaf holding a point exactly.
+//
+// Bounded work: a node whose split would not separate its triangles (two
+// or more children would hold all of them and the rest none, or the eight
+// together four times as many: coincident or overlapping triangles,
+// coordinates so large that rounding widens every cell towards its
+// parent's size) becomes a leaf instead, and the references the tree holds (leaf
+// lists and the lists kept for unbuilt nodes) stay within a budget
+// proportional to the triangles; past it, nodes asked for become leaves.
+// Both rules act on the node being built, so a lazy tree obeys them as the
+// static one does; the budget alone depends on the order nodes are built
+// in, and only once spent.  warning() says when either changed the tree.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -27,7 +38,12 @@ namespace sh::rt {
 struct OctreeLimits {
   int max_depth = 8;   // 0 .. kMaxOctreeDepth
   int leaf_size = 16;  // a node with at most this many triangles is a leaf
+  // References (triangles listed in leaves and kept for unbuilt nodes) the
+  // tree may hold, per triangle of the scene (at least kMinReferenceBudget
+  // in all).
+  double references_per_triangle = 64;
 };
+inline constexpr std::size_t kMinReferenceBudget = 1 << 16;
 inline constexpr int kMaxOctreeDepth = 19;  // keys pack level and three 19-bit coordinates
 
 class Octree {
@@ -38,7 +54,8 @@ class Octree {
   static Octree full(const Scene& scene, OctreeLimits limits);  // built to the leaves, level by level
 
   // Builds the listed nodes that are still unbuilt (in parallel); the rest
-  // are ignored.  Returns how many were built.
+  // are ignored.  Returns how many were built (split, or made leaves where
+  // a split would not separate their triangles or the budget is spent).
   std::size_t build(const std::vector<std::int32_t>& nodes);
   // Builds each requested node and, below it, the unbuilt nodes down to the
   // leaf holding the requested cell: what a ray stopped there will walk
@@ -67,6 +84,17 @@ class Octree {
   std::size_t bytes() const;          // the two tables
   std::size_t pending_bytes() const;  // what is kept for unbuilt nodes: places and triangle lists
   double build_ms() const { return build_ms_; }
+  // Triangles listed in leaves and kept for unbuilt nodes; the most allowed.
+  std::size_t references() const { return references_; }
+  std::size_t reference_budget() const { return reference_budget_; }
+  // Nodes made leaves by the bounds above (not the depth limit or leaf
+  // size), and the most triangles such a leaf holds.
+  std::size_t unseparated() const { return unseparated_; }
+  std::size_t over_budget() const { return over_budget_; }
+  std::size_t largest_capped_leaf() const { return largest_capped_leaf_; }
+  // What the bounds changed, for the user: empty unless the budget was
+  // spent or a refused split left a leaf of more than twice the leaf size.
+  std::string warning() const;
 
  private:
   struct Place {
@@ -86,6 +114,8 @@ class Octree {
   using Children = std::array<std::vector<std::int32_t>, 8>;
 
   std::size_t build_level(const std::vector<std::int32_t>& nodes);  // build() but keeps dead entries
+  bool place_children(std::int32_t node, Place at, const Children& children, std::size_t candidates);
+  std::int32_t leaf(const std::vector<std::int32_t>& list);
   std::size_t entry_of(std::int32_t node) const;  // an unbuilt node's entry
   std::vector<std::int32_t> candidates(std::size_t entry) const;
   void keep_unbuilt(std::int32_t node, Place place, const std::vector<std::int32_t>& list);
@@ -110,6 +140,8 @@ class Octree {
   std::vector<std::uint8_t> candidate_bytes_;
   std::size_t dead_ = 0;
   double build_ms_ = 0;
+  std::size_t references_ = 0, reference_budget_ = 0;
+  std::size_t unseparated_ = 0, over_budget_ = 0, largest_capped_leaf_ = 0;
 };
 
 // Nodes built by several parts (ranks) of one render and how many of them

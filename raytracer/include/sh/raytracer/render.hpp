@@ -77,7 +77,10 @@ class Renderer {
   Accel accel() const { return settings_.accel; }
   const Grid* grid() const { return grid_ ? &*grid_ : nullptr; }
   const Octree* octree() const { return octree_.get(); }
-  std::string describe_accelerator() const;  // kind, size, build time, memory
+  std::string describe_accelerator() const;  // kind, size, build time, memory, and the warning below
+  // Where a bound on the build's work changed the accelerator (see grid.hpp,
+  // octree.hpp); empty otherwise.  A lazy octree's may appear as it grows.
+  std::string accelerator_warning() const;
   double accelerator_build_ms() const;  // before rendering (a lazy octree: its root)
   std::size_t accelerator_bytes() const;
   const Features& features() const { return features_; }
