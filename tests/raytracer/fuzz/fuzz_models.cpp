@@ -227,6 +227,13 @@ void prepare(Job& job, const fs::path& dir) {
   write_file(dir / sh::fuzz::kSceneMeshName, sh::fuzz::scene_mesh());
 }
 
+void print_counts(const Tally& t);
+
+std::size_t count(const std::map<Outcome, std::size_t>& m, Outcome o) {
+  auto it = m.find(o);
+  return it == m.end() ? 0 : it->second;
+}
+
 Tally run_all(const Options& o, const std::vector<Case>& cases, const fs::path& work) {
   Tally tally;
   std::vector<Job> slots(o.jobs);
@@ -266,6 +273,7 @@ Tally run_all(const Options& o, const std::vector<Case>& cases, const fs::path& 
       if (bad(outcome)) report_bad(o, job, outcome, index_of[s]);
       job.pid = -1;
       --running;
+      if (tally.cases % 1000 == 0) print_counts(tally);  // a long run shows how it goes
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
@@ -273,10 +281,6 @@ Tally run_all(const Options& o, const std::vector<Case>& cases, const fs::path& 
 }
 
 void print(const Tally& t) {
-  auto count = [](const std::map<Outcome, std::size_t>& m, Outcome o) {
-    auto it = m.find(o);
-    return it == m.end() ? std::size_t{0} : it->second;
-  };
   for (const auto& [format, m] : t.by_format) {
     std::printf("  %-10s", format.c_str());
     for (Outcome o : {Outcome::rendered, Outcome::warned, Outcome::clean_error, Outcome::crash, Outcome::hang, Outcome::unnamed_error,
@@ -285,12 +289,17 @@ void print(const Tally& t) {
     std::printf("\n");
   }
   for (const auto& [seconds, what] : t.slowest) std::printf("  slow: %.1f s  %s\n", seconds, what.c_str());
+  print_counts(t);
+}
+
+void print_counts(const Tally& t) {
   std::size_t other = count(t.total, Outcome::unnamed_error) + count(t.total, Outcome::silent_accept) +
                       count(t.total, Outcome::wrote_on_error) + count(t.total, Outcome::no_image);
   std::printf("%zu cases: %zu rendered, %zu clean errors, %zu crashes, %zu hangs, %zu other failures "
               "(of the rendered, %zu certainly invalid with a warning naming the file)\n",
               t.cases, count(t.total, Outcome::rendered) + count(t.total, Outcome::warned), count(t.total, Outcome::clean_error),
               count(t.total, Outcome::crash), count(t.total, Outcome::hang), other, count(t.total, Outcome::warned));
+  std::fflush(stdout);
 }
 
 Options parse(int argc, char** argv) {

@@ -135,7 +135,7 @@ std::vector<std::string> builtin_scene_names();
 // of this process.
 struct LoadLimits {
   std::size_t memory_mib = 4096;  // address space the load may add, MiB
-  double seconds = 60;            // CPU time and wall-clock time of the load
+  double seconds = 20;            // CPU time and wall-clock time of the load
   bool in_process = false;        // no child, no limits (debuggers); not from two threads at once
   // Tests only: runs in the loading child before the file is read (to make
   // it crash, hang or allocate).
