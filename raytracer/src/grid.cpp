@@ -1,6 +1,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
+
+#include <tbb/parallel_for.h>
 
 #include "sh/raytracer/grid.hpp"
 
@@ -47,6 +50,45 @@ std::size_t cells_to_test(const Grid& g, const Box& bounds, const std::vector<Ve
   return total;
 }
 
+// Which cells each triangle overlaps, in blocks of triangles on every
+// core; then each cell's list, ended by -1, triangles in increasing order
+// (the blocks are laid out in order, so the result never depends on
+// which thread did what).
+void fill_cells(Grid& g, Vec3 hair, const std::vector<Vec3>& positions) {
+  constexpr std::size_t kBlock = 4096;
+  std::size_t n = positions.size() / 3, blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::pair<std::uint32_t, std::int32_t>>> found(blocks);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
+      Vec3 a = positions[3 * t], p = positions[3 * t + 1], c = positions[3 * t + 2];
+      CellRange r = cells_under(g, hair, a, p, c);
+      for (int z = r.from[2]; z <= r.to[2]; ++z)
+        for (int y = r.from[1]; y <= r.to[1]; ++y)
+          for (int x = r.from[0]; x <= r.to[0]; ++x) {
+            Vec3 box_lo = g.lo + Vec3{x * g.cell.x, y * g.cell.y, z * g.cell.z};
+            if (triangle_overlaps_box(a, p, c, box_lo - hair, box_lo + g.cell + hair))
+              found[b].emplace_back((static_cast<std::uint32_t>(z) * g.dims[1] + y) * g.dims[0] + x,
+                                    static_cast<std::int32_t>(t));
+          }
+    }
+  });
+  std::vector<std::int32_t> count(g.cells(), 0);
+  for (const auto& block : found)
+    for (const auto& [cell, t] : block) ++count[cell];
+  g.cell_start.assign(g.cells(), -1);
+  std::vector<std::size_t> next(g.cells());
+  std::size_t at = 0;
+  for (std::size_t c = 0; c < g.cells(); ++c) {
+    if (count[c] == 0) continue;
+    g.cell_start[c] = static_cast<std::int32_t>(at);
+    next[c] = at;
+    at += static_cast<std::size_t>(count[c]) + 1;
+  }
+  g.cell_triangles.assign(at, -1);
+  for (const auto& block : found)
+    for (const auto& [cell, t] : block) g.cell_triangles[next[cell]++] = t;
+}
+
 std::string dims_text(const Grid& g) {
   return std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
 }
@@ -76,26 +118,7 @@ Grid build_grid(const Scene& scene, double cells_per_triangle, double tests_per_
                 std::to_string(first_estimate) + " cells at " + asked + ", more than the budget of " + std::to_string(budget) +
                 " (large or overlapping triangles)";
 
-  Vec3 hair = overlap_hair(bounds, g.cell);
-  std::vector<std::vector<std::int32_t>> lists(g.cells());
-  for (std::size_t t = 0; t < n; ++t) {
-    Vec3 a = positions[3 * t], b = positions[3 * t + 1], c = positions[3 * t + 2];
-    CellRange r = cells_under(g, hair, a, b, c);
-    for (int z = r.from[2]; z <= r.to[2]; ++z)
-      for (int y = r.from[1]; y <= r.to[1]; ++y)
-        for (int x = r.from[0]; x <= r.to[0]; ++x) {
-          Vec3 box_lo = g.lo + Vec3{x * g.cell.x, y * g.cell.y, z * g.cell.z};
-          if (triangle_overlaps_box(a, b, c, box_lo - hair, box_lo + g.cell + hair))
-            lists[(static_cast<std::size_t>(z) * g.dims[1] + y) * g.dims[0] + x].push_back(static_cast<std::int32_t>(t));
-        }
-  }
-  g.cell_start.assign(g.cells(), -1);
-  for (std::size_t c = 0; c < lists.size(); ++c) {
-    if (lists[c].empty()) continue;
-    g.cell_start[c] = static_cast<std::int32_t>(g.cell_triangles.size());
-    g.cell_triangles.insert(g.cell_triangles.end(), lists[c].begin(), lists[c].end());
-    g.cell_triangles.push_back(-1);
-  }
+  fill_cells(g, overlap_hair(bounds, g.cell), positions);
   if (g.cell_triangles.empty()) g.cell_triangles.push_back(-1);
   g.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return g;

@@ -52,17 +52,13 @@ Ray::Ray(const Point3f& origin, const Vector3f& direction) : o(origin), d(direct
   Attrib3f size = abs(d);
   last_is_x = size(0) > size(1) && size(0) > size(2);
   last_is_y = !last_is_x && size(1) > size(2);
-  swap_xy = 0.0f;
   Attrib3f turned = turn(d);
-  swap_xy = turned(2) < 0.0f;
-  turned = cond(swap_xy, turned(1, 0, 2), turned);
   Attrib1f dz = cond(turned(2) != 0.0f, turned(2), ConstAttrib1f(1.0f));
   shear = join(-turned(0, 1) / dz, 1.0f / dz);
 }
 
 Attrib3f Ray::turn(const Attrib3f& v) const {
-  Attrib3f turned = cond(last_is_x, v(1, 2, 0), cond(last_is_y, v(2, 0, 1), v));
-  return cond(swap_xy, turned(1, 0, 2), turned);
+  return cond(last_is_x, v(1, 2, 0), cond(last_is_y, v(2, 0, 1), v));
 }
 
 void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& t_limit, Attrib1f& t_enter,

@@ -15,9 +15,12 @@ struct Ray {
   const Vector3f& d;
   Attrib3f nonzero, inv, step;  // step: the sign of each usable component
   // Ray space of the watertight test: axes turned so that the direction's
-  // largest component comes last (x and y swapped where it is negative,
-  // keeping the winding), then sheared so the direction becomes +z.
-  Attrib1f last_is_x, last_is_y, swap_xy;
+  // largest component comes last, then sheared so the direction becomes
+  // +z.  Where that component is negative the projection is seen from
+  // behind: every edge function changes sign, which a test that takes
+  // triangles facing either way does not see (t and the barycentrics are
+  // ratios of them).
+  Attrib1f last_is_x, last_is_y;
   Attrib3f shear;  // (-dx / dz, -dy / dz, 1 / dz) in turned axes
   Attrib3f turn(const Attrib3f& v) const;
 };
