@@ -1,8 +1,26 @@
 #include "helpers.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
+#include <fstream>
 
 namespace rt_test {
+
+void FilesTest::SetUp() {
+  const testing::TestInfo* test = testing::UnitTest::GetInstance()->current_test_info();
+  dir_ = std::filesystem::temp_directory_path() /
+         ("sh_" + std::string(test->test_suite_name()) + "_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir_);
+}
+
+void FilesTest::TearDown() { std::filesystem::remove_all(dir_); }
+
+std::string FilesTest::write(const std::string& name, const std::string& bytes) {
+  std::string path = (dir_ / name).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
 
 using sh::rt::Vec3;
 

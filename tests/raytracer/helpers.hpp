@@ -1,9 +1,12 @@
 #pragma once
 // Shared by the ray tracer's tests: running the intersector kernel on a
 // batch of rays, and comparing its hits with Embree's.
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
@@ -11,6 +14,18 @@
 #include "embree_oracle.hpp"
 
 namespace rt_test {
+
+// A test that writes files: a directory of its own (named after the
+// process, so tests running side by side under ctest -j never meet),
+// removed afterwards.
+class FilesTest : public testing::Test {
+ protected:
+  void SetUp() override;
+  void TearDown() override;
+  // Writes `bytes` as they are to `name` in the directory; returns the path.
+  std::string write(const std::string& name, const std::string& bytes);
+  std::filesystem::path dir_;
+};
 
 struct Rays {
   std::vector<float> origins, directions;  // 3 floats each

@@ -8,10 +8,11 @@
 
 #include <csignal>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 
 #include <sh/raytracer.hpp>
+
+#include "helpers.hpp"
 
 #include "model_reader.hpp"
 
@@ -20,20 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 using sh::rt::Vec3;
 
-class ModelInput : public testing::Test {
+class ModelInput : public rt_test::FilesTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("sh_model_input_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    std::string path = (dir_ / name).string();
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-  }
-
   // The error message of loading `path`, or a test failure if it loads.
   std::string error_of(const std::string& path, const sh::rt::LoadLimits& limits = {}) {
     try {
@@ -44,8 +33,6 @@ class ModelInput : public testing::Test {
     ADD_FAILURE() << "expected an error loading " << path;
     return "";
   }
-
-  fs::path dir_;
 };
 
 bool same(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
@@ -214,7 +201,7 @@ TEST_F(ModelInput, HugeAllocationStopsAtTheMemoryLimit) {
 
 TEST_F(ModelInput, AssimpsOwnOutOfMemoryModelIsStoppedAtTheLimit) {
   const char* corpus = "/usr/share/assimp/models/invalid/OutOfMemory.off";  // package assimp-testmodels
-  if (!fs::exists(corpus)) GTEST_SKIP() << corpus << " not installed";
+  ASSERT_TRUE(fs::exists(corpus)) << corpus << " missing: scripts/deps installs assimp-testmodels";
   sh::rt::LoadLimits limits;
   limits.memory_mib = 512;
   EXPECT_TRUE(mentions(error_of(corpus, limits), "OutOfMemory.off: the model loader used more than the 512 MiB"));

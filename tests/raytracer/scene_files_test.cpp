@@ -4,29 +4,17 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <random>
 
 #include <sh/raytracer.hpp>
 
+#include "helpers.hpp"
+
 namespace {
 
-namespace fs = std::filesystem;
 
-class SceneFiles : public testing::Test {
+class SceneFiles : public rt_test::FilesTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("sh_scene_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    std::string path = (dir_ / name).string();
-    std::ofstream(path) << text;
-    return path;
-  }
-
   void expect_error(const std::string& path, std::initializer_list<const char*> fragments) {
     try {
       sh::rt::load_scene(path);
@@ -35,8 +23,6 @@ class SceneFiles : public testing::Test {
       for (const char* f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
     }
   }
-
-  fs::path dir_;
 };
 
 const char* kCube = R"(v -1 -1 -1
