@@ -87,10 +87,9 @@ class Lowering {
   Value* intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*> args);
   Value* libm(const char* name, std::initializer_list<Value*> args);
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
-  Value* compare(ir::Op op, Value* a, Value* b, bool is_float);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
-  Value* float_op(ir::Op op, Value* a, Value* b);
-  Value* int_op(ir::Op op, Value* a, Value* b);
+  Value* sign(Value* a, bool fp);
+  Value* int_divide(ir::Op op, Value* a, Value* b);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
   Value* flat_index(int table, const ir::Operand& coord, bool sample, bool gather);
   Value* access_field(int table, unsigned k);

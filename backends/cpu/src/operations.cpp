@@ -74,66 +74,30 @@ Value* Lowering::libm(const char* name, std::initializer_list<Value*> args) {
   return result;
 }
 
+// One case per row of the op table (ops.def), no default: a new operation
+// does not build until it is lowered here.
 Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c) {
   using ir::Op;
+  using P = llvm::CmpInst::Predicate;
+  namespace I = llvm::Intrinsic;
   llvm::Type* t = a->getType();
+  const bool fp = ir::is_float(from);
+  Value* one = fp ? llvm::ConstantFP::get(t, 1.0) : nullptr;
   switch (op) {
     case Op::Mov: return a;
     case Op::Cast: return cast(a, from, to);
-    case Op::Lt: case Op::Le: case Op::Gt: case Op::Ge: case Op::Eq: case Op::Ne:
-      return mask(compare(op, a, b, ir::is_float(from)), t);
-    case Op::And: return mask(b_.CreateAnd(truthy(a, from), truthy(b, from)), t);
-    case Op::Or: return mask(b_.CreateOr(truthy(a, from), truthy(b, from)), t);
-    case Op::Not: return mask(b_.CreateNot(truthy(a, from)), t);
-    case Op::Cond: return b_.CreateSelect(truthy(a, from), b, c);
-    default: break;
-  }
-  return ir::is_float(from) ? float_op(op, a, b) : int_op(op, a, b);
-}
-
-Value* Lowering::compare(ir::Op op, Value* a, Value* b, bool is_float) {
-  using P = llvm::CmpInst::Predicate;
-  static const std::pair<P, P> kPredicates[] = {
-      {P::FCMP_OLT, P::ICMP_SLT}, {P::FCMP_OLE, P::ICMP_SLE}, {P::FCMP_OGT, P::ICMP_SGT},
-      {P::FCMP_OGE, P::ICMP_SGE}, {P::FCMP_OEQ, P::ICMP_EQ},  {P::FCMP_UNE, P::ICMP_NE}};
-  auto [fp, ip] = kPredicates[static_cast<int>(op) - static_cast<int>(ir::Op::Lt)];
-  return is_float ? b_.CreateFCmp(fp, a, b) : b_.CreateICmp(ip, a, b);
-}
-
-Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {
-  llvm::Type* t = reg_type(to, a->getType()->isVectorTy());
-  if (to == ir::Scalar::Bool) return mask(truthy(a, from), t);
-  if (to == ir::Scalar::I32) {
-    if (!ir::is_float(from)) return a;
-    // NaN gives 0 and out-of-range values saturate, by definition.
-    llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), llvm::Intrinsic::fptosi_sat, {t, a->getType()});
-    return b_.CreateCall(f, {a});
-  }
-  if (!ir::is_float(from)) return b_.CreateSIToFP(a, t);
-  if (a->getType() == t) return a;
-  return t->getScalarType()->isDoubleTy() ? b_.CreateFPExt(a, t) : b_.CreateFPTrunc(a, t);
-}
-
-Value* Lowering::float_op(ir::Op op, Value* a, Value* b) {
-  using ir::Op;
-  namespace I = llvm::Intrinsic;
-  llvm::Type* t = a->getType();
-  Value* one = llvm::ConstantFP::get(t, 1.0);
-  switch (op) {
-    case Op::Add: return b_.CreateFAdd(a, b);
-    case Op::Sub: return b_.CreateFSub(a, b);
-    case Op::Mul: return b_.CreateFMul(a, b);
-    case Op::Div: return b_.CreateFDiv(a, b);
-    case Op::Mod: return b_.CreateFRem(a, b);
-    case Op::Neg: return b_.CreateFNeg(a);
-    case Op::Min: return intrinsic(I::minnum, {a, b});
-    case Op::Max: return intrinsic(I::maxnum, {a, b});
-    case Op::Abs: return intrinsic(I::fabs, {a});
-    case Op::Sign: {
-      Value* zero = llvm::ConstantFP::get(t, 0.0);
-      Value* neg = b_.CreateSelect(b_.CreateFCmpOLT(a, zero), llvm::ConstantFP::get(t, -1.0), a);
-      return b_.CreateSelect(b_.CreateFCmpOGT(a, zero), one, neg);
-    }
+    case Op::Add: return fp ? b_.CreateFAdd(a, b) : b_.CreateAdd(a, b);
+    case Op::Sub: return fp ? b_.CreateFSub(a, b) : b_.CreateSub(a, b);
+    case Op::Mul: return fp ? b_.CreateFMul(a, b) : b_.CreateMul(a, b);
+    case Op::Div: return fp ? b_.CreateFDiv(a, b) : int_divide(op, a, b);
+    case Op::Mod: return fp ? b_.CreateFRem(a, b) : int_divide(op, a, b);
+    case Op::Neg: return fp ? b_.CreateFNeg(a) : b_.CreateNeg(a);
+    case Op::Min: return intrinsic(fp ? I::minnum : I::smin, {a, b});
+    case Op::Max: return intrinsic(fp ? I::maxnum : I::smax, {a, b});
+    case Op::Abs:
+      if (fp) return intrinsic(I::fabs, {a});
+      return b_.CreateCall(llvm::Intrinsic::getDeclaration(module_.get(), I::abs, {t}), {a, b_.getFalse()});
+    case Op::Sign: return sign(a, fp);
     case Op::Floor: return intrinsic(I::floor, {a});
     case Op::Ceil: return intrinsic(I::ceil, {a});
     case Op::Round: return intrinsic(I::round, {a});
@@ -152,43 +116,59 @@ Value* Lowering::float_op(ir::Op op, Value* a, Value* b) {
     case Op::Acos: return libm("acos", {a});
     case Op::Atan: return libm("atan", {a});
     case Op::Atan2: return libm("atan2", {a, b});
-    default: return llvm::UndefValue::get(t);
+    case Op::Lt: return mask(fp ? b_.CreateFCmp(P::FCMP_OLT, a, b) : b_.CreateICmp(P::ICMP_SLT, a, b), t);
+    case Op::Le: return mask(fp ? b_.CreateFCmp(P::FCMP_OLE, a, b) : b_.CreateICmp(P::ICMP_SLE, a, b), t);
+    case Op::Gt: return mask(fp ? b_.CreateFCmp(P::FCMP_OGT, a, b) : b_.CreateICmp(P::ICMP_SGT, a, b), t);
+    case Op::Ge: return mask(fp ? b_.CreateFCmp(P::FCMP_OGE, a, b) : b_.CreateICmp(P::ICMP_SGE, a, b), t);
+    case Op::Eq: return mask(fp ? b_.CreateFCmp(P::FCMP_OEQ, a, b) : b_.CreateICmp(P::ICMP_EQ, a, b), t);
+    case Op::Ne: return mask(fp ? b_.CreateFCmp(P::FCMP_UNE, a, b) : b_.CreateICmp(P::ICMP_NE, a, b), t);
+    case Op::And: return mask(b_.CreateAnd(truthy(a, from), truthy(b, from)), t);
+    case Op::Or: return mask(b_.CreateOr(truthy(a, from), truthy(b, from)), t);
+    case Op::Not: return mask(b_.CreateNot(truthy(a, from)), t);
+    case Op::Cond: return b_.CreateSelect(truthy(a, from), b, c);
+    case Op::Fetch: case Op::Sample: break;  // table_read()
   }
+  throw Error(std::string("cpu backend: ") + ir::op_name(op) + " reached the arithmetic lowering");
 }
 
-Value* Lowering::int_op(ir::Op op, Value* a, Value* b) {
-  using ir::Op;
-  namespace I = llvm::Intrinsic;
-  llvm::Type* t = a->getType();
-  auto number = [t](std::int64_t v) { return llvm::ConstantInt::get(t, static_cast<std::uint64_t>(v)); };
-  Value* zero = number(0);
-  switch (op) {
-    case Op::Add: return b_.CreateAdd(a, b);
-    case Op::Sub: return b_.CreateSub(a, b);
-    case Op::Mul: return b_.CreateMul(a, b);
-    case Op::Div: case Op::Mod: {
-      // x / 0 and x % 0 give 0; INT_MIN / -1 wraps to INT_MIN (divide by 1).
-      Value* by_zero = b_.CreateICmpEQ(b, zero);
-      Value* overflow = b_.CreateAnd(b_.CreateICmpEQ(a, number(INT32_MIN)), b_.CreateICmpEQ(b, number(-1)));
-      Value* safe = b_.CreateSelect(b_.CreateOr(by_zero, overflow), number(1), b);
-      Value* r = op == Op::Div ? b_.CreateSDiv(a, safe) : b_.CreateSRem(a, safe);
-      if (op == Op::Mod) r = b_.CreateSelect(overflow, zero, r);
-      return b_.CreateSelect(by_zero, zero, r);
-    }
-    case Op::Neg: return b_.CreateNeg(a);
-    case Op::Abs: {
-      llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), I::abs, {t});
-      return b_.CreateCall(f, {a, b_.getFalse()});
-    }
-    case Op::Sign: {
-      Value* neg = b_.CreateSelect(b_.CreateICmpSLT(a, zero), number(-1), zero);
-      return b_.CreateSelect(b_.CreateICmpSGT(a, zero), number(1), neg);
-    }
-    case Op::Min: return intrinsic(I::smin, {a, b});
-    case Op::Max: return intrinsic(I::smax, {a, b});
-    case Op::Floor: case Op::Ceil: case Op::Round: return a;
-    default: return llvm::UndefValue::get(t);
+Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {
+  llvm::Type* t = reg_type(to, a->getType()->isVectorTy());
+  if (to == ir::Scalar::Bool) return mask(truthy(a, from), t);
+  if (to == ir::Scalar::I32) {
+    if (!ir::is_float(from)) return a;
+    // NaN gives 0 and out-of-range values saturate, by definition.
+    llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), llvm::Intrinsic::fptosi_sat, {t, a->getType()});
+    return b_.CreateCall(f, {a});
   }
+  if (!ir::is_float(from)) return b_.CreateSIToFP(a, t);
+  if (a->getType() == t) return a;
+  return t->getScalarType()->isDoubleTy() ? b_.CreateFPExt(a, t) : b_.CreateFPTrunc(a, t);
+}
+
+// -1, 0 or 1; a float's ±0 and NaN pass through.
+Value* Lowering::sign(Value* a, bool fp) {
+  llvm::Type* t = a->getType();
+  if (fp) {
+    Value* zero = llvm::ConstantFP::get(t, 0.0);
+    Value* neg = b_.CreateSelect(b_.CreateFCmpOLT(a, zero), llvm::ConstantFP::get(t, -1.0), a);
+    return b_.CreateSelect(b_.CreateFCmpOGT(a, zero), llvm::ConstantFP::get(t, 1.0), neg);
+  }
+  Value* zero = llvm::ConstantInt::get(t, 0);
+  Value* neg = b_.CreateSelect(b_.CreateICmpSLT(a, zero), llvm::ConstantInt::getSigned(t, -1), zero);
+  return b_.CreateSelect(b_.CreateICmpSGT(a, zero), llvm::ConstantInt::get(t, 1), neg);
+}
+
+// x / 0 and x % 0 give 0; INT_MIN / -1 wraps to INT_MIN (divide by 1).
+Value* Lowering::int_divide(ir::Op op, Value* a, Value* b) {
+  llvm::Type* t = a->getType();
+  auto number = [t](std::int64_t v) { return llvm::ConstantInt::getSigned(t, v); };
+  Value* zero = number(0);
+  Value* by_zero = b_.CreateICmpEQ(b, zero);
+  Value* overflow = b_.CreateAnd(b_.CreateICmpEQ(a, number(INT32_MIN)), b_.CreateICmpEQ(b, number(-1)));
+  Value* safe = b_.CreateSelect(b_.CreateOr(by_zero, overflow), number(1), b);
+  Value* r = op == ir::Op::Div ? b_.CreateSDiv(a, safe) : b_.CreateSRem(a, safe);
+  if (op == ir::Op::Mod) r = b_.CreateSelect(overflow, zero, r);
+  return b_.CreateSelect(by_zero, zero, r);
 }
 
 // Clamps exactly as sh::fetch_index / sample_index do.  A varying read is a

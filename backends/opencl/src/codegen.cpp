@@ -57,15 +57,17 @@ class Generator {
     switch (s) {
       case ir::Scalar::F32: return o_.precision == Precision::F32 ? "float" : "double";
       case ir::Scalar::F64: return "double";
-      default: return "int";
+      case ir::Scalar::I32: case ir::Scalar::Bool: return "int";
     }
+    return "int";
   }
   static const char* storage_type(ir::Scalar s) {
     switch (s) {
       case ir::Scalar::F32: return "float";
       case ir::Scalar::F64: return "double";
-      default: return "int";
+      case ir::Scalar::I32: case ir::Scalar::Bool: return "int";
     }
+    return "int";
   }
   const char* reg_type(ir::VarId v) const { return reg_type(p_.type_of(v).scalar); }
 
@@ -237,59 +239,45 @@ class Generator {
 
   std::string one(ir::Scalar s) const { return number(s, 1.0); }
 
+  // One case per row of the op table (ops.def), no default: a new
+  // operation does not build until it is generated here.  Signed overflow
+  // is undefined in OpenCL C, so wrapping integer arithmetic goes through
+  // uint; division by zero gives 0 and INT_MIN / -1 wraps.
   std::string operation(ir::Op op, ir::Scalar from, ir::Scalar to, const std::string& a, const std::string& b,
                         const std::string& c) const {
     using ir::Op;
+    const bool fp = ir::is_float(from);
     std::string t = reg_type(from);
     auto mask = [&](const std::string& bit) { return "(" + t + ")(" + bit + ")"; };
     auto pos = [&](const std::string& x) { return "(" + x + " > 0)"; };
-    switch (op) {
-      case Op::Mov: return a;
-      case Op::Cast: return cast(a, from, to);
-      case Op::Lt: return mask(a + " < " + b);
-      case Op::Le: return mask(a + " <= " + b);
-      case Op::Gt: return mask(a + " > " + b);
-      case Op::Ge: return mask(a + " >= " + b);
-      case Op::Eq: return mask(a + " == " + b);
-      case Op::Ne: return mask(a + " != " + b);
-      case Op::And: return mask(pos(a) + " && " + pos(b));
-      case Op::Or: return mask(pos(a) + " || " + pos(b));
-      case Op::Not: return mask("!" + pos(a));
-      case Op::Cond: return pos(a) + " ? " + b + " : " + c;
-      default: break;
-    }
-    return ir::is_float(from) ? float_op(op, from, a, b) : int_op(op, a, b);
-  }
-
-  std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const {
-    if (to == ir::Scalar::Bool) return "(int)(" + a + " > 0)";
-    if (to == ir::Scalar::I32) return ir::is_float(from) ? "convert_int_sat(" + a + ")" : a;
-    return std::string("(") + reg_type(to) + ")(" + a + ")";
-  }
-
-  std::string float_op(ir::Op op, ir::Scalar s, const std::string& a, const std::string& b) const {
-    using ir::Op;
     auto call = [](const char* f, const std::string& x) { return std::string(f) + "(" + x + ")"; };
     auto call2 = [](const char* f, const std::string& x, const std::string& y) {
       return std::string(f) + "(" + x + ", " + y + ")";
     };
+    auto wrap = [&](const char* sym) { return "(int)((uint)" + a + " " + sym + " (uint)" + b + ")"; };
+    std::string overflow = "(" + a + " == (-2147483647 - 1) && " + b + " == -1)";
     switch (op) {
-      case Op::Add: return a + " + " + b;
-      case Op::Sub: return a + " - " + b;
-      case Op::Mul: return a + " * " + b;
-      case Op::Div: return a + " / " + b;
-      case Op::Mod: return call2("fmod", a, b);
-      case Op::Neg: return "-" + a;
-      case Op::Min: return call2("fmin", a, b);
-      case Op::Max: return call2("fmax", a, b);
-      case Op::Abs: return call("fabs", a);
-      case Op::Sign: return "(" + a + " > 0 ? " + one(s) + " : (" + a + " < 0 ? -" + one(s) + " : " + a + "))";
+      case Op::Mov: return a;
+      case Op::Cast: return cast(a, from, to);
+      case Op::Add: return fp ? a + " + " + b : wrap("+");
+      case Op::Sub: return fp ? a + " - " + b : wrap("-");
+      case Op::Mul: return fp ? a + " * " + b : wrap("*");
+      case Op::Div:
+        return fp ? a + " / " + b : "(" + b + " == 0 ? 0 : " + overflow + " ? " + a + " : " + a + " / " + b + ")";
+      case Op::Mod: return fp ? call2("fmod", a, b) : "(" + b + " == 0 || " + overflow + " ? 0 : " + a + " % " + b + ")";
+      case Op::Neg: return fp ? "-" + a : "(int)(0u - (uint)" + a + ")";
+      case Op::Min: return call2(fp ? "fmin" : "min", a, b);
+      case Op::Max: return call2(fp ? "fmax" : "max", a, b);
+      case Op::Abs: return fp ? call("fabs", a) : "(int)abs(" + a + ")";
+      case Op::Sign:
+        if (fp) return "(" + a + " > 0 ? " + one(from) + " : (" + a + " < 0 ? -" + one(from) + " : " + a + "))";
+        return "(" + a + " > 0 ? 1 : (" + a + " < 0 ? -1 : 0))";
       case Op::Floor: return call("floor", a);
       case Op::Ceil: return call("ceil", a);
       case Op::Round: return call("round", a);
       case Op::Sqrt: return call("sqrt", a);
-      case Op::Rsqrt: return one(s) + " / sqrt(" + a + ")";
-      case Op::Rcp: return one(s) + " / " + a;
+      case Op::Rsqrt: return one(from) + " / sqrt(" + a + ")";
+      case Op::Rcp: return one(from) + " / " + a;
       case Op::Pow: return call2("pow", a, b);
       case Op::Exp: return call("exp", a);
       case Op::Exp2: return call("exp2", a);
@@ -302,30 +290,25 @@ class Generator {
       case Op::Acos: return call("acos", a);
       case Op::Atan: return call("atan", a);
       case Op::Atan2: return call2("atan2", a, b);
-      default: return "0";
+      case Op::Lt: return mask(a + " < " + b);
+      case Op::Le: return mask(a + " <= " + b);
+      case Op::Gt: return mask(a + " > " + b);
+      case Op::Ge: return mask(a + " >= " + b);
+      case Op::Eq: return mask(a + " == " + b);
+      case Op::Ne: return mask(a + " != " + b);
+      case Op::And: return mask(pos(a) + " && " + pos(b));
+      case Op::Or: return mask(pos(a) + " || " + pos(b));
+      case Op::Not: return mask("!" + pos(a));
+      case Op::Cond: return pos(a) + " ? " + b + " : " + c;
+      case Op::Fetch: case Op::Sample: break;  // table_read()
     }
+    throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
   }
 
-  // Signed overflow is undefined in OpenCL C: wrapping arithmetic goes
-  // through uint; division by zero gives 0 and INT_MIN / -1 wraps.
-  static std::string int_op(ir::Op op, const std::string& a, const std::string& b) {
-    using ir::Op;
-    auto wrap = [&](const char* sym) { return "(int)((uint)" + a + " " + sym + " (uint)" + b + ")"; };
-    std::string overflow = "(" + a + " == (-2147483647 - 1) && " + b + " == -1)";
-    switch (op) {
-      case Op::Add: return wrap("+");
-      case Op::Sub: return wrap("-");
-      case Op::Mul: return wrap("*");
-      case Op::Div: return "(" + b + " == 0 ? 0 : " + overflow + " ? " + a + " : " + a + " / " + b + ")";
-      case Op::Mod: return "(" + b + " == 0 || " + overflow + " ? 0 : " + a + " % " + b + ")";
-      case Op::Neg: return "(int)(0u - (uint)" + a + ")";
-      case Op::Abs: return "(int)abs(" + a + ")";
-      case Op::Sign: return "(" + a + " > 0 ? 1 : (" + a + " < 0 ? -1 : 0))";
-      case Op::Min: return "min(" + a + ", " + b + ")";
-      case Op::Max: return "max(" + a + ", " + b + ")";
-      case Op::Floor: case Op::Ceil: case Op::Round: return a;
-      default: return "0";
-    }
+  std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const {
+    if (to == ir::Scalar::Bool) return "(int)(" + a + " > 0)";
+    if (to == ir::Scalar::I32) return ir::is_float(from) ? "convert_int_sat(" + a + ")" : a;
+    return std::string("(") + reg_type(to) + ")(" + a + ")";
   }
 
   // The element a read or scatter names, clamped exactly as

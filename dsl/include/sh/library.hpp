@@ -27,9 +27,17 @@ Value fillcast(const Value& v, int width);
 Value join(const Value& a, const Value& b);
 }  // namespace detail
 
+// A function whose operation takes only some scalars (ops.def's domain)
+// fails to compile on the others, at the caller's line, naming itself.
+#define SH_CHECK_DOMAIN(name, OP, A)                                                                  \
+  static_assert(ir::accepts(ir::Op::OP, scalar_of<typename A::scalar_type>::value),                 \
+                #name " does not take this scalar type (see ops.def: " #OP "); convert it first, e.g. " \
+                "x.cast<float>()")
+
 #define SH_UNARY_FUNCTION(name, OP)                                 \
   template <AttribLike A>                                           \
   Plain<A> name(const A& a) {                                       \
+    SH_CHECK_DOMAIN(name, OP, A);                                   \
     return wrap<Plain<A>>(detail::apply(ir::Op::OP, {a.value()}));  \
   }
 SH_UNARY_FUNCTION(abs, Abs)
@@ -56,14 +64,22 @@ SH_UNARY_FUNCTION(atan, Atan)
   template <AttribLike A, AttribLike B>                                                   \
     requires Compatible<A, B>                                                             \
   typename Result<A, B>::type name(const A& a, const B& b) {                              \
+    SH_CHECK_DOMAIN(name, OP, A);                                                         \
     return wrap<typename Result<A, B>::type>(detail::apply(ir::Op::OP, {a.value(), b.value()})); \
+  }                                                                                       \
+  template <AttribLike A, AttribLike B>                                                   \
+    requires(!Compatible<A, B>)                                                           \
+  typename Result<A, B>::type name(const A&, const B&) {                                  \
+    SH_REJECT_OPERANDS(#name "(a, b)");                                                   \
   }                                                                                       \
   template <AttribLike A, Number U>                                                       \
   Plain<A> name(const A& a, U b) {                                                        \
+    SH_CHECK_DOMAIN(name, OP, A);                                                         \
     return wrap<Plain<A>>(detail::apply(ir::Op::OP, {a.value(), constant_like<A>(b)}));  \
   }                                                                                       \
   template <AttribLike A, Number U>                                                       \
   Plain<A> name(U a, const A& b) {                                                        \
+    SH_CHECK_DOMAIN(name, OP, A);                                                         \
     return wrap<Plain<A>>(detail::apply(ir::Op::OP, {constant_like<A>(a), b.value()}));  \
   }
 SH_BINARY_FUNCTION(min, Min)
@@ -72,15 +88,35 @@ SH_BINARY_FUNCTION(pow, Pow)
 SH_BINARY_FUNCTION(atan2, Atan2)
 SH_BINARY_FUNCTION(mod, Mod)
 #undef SH_BINARY_FUNCTION
+#undef SH_CHECK_DOMAIN
 
 template <AttribLike A>
 Plain<A> frac(const A& a) {
   return wrap<Plain<A>>(detail::frac(a.value()));
 }
 
+template <class X>
+constexpr int width_of() {
+  if constexpr (AttribLike<X>) return X::width;
+  else return 1;
+}
+
+// The result's width of a component-wise operation on these operands.
+template <class... X>
+inline constexpr int widest = std::max({width_of<X>()...});
+
 template <AttribLike A, class L, class H>
+  requires OperandFor<L, A::width, typename A::scalar_type> && OperandFor<H, A::width, typename A::scalar_type>
 Plain<A> clamp(const A& x, const L& lo, const H& hi) {
   return min(max(x, lo), hi);
+}
+template <AttribLike A, class L, class H>
+  requires(!(OperandFor<L, A::width, typename A::scalar_type> && OperandFor<H, A::width, typename A::scalar_type>))
+Plain<A> clamp(const A&, const L&, const H&) {
+  static_assert(detail::always_false<A>,
+                "sh: clamp(x, lo, hi) takes lo and hi as numbers or Attribs of x's scalar type with x's width "
+                "or width 1 (ints and floats do not mix: convert with .cast<T>())");
+  return {};
 }
 
 // Saturate: clamp to [0, 1].
@@ -95,18 +131,48 @@ Plain<A> pos(const A& x) {
   return max(x, 0);
 }
 
+// lerp(f, a, b): a and b Compatible, f a number or an Attrib of their
+// scalar type with the result's width or width 1.
+template <class F, class A, class B>
+concept LerpOperands =
+    Compatible<A, B> && OperandFor<F, Result<A, B>::width, typename A::scalar_type>;
+
 template <class F, AttribLike A, AttribLike B>
-  requires Compatible<A, B>
+  requires LerpOperands<F, A, B>
 typename Result<A, B>::type lerp(const F& f, const A& a, const B& b) {
   detail::Value fv;
   if constexpr (Number<F>) fv = constant_like<A>(f);
   else fv = f.value();
   return wrap<typename Result<A, B>::type>(detail::lerp(fv, a.value(), b.value()));
 }
+template <class F, AttribLike A, AttribLike B>
+  requires(!LerpOperands<F, A, B>)
+typename Result<A, B>::type lerp(const F&, const A&, const B&) {
+  static_assert(detail::always_false<A>,
+                "sh: lerp(f, a, b) takes a and b of one scalar type, and f a number or an Attrib of that type, "
+                "each of the result's width or width 1 (ints and floats do not mix: convert with .cast<T>())");
+  return {};
+}
+
+// mad(a, b, c) = a * b + c: b and c numbers or Attribs of a's scalar type,
+// every Attrib of the result's width or width 1.
+template <class A, class B, class C>
+concept MadOperands = AttribLike<A> && (A::width == widest<A, B, C> || A::width == 1) &&
+                      OperandFor<B, widest<A, B, C>, typename A::scalar_type> &&
+                      OperandFor<C, widest<A, B, C>, typename A::scalar_type>;
 
 template <AttribLike A, class B, class C>
+  requires MadOperands<A, B, C>
 auto mad(const A& a, const B& b, const C& c) {
   return a * b + c;
+}
+template <AttribLike A, class B, class C>
+  requires(!MadOperands<A, B, C>)
+Plain<A> mad(const A&, const B&, const C&) {
+  static_assert(detail::always_false<A>,
+                "sh: mad(a, b, c) takes b and c as numbers or Attribs of a's scalar type, each of the result's "
+                "width or width 1 (ints and floats do not mix: convert with .cast<T>())");
+  return {};
 }
 
 template <AttribLike A>
@@ -126,13 +192,13 @@ Plain<A> normalize(const A& v) {
 }
 
 template <AttribLike A, AttribLike B>
-  requires Compatible<A, B>
+  requires Compatible<A, B> && (A::width == B::width)
 Plain<A> reflect(const A& a, const B& n) {
   return wrap<Plain<A>>(detail::reflect(a.value(), n.value()));
 }
 
 template <AttribLike A, AttribLike B, class E>
-  requires Compatible<A, B>
+  requires Compatible<A, B> && (A::width == B::width) && OperandFor<E, A::width, typename A::scalar_type>
 Plain<A> refract(const A& i, const B& n, const E& eta) {
   detail::Value e;
   if constexpr (Number<E>) e = constant_like<A>(eta);
@@ -141,21 +207,31 @@ Plain<A> refract(const A& i, const B& n, const E& eta) {
 }
 
 template <AttribLike A, AttribLike B>
-  requires Compatible<A, B>
+  requires Compatible<A, B> && (A::width == B::width)
 Plain<A> faceforward(const A& n, const B& v) {
   return wrap<Plain<A>>(detail::faceforward(n.value(), v.value()));
 }
 
 template <class X>
-constexpr int width_of() {
-  if constexpr (AttribLike<X>) return X::width;
-  else return 1;
-}
+concept NumberOrAttrib = Number<X> || AttribLike<X>;
+
+// The Attrib among cond's branches a and b that gives the result its type.
+template <class A, class B>
+using Branch = std::conditional_t<AttribLike<A>, A, B>;
+
+// cond(c, a, b): a and b numbers or Attribs of one scalar type, at least
+// one an Attrib; c a number or an Attrib of any type; every Attrib of the
+// result's width or width 1.
+template <class C, class A, class B>
+concept CondOperands = (AttribLike<A> || AttribLike<B>) && NumberOrAttrib<C> &&
+                       OperandFor<A, widest<C, A, B>, typename Branch<A, B>::scalar_type> &&
+                       OperandFor<B, widest<C, A, B>, typename Branch<A, B>::scalar_type> &&
+                       (width_of<C>() == widest<C, A, B> || width_of<C>() == 1);
 
 // c > 0 ? a : b, per component (a scalar c decides every component).  The
 // condition may be of another type than a and b: it is converted.
 template <class C, class A, class B>
-  requires AttribLike<A> || AttribLike<B>
+  requires CondOperands<C, A, B>
 auto cond(const C& c, const A& a, const B& b) {
   using R = std::conditional_t<AttribLike<A>, A, B>;
   using T = typename R::scalar_type;
@@ -167,6 +243,15 @@ auto cond(const C& c, const A& a, const B& b) {
       return x.value();
   };
   return wrap<Attrib<W, T, R::semantic>>(detail::cond(value_of(c), value_of(a), value_of(b)));
+}
+template <class C, class A, class B>
+  requires(AttribLike<A> || AttribLike<B>) && (!CondOperands<C, A, B>)
+Plain<Branch<A, B>> cond(const C&, const A&, const B&) {
+  static_assert(detail::always_false<A>,
+                "sh: cond(c, a, b) takes a and b as numbers or Attribs of one scalar type, and c a number or "
+                "an Attrib, each of the result's width or width 1 (ints and floats do not mix in a and b: "
+                "convert with .cast<T>())");
+  return {};
 }
 
 template <AttribLike A>
@@ -190,7 +275,8 @@ Attrib<1, typename A::scalar_type> sum(const A& v) {
   return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::Add, v.value()));
 }
 
-// M components of v: extra ones repeat v's last component (Sh's fillcast).
+// M components of v: extra ones repeat v's last component (Sh's fillcast),
+// in a new variable (writing it never writes v).
 template <int M, AttribLike A>
 Attrib<M, typename A::scalar_type, A::semantic> fillcast(const A& v) {
   return wrap<Attrib<M, typename A::scalar_type, A::semantic>>(detail::fillcast(v.value(), M));

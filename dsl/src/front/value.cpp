@@ -90,6 +90,12 @@ Value apply(ir::Op op, std::initializer_list<Value> args) {
     if (a.width() != 1 && width != 1 && a.width() != width) type_mismatch(op, first, a);
     width = std::max(width, a.width());
   }
+  if (!ir::accepts(op, first.scalar())) {
+    std::string what = std::string(ir::op_name(op)) + " of " + ir::type_name(first.type()) + ": " + ir::op_name(op) +
+                       " takes " + ir::domain_name(ir::op_info(op).domain) + "; convert the operand first (cast<float>())";
+    if (Recorder* r = current_recorder()) r->fail(what);
+    host_fail(what);
+  }
   ir::Type type{first.scalar(), width};
   if (Recorder* r = current_recorder()) {
     std::vector<ir::Operand> operands;

@@ -3,31 +3,25 @@
 #include <cmath>
 #include <limits>
 
+#include "sh/error.hpp"
+
 namespace sh::ir {
 namespace {
 
 bool truthy(double v) { return v > 0; }
 
-double int_op(Op op, double da, double db) {
-  // Wrapping two's-complement arithmetic, as every target computes it.
-  auto a = static_cast<std::int64_t>(da), b = static_cast<std::int64_t>(db);
-  auto wrap = [](std::int64_t v) { return static_cast<double>(static_cast<std::int32_t>(static_cast<std::uint32_t>(v))); };
-  switch (op) {
-    case Op::Add: return wrap(a + b);
-    case Op::Sub: return wrap(a - b);
-    case Op::Mul: return wrap(static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b)));
-    // Division by zero gives 0 rather than trapping; INT_MIN / -1 wraps.
-    case Op::Div: return b == 0 ? 0 : wrap(a / b);
-    case Op::Mod: return b == 0 ? 0 : wrap(a % b);
-    case Op::Neg: return wrap(-a);
-    case Op::Abs: return wrap(a < 0 ? -a : a);
-    case Op::Sign: return a > 0 ? 1 : a < 0 ? -1 : 0;
-    case Op::Min: return static_cast<double>(a < b ? a : b);
-    case Op::Max: return static_cast<double>(a > b ? a : b);
-    case Op::Floor: case Op::Ceil: case Op::Round: return da;
-    default: return std::numeric_limits<double>::quiet_NaN();
-  }
+// Integers travel as doubles that hold an int32 exactly; arithmetic on them
+// wraps in two's complement, as every target computes it.
+std::int64_t whole(double v) { return static_cast<std::int64_t>(v); }
+double wrap(std::int64_t v) { return static_cast<double>(static_cast<std::int32_t>(static_cast<std::uint32_t>(v))); }
+double wrapped_product(double a, double b) {
+  return wrap(static_cast<std::int64_t>(static_cast<std::uint64_t>(whole(a)) * static_cast<std::uint64_t>(whole(b))));
 }
+
+// Division and remainder by zero give 0; INT_MIN / -1 wraps to INT_MIN and
+// INT_MIN % -1 is 0.
+double int_divide(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) / whole(b)); }
+double int_remainder(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) % whole(b)); }
 
 double cast(Scalar from, Scalar to, double v) {
   switch (to) {
@@ -36,39 +30,6 @@ double cast(Scalar from, Scalar to, double v) {
     case Scalar::F32: case Scalar::F64: return v;
   }
   return v;
-}
-
-double float_op(Op op, double a, double b, double c) {
-  switch (op) {
-    case Op::Add: return a + b;
-    case Op::Sub: return a - b;
-    case Op::Mul: return a * b;
-    case Op::Div: return a / b;
-    case Op::Mod: return std::fmod(a, b);
-    case Op::Neg: return -a;
-    case Op::Min: return std::fmin(a, b);
-    case Op::Max: return std::fmax(a, b);
-    case Op::Abs: return std::fabs(a);
-    case Op::Sign: return a > 0 ? 1.0 : a < 0 ? -1.0 : a;  // keeps ±0 and NaN
-    case Op::Floor: return std::floor(a);
-    case Op::Ceil: return std::ceil(a);
-    case Op::Round: return std::round(a);
-    case Op::Sqrt: return std::sqrt(a);
-    case Op::Rcp: return 1.0 / a;
-    case Op::Pow: return std::pow(a, b);
-    case Op::Exp: return std::exp(a);
-    case Op::Exp2: return std::exp2(a);
-    case Op::Log: return std::log(a);
-    case Op::Log2: return std::log2(a);
-    case Op::Sin: return std::sin(a);
-    case Op::Cos: return std::cos(a);
-    case Op::Tan: return std::tan(a);
-    case Op::Asin: return std::asin(a);
-    case Op::Acos: return std::acos(a);
-    case Op::Atan: return std::atan(a);
-    case Op::Atan2: return std::atan2(a, b);
-    default: (void)c; return std::numeric_limits<double>::quiet_NaN();
-  }
 }
 
 }  // namespace
@@ -85,10 +46,44 @@ std::int32_t to_int32(double v) {
   return static_cast<std::int32_t>(v);
 }
 
+// Float-only operations (the table's Float domain) never see an integer:
+// the verifier and the recorder refuse it.
 double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double b, double c) {
+  const bool integer = !is_float(operand);
+  auto f = [&](double v) { return hold(result, p, v); };
   switch (op) {
     case Op::Mov: return a;
-    case Op::Cast: return hold(result, p, cast(operand, result, a));
+    case Op::Cast: return f(cast(operand, result, a));
+    case Op::Add: return integer ? wrap(whole(a) + whole(b)) : f(a + b);
+    case Op::Sub: return integer ? wrap(whole(a) - whole(b)) : f(a - b);
+    case Op::Mul: return integer ? wrapped_product(a, b) : f(a * b);
+    case Op::Div: return integer ? int_divide(a, b) : f(a / b);
+    case Op::Mod: return integer ? int_remainder(a, b) : f(std::fmod(a, b));
+    case Op::Neg: return integer ? wrap(-whole(a)) : -a;
+    case Op::Min: return integer ? std::min(a, b) : std::fmin(a, b);
+    case Op::Max: return integer ? std::max(a, b) : std::fmax(a, b);
+    case Op::Abs: return integer ? wrap(std::abs(whole(a))) : std::fabs(a);
+    case Op::Sign: return a > 0 ? 1.0 : a < 0 ? -1.0 : a;  // keeps ±0 and NaN
+    case Op::Floor: return std::floor(a);
+    case Op::Ceil: return std::ceil(a);
+    case Op::Round: return std::round(a);
+    case Op::Sqrt: return f(std::sqrt(a));
+    // Two roundings, as every backend computes it: the root, then its
+    // reciprocal (so that normalize gives the same bits everywhere).
+    case Op::Rsqrt: return f(1.0 / f(std::sqrt(a)));
+    case Op::Rcp: return f(1.0 / a);
+    case Op::Pow: return f(std::pow(a, b));
+    case Op::Exp: return f(std::exp(a));
+    case Op::Exp2: return f(std::exp2(a));
+    case Op::Log: return f(std::log(a));
+    case Op::Log2: return f(std::log2(a));
+    case Op::Sin: return f(std::sin(a));
+    case Op::Cos: return f(std::cos(a));
+    case Op::Tan: return f(std::tan(a));
+    case Op::Asin: return f(std::asin(a));
+    case Op::Acos: return f(std::acos(a));
+    case Op::Atan: return f(std::atan(a));
+    case Op::Atan2: return f(std::atan2(a, b));
     case Op::Lt: return a < b;
     case Op::Le: return a <= b;
     case Op::Gt: return a > b;
@@ -99,13 +94,9 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Or: return truthy(a) || truthy(b);
     case Op::Not: return !truthy(a);
     case Op::Cond: return truthy(a) ? b : c;
-    default: break;
+    case Op::Fetch: case Op::Sample: break;
   }
-  if (operand == Scalar::I32 || operand == Scalar::Bool) return int_op(op, a, b);
-  // Two roundings, as every backend computes it: the root, then its
-  // reciprocal (so that normalize gives the same bits everywhere).
-  if (op == Op::Rsqrt) return hold(result, p, 1.0 / hold(result, p, std::sqrt(a)));
-  return hold(result, p, float_op(op, a, b, c));
+  throw Error(std::string("ir::eval: ") + op_name(op) + " reads a table; only a backend evaluates it");
 }
 
 }  // namespace sh::ir

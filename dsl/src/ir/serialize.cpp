@@ -137,7 +137,7 @@ class Reader {
         a.dest = get<std::int32_t>();
         a.mask = swizzle();
         a.op = get<Op>();
-        if (static_cast<int>(a.op) > static_cast<int>(Op::Sample)) fail("unknown operation");
+        if (static_cast<int>(a.op) >= kOpCount) fail("unknown operation");
         a.table = get<std::int32_t>();
         auto n = get<std::uint8_t>();
         for (int i = 0; i < n; ++i) a.args.push_back(operand());

@@ -66,11 +66,15 @@ class Verifier {
     for (const Operand& o : a.args) operand(o, s);
     if (is_table_read(a.op)) return table_read(a, s);
     if (a.table >= 0) fail("only table reads name a table", &s);
+    Scalar operand_scalar = p_.type_of(a.args[0].var).scalar;
     for (const Operand& o : a.args) {
       if (o.width() != 1 && o.width() != a.mask.size) fail("operand width differs from the result width", &s);
-      if (a.op != Op::Cast && p_.type_of(o.var).scalar != dest.type.scalar)
-        fail("operand type differs from the destination type", &s);
+      if (p_.type_of(o.var).scalar != operand_scalar) fail("operands differ in type", &s);
     }
+    if (!accepts(a.op, operand_scalar))
+      fail(std::string(op_name(a.op)) + " takes " + domain_name(op_info(a.op).domain) + ", not " + scalar_name(operand_scalar), &s);
+    if (op_info(a.op).result == ResultRule::SameAsOperands && operand_scalar != dest.type.scalar)
+      fail("operand type differs from the destination type", &s);
   }
 
   void table_read(const Assign& a, const Stmt& s) {
@@ -78,8 +82,7 @@ class Verifier {
     const TableDecl& t = p_.tables[a.table];
     if (a.args[0].width() != t.rank) fail("table coordinates do not match the table's rank", &s);
     Scalar coord = p_.type_of(a.args[0].var).scalar;
-    if (a.op == Op::Fetch && coord != Scalar::I32) fail("fetch coordinates must be i32", &s);
-    if (a.op == Op::Sample && !is_float(coord)) fail("sample coordinates must be floats", &s);
+    if (!accepts(a.op, coord)) fail(std::string(op_name(a.op)) + " coordinates must be " + domain_name(op_info(a.op).domain), &s);
     if (t.accumulator) fail("reads an accumulator (its sums are defined only after the run)", &s);
     if (a.mask.size != t.element.width) fail("table read result width differs from the element width", &s);
     if (p_.type_of(a.dest).scalar != t.element.scalar) fail("table read result type differs from the element type", &s);

@@ -13,7 +13,7 @@ class Folder : public ir::Mutator {
   using ir::Mutator::mutate;
 
   void mutate(ir::Assign a, ir::Block& out) override {
-    if (a.op != ir::Op::Mov && !ir::is_table_read(a.op) && all_constant(a)) {
+    if (a.op != ir::Op::Mov && ir::op_info(a.op).folds && all_constant(a)) {
       ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
       std::array<double, 4> v{};
       for (int i = 0; i < a.mask.size; ++i) {

@@ -1,40 +1,72 @@
 #pragma once
-// The operations an assignment can perform.  All of them work component by
-// component (an operand of width 1 is broadcast); horizontal and compound
-// library functions (dot, cross, normalize, lerp, ...) are expanded into
-// these while recording, so every backend evaluates them in the same order.
+// The operations an assignment can perform, generated from ops.def (the one
+// table of them).  All work component by component (an operand of width 1
+// is broadcast); horizontal and compound library functions (dot, cross,
+// normalize, lerp, ...) are expanded into these while recording, so every
+// backend evaluates them in the same order.
 #include <cstdint>
+
+#include "sh/ir/type.hpp"
 
 namespace sh::ir {
 
 enum class Op : std::uint8_t {
-  // data movement and conversion
-  Mov, Cast,
-  // arithmetic
-  Add, Sub, Mul, Div, Mod, Neg,
-  Min, Max, Abs, Sign, Floor, Ceil, Round,
-  // square roots and transcendentals
-  Sqrt, Rsqrt, Rcp, Pow, Exp, Exp2, Log, Log2,
-  Sin, Cos, Tan, Asin, Acos, Atan, Atan2,
-  // comparisons and masks: 0/1 in the operand's type, true where > 0
-  Lt, Le, Gt, Ge, Eq, Ne, And, Or, Not, Cond,
-  // table reads: integer element coordinates, or coordinates in [0, 1]
-  Fetch, Sample,
+#define SH_OP(Enum, ...) Enum,
+#include "sh/ir/ops.def"
+#undef SH_OP
 };
 
+inline constexpr int kOpCount = 0
+#define SH_OP(...) +1
+#include "sh/ir/ops.def"
+#undef SH_OP
+    ;
+
+// The operand scalars an operation takes.
+enum class Domain : std::uint8_t { Any, Numeric, Float, Integer };
+// How the result's scalar follows from the operands'.
+enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement };
 // Classes the cost analysis counts by.
 enum class OpClass : std::uint8_t { Move, Add, Mul, Div, Negate, Compare, Transcendental, TableRead };
 
 struct OpInfo {
   const char* name;
   int arity;
+  Domain domain;
+  ResultRule result;
+  bool folds;
   OpClass cls;
+  std::uint32_t ulp_precise, ulp_fast;
 };
 
-const OpInfo& op_info(Op op);
-inline const char* op_name(Op op) { return op_info(op).name; }
-inline int op_arity(Op op) { return op_info(op).arity; }
-bool is_comparison(Op op);  // result is a 0/1 mask
-bool is_table_read(Op op);
+namespace detail {
+inline constexpr OpInfo kOpTable[] = {
+#define SH_OP(Enum, name, arity, domain, result, folds, cls, ulp, ulp_fast) \
+  {name, arity, Domain::domain, ResultRule::result, folds, OpClass::cls, ulp, ulp_fast},
+#include "sh/ir/ops.def"
+#undef SH_OP
+};
+}  // namespace detail
+
+constexpr Op op_at(int i) { return static_cast<Op>(i); }
+constexpr const OpInfo& op_info(Op op) { return detail::kOpTable[static_cast<int>(op)]; }
+constexpr const char* op_name(Op op) { return op_info(op).name; }
+constexpr int op_arity(Op op) { return op_info(op).arity; }
+constexpr bool is_table_read(Op op) { return op_info(op).result == ResultRule::TableElement; }
+
+constexpr bool accepts(Domain d, Scalar s) {
+  switch (d) {
+    case Domain::Any: return true;
+    case Domain::Numeric: return s != Scalar::Bool;
+    case Domain::Float: return s == Scalar::F32 || s == Scalar::F64;
+    case Domain::Integer: return s == Scalar::I32;
+  }
+  return false;
+}
+constexpr bool accepts(Op op, Scalar s) { return accepts(op_info(op).domain, s); }
+const char* domain_name(Domain d);  // "float", "numeric (f32, f64, i32)", ...
+
+// The operation named `name` in the table, if any.
+bool op_named(const char* name, Op& out);
 
 }  // namespace sh::ir
