@@ -1,0 +1,101 @@
+#include "exactness.hpp"
+
+#include <algorithm>
+
+#include <sh/ir/printer.hpp>
+#include <sh/ir/visitor.hpp>
+
+namespace fuzz_ir {
+namespace {
+
+using namespace sh::ir;
+
+// Component i of the result reads this component of operand o.
+int component_read(const Operand& o, int i) { return o.swizzle[o.width() == 1 ? 0 : i]; }
+
+bool inexact_op(Op op) { return op_info(op).ulp_precise > 0; }
+
+// One pass over the assignments: raises each written component to the
+// bound its operation adds or its operands carry.  Returns whether
+// anything rose.
+class Propagate : public Visitor {
+ public:
+  explicit Propagate(std::vector<Tolerance>& t) : t_(t) {}
+  using Visitor::visit;
+  bool changed = false;
+
+  void visit(const Assign& a) override {
+    for (int i = 0; i < a.mask.size; ++i) {
+      std::uint32_t bound = inexact_op(a.op) ? op_info(a.op).ulp_precise : 0;
+      for (std::size_t k = 0; k < a.args.size(); ++k)
+        if (passes_error_through(a.op, static_cast<int>(k)))
+          bound = std::max(bound, t_[a.args[k].var][component_read(a.args[k], i)]);
+      std::uint32_t& slot = t_[a.dest][a.mask[i]];
+      if (bound > slot) {
+        slot = bound;
+        changed = true;
+      }
+    }
+  }
+
+ private:
+  std::vector<Tolerance>& t_;
+};
+
+class FindLeak : public Visitor {
+ public:
+  FindLeak(const Program& p, const std::vector<Tolerance>& t) : p_(p), t_(t) {}
+  using Visitor::visit;
+  std::string leak;
+
+  void visit(const Assign& a) override {
+    for (std::size_t k = 0; k < a.args.size(); ++k)
+      if (!passes_error_through(a.op, static_cast<int>(k)) || inexact_op(a.op) || is_table_read(a.op))
+        check(a.args[k], Stmt{a});
+  }
+  void visit(const If& s) override {
+    check(s.cond, Stmt{s});
+    Visitor::visit(s);
+  }
+  void visit(const Loop& s) override {
+    check(s.cond, Stmt{s});
+    Visitor::visit(s);
+  }
+  void visit(const Scatter& s) override {
+    check(s.index, Stmt{s});
+    check(s.value, Stmt{s});
+  }
+
+ private:
+  void check(const Operand& o, const Stmt& s) {
+    for (int i = 0; i < o.width(); ++i)
+      if (leak.empty() && t_[o.var][o.swizzle[i]] > 0) leak = "an inexact value reaches `" + print(p_, s) + "`";
+  }
+  const Program& p_;
+  const std::vector<Tolerance>& t_;
+};
+
+}  // namespace
+
+bool passes_error_through(Op op, int arg) {
+  if (op == Op::Mov || op == Op::Neg || op == Op::Abs || op == Op::Min || op == Op::Max) return true;
+  return op == Op::Cond && arg > 0;
+}
+
+std::vector<Tolerance> tolerances(const Program& p) {
+  std::vector<Tolerance> t(p.vars.size(), Tolerance{0, 0, 0, 0});
+  for (;;) {
+    Propagate pass(t);
+    pass.visit(p.body);
+    if (!pass.changed) return t;
+  }
+}
+
+std::string inexact_leak(const Program& p) {
+  std::vector<Tolerance> t = tolerances(p);
+  FindLeak find(p, t);
+  find.visit(p.body);
+  return find.leak;
+}
+
+}  // namespace fuzz_ir
