@@ -3,7 +3,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 
@@ -135,9 +137,50 @@ void print_caches(const char* pass, const std::vector<TableCacheStats>& caches) 
                   c.counts.remote_misses, 1e3 * c.counts.fill_s);
 }
 
+// The kernel's program in its serialized form (names kept): the bytes the
+// mpi backend sends its ranks and, without the names, the kernel cache's key.
+// Written beside and renamed over FILE, so a failed write leaves no half file.
+void write_program_bytes(const std::string& path, const Program& p) {
+  std::string bytes = ir::serialize(p.ir());
+  std::filesystem::path out(path);
+  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  std::string partial = path + ".partial";
+  {
+    std::ofstream f(partial, std::ios::binary);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!f) throw Error(path + ": cannot write the program's bytes");
+  }
+  std::filesystem::rename(partial, path);
+  std::printf("program %s: %zu bytes of serialized IR in %s\n", p.name().c_str(), bytes.size(), path.c_str());
+}
+
+std::string hash_line(std::uint64_t hash) {
+  char line[96];
+  std::snprintf(line, sizeof line, "-- structural hash %016llx (the kernel cache's key) --\n",
+                static_cast<unsigned long long>(hash));
+  return line;
+}
+
+// `shtrace ir FILE`: a program written by --dump-ir-bytes, read back (every
+// value range-checked, the program verified) and printed, with its hash.
+int ir_command(const std::string& path, bool optimized) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error(path + ": cannot open the file");
+  std::string bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  ir::Program p;
+  try {
+    p = ir::deserialize(bytes);
+  } catch (const Error& e) {
+    throw Error(path + ": " + e.what());
+  }
+  std::printf("%s%s", ir::print(p).c_str(), hash_line(ir::structural_hash(p)).c_str());
+  if (optimized) std::printf("-- after the passes --\n%s", ir::print(optimize(std::move(p))).c_str());
+  return 0;
+}
+
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
-                   bool general, bool analyze, int frames) {
+                   const std::string& dump_ir_bytes, bool general, bool analyze, int frames) {
   Scene scene = scene_for(c);
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
@@ -149,7 +192,10 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   Renderer r(std::move(scene), s);
   std::printf("scene %s: %zu triangles, %s; kernel leaves out: %s\n", r.scene().name.c_str(), r.scene().mesh.triangles(),
               r.describe_accelerator().c_str(), r.features().left_out().c_str());
-  if (dump_ir) std::printf("%s\n-- after the passes --\n%s", print(r.program()).c_str(), print_optimized(r.program()).c_str());
+  if (dump_ir)
+    std::printf("%s%s\n-- after the passes --\n%s", print(r.program()).c_str(), hash_line(r.program().hash()).c_str(),
+                print_optimized(r.program()).c_str());
+  if (!dump_ir_bytes.empty()) write_program_bytes(dump_ir_bytes, r.program());
   if (analyze) {
     for (const Program& k : {raygen_program(r.tables()), intersector_program(r.tables()), r.program()})
       std::printf("kernel %s (after the passes):\n%s", k.name().c_str(),
@@ -283,7 +329,8 @@ int main(int argc, char** argv) {
   Common common;
   std::string backend_name, output = "out/render.png", aov, eye, look_at, up;
   float fov = 0;
-  bool dump_ir = false, general = false, analyze = false;
+  bool dump_ir = false, general = false, analyze = false, ir_optimized = false;
+  std::string dump_ir_bytes, ir_file;
   int frames = 1;
   std::vector<std::string> bench_backends;
 
@@ -297,6 +344,9 @@ int main(int argc, char** argv) {
   render->add_option("--up", up, "up vector x,y,z");
   render->add_option("--fov", fov, "vertical field of view, degrees");
   render->add_flag("--dump-ir", dump_ir, "print the kernel's IR before and after the passes");
+  render->add_option("--dump-ir-bytes", dump_ir_bytes,
+                     "write the kernel's IR to FILE as the bytes the kernel cache hashes and the mpi backend sends "
+                     "(`shtrace ir FILE` prints it)");
   render->add_flag("--general", general, "use the general kernel, not one specialised to the scene");
   render->add_flag("--analyze", analyze, "print the kernels' operation counts, per loop iteration too");
   render->add_option("--frames", frames, "render this many frames and report the best warm one")->check(CLI::Range(1, 1000));
@@ -320,6 +370,10 @@ int main(int argc, char** argv) {
   accel->add_option("--view", view, "full, or half (turned to one side, narrower)")->check(CLI::IsMember({"full", "half"}))
       ->capture_default_str();
 
+  CLI::App* ir_cmd = app.add_subcommand("ir", "print a program written by render --dump-ir-bytes, and its hash");
+  ir_cmd->add_option("file", ir_file, "the file")->required();
+  ir_cmd->add_flag("--optimized", ir_optimized, "print it after the passes too");
+
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -332,7 +386,9 @@ int main(int argc, char** argv) {
     if (backend_name == "mpi") sh::mpi::start();
 #endif
     if (render->parsed())
-      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, general, analyze, frames);
+      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
+                            analyze, frames);
+    if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
     if (bench->parsed()) return bench_command(common, bench_backends);
     if (accel->parsed()) return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
     if (trade->parsed()) {

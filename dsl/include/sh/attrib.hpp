@@ -22,6 +22,10 @@ template <> struct scalar_of<bool> { static constexpr ir::Scalar value = ir::Sca
 template <class T>
 concept Number = std::is_arithmetic_v<T>;
 
+// The C++ types an Attrib's components can have.
+template <class T>
+concept ScalarType = requires { scalar_of<T>::value; };
+
 namespace detail {
 // Common base, so that functions can take any Attrib by its Value.
 class ValueHolder {
@@ -60,6 +64,32 @@ concept AttribLike = std::derived_from<A, detail::ValueHolder> && requires {
 
 template <int N, class T, Semantic S>
 class SwizzleRef;
+
+// What an operation whose result has N components of T takes beside that
+// result: a C++ number (it becomes a constant of T), or an Attrib of T with
+// N components or one (broadcast).  Assignment and compound assignment take
+// exactly these; ints and floats never mix without an explicit cast<T>().
+template <class X, int N, class T>
+concept OperandFor = Number<X> || (AttribLike<X> && std::same_as<typename X::scalar_type, T> &&
+                                   (X::width == N || X::width == 1));
+
+// Compound assignment, and an overload for every other right-hand side
+// that exists to say why, naming the operator, where the compiler would
+// list the candidates that did not match (the same for = and in
+// operators.hpp, library.hpp, matrix.hpp).
+#define SH_COMPOUND_ASSIGNMENT(sym)                                                                           \
+  template <OperandFor<N, T> U>                                                                               \
+  Attrib& operator sym##=(const U& x) {                                                                       \
+    return *this = *this sym x;                                                                               \
+  }                                                                                                           \
+  template <class U>                                                                                          \
+    requires(!OperandFor<U, N, T>)                                                                            \
+  Attrib& operator sym##=(const U&) {                                                                         \
+    static_assert(OperandFor<U, N, T>,                                                                        \
+                  "sh: Attrib " #sym "= takes a number or an Attrib of the same scalar type with the same "   \
+                  "width or width 1 (ints and floats do not mix: convert with .cast<T>())");                 \
+    return *this;                                                                                             \
+  }
 
 template <int N, class T, Semantic S>
 class Attrib : public detail::ValueHolder {
@@ -100,9 +130,17 @@ class Attrib : public detail::ValueHolder {
     return *this;
   }
   template <AttribLike A>
-    requires(A::width == N || A::width == 1)
+    requires OperandFor<A, N, T>
   Attrib& operator=(const A& other) {
     detail::assign(value_, other.value());
+    return *this;
+  }
+  template <AttribLike A>
+    requires(!OperandFor<A, N, T>)
+  Attrib& operator=(const A&) {
+    static_assert(OperandFor<A, N, T>,
+                  "sh: Attrib = takes an Attrib of the same scalar type with the same width or width 1 "
+                  "(ints and floats do not mix: convert with .cast<T>())");
     return *this;
   }
   template <Number U>
@@ -111,11 +149,11 @@ class Attrib : public detail::ValueHolder {
     return *this;
   }
 
-  template <class U> Attrib& operator+=(const U& x) { return *this = *this + x; }
-  template <class U> Attrib& operator-=(const U& x) { return *this = *this - x; }
-  template <class U> Attrib& operator*=(const U& x) { return *this = *this * x; }
-  template <class U> Attrib& operator/=(const U& x) { return *this = *this / x; }
-  template <class U> Attrib& operator%=(const U& x) { return *this = *this % x; }
+  SH_COMPOUND_ASSIGNMENT(+)
+  SH_COMPOUND_ASSIGNMENT(-)
+  SH_COMPOUND_ASSIGNMENT(*)
+  SH_COMPOUND_ASSIGNMENT(/)
+  SH_COMPOUND_ASSIGNMENT(%)
   Attrib& operator++() { return *this += 1; }
   Attrib& operator--() { return *this -= 1; }
   void operator++(int) { *this += 1; }
@@ -127,7 +165,8 @@ class Attrib : public detail::ValueHolder {
   SwizzleRef<3, T, S> operator()(int a, int b, int c) const { return {detail::swizzle(value_, {a, b, c})}; }
   SwizzleRef<4, T, S> operator()(int a, int b, int c, int d) const { return {detail::swizzle(value_, {a, b, c, d})}; }
 
-  template <class U>
+  // A new variable: writing it never writes this one, even where U is T.
+  template <ScalarType U>
   Attrib<N, U, S> cast() const {
     return {detail::FromValue{}, detail::cast(value_, scalar_of<U>::value)};
   }
@@ -139,6 +178,8 @@ class Attrib : public detail::ValueHolder {
   // Host-side value of a uniform (outside programs).
   T get(int i = 0) const { return static_cast<T>(detail::host_value(value_)[i]); }
 };
+
+#undef SH_COMPOUND_ASSIGNMENT
 
 // What a swizzle returns: reads like an Attrib; assignment writes through
 // to the swizzled components of the original variable.  Copying it into an

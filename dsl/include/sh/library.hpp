@@ -105,15 +105,20 @@ constexpr int width_of() {
 template <class... X>
 inline constexpr int widest = std::max({width_of<X>()...});
 
+// clamp(x, lo, hi): lo and hi numbers or Attribs of x's scalar type, each
+// of x's width or width 1.
+template <class A, class L, class H>
+concept ClampBounds = OperandFor<L, A::width, typename A::scalar_type> && OperandFor<H, A::width, typename A::scalar_type>;
+
 template <AttribLike A, class L, class H>
-  requires OperandFor<L, A::width, typename A::scalar_type> && OperandFor<H, A::width, typename A::scalar_type>
+  requires ClampBounds<A, L, H>
 Plain<A> clamp(const A& x, const L& lo, const H& hi) {
   return min(max(x, lo), hi);
 }
 template <AttribLike A, class L, class H>
-  requires(!(OperandFor<L, A::width, typename A::scalar_type> && OperandFor<H, A::width, typename A::scalar_type>))
+  requires(!ClampBounds<A, L, H>)
 Plain<A> clamp(const A&, const L&, const H&) {
-  static_assert(detail::always_false<A>,
+  static_assert(ClampBounds<A, L, H>,
                 "sh: clamp(x, lo, hi) takes lo and hi as numbers or Attribs of x's scalar type with x's width "
                 "or width 1 (ints and floats do not mix: convert with .cast<T>())");
   return {};
@@ -148,7 +153,7 @@ typename Result<A, B>::type lerp(const F& f, const A& a, const B& b) {
 template <class F, AttribLike A, AttribLike B>
   requires(!LerpOperands<F, A, B>)
 typename Result<A, B>::type lerp(const F&, const A&, const B&) {
-  static_assert(detail::always_false<A>,
+  static_assert(LerpOperands<F, A, B>,
                 "sh: lerp(f, a, b) takes a and b of one scalar type, and f a number or an Attrib of that type, "
                 "each of the result's width or width 1 (ints and floats do not mix: convert with .cast<T>())");
   return {};
@@ -169,7 +174,7 @@ auto mad(const A& a, const B& b, const C& c) {
 template <AttribLike A, class B, class C>
   requires(!MadOperands<A, B, C>)
 Plain<A> mad(const A&, const B&, const C&) {
-  static_assert(detail::always_false<A>,
+  static_assert(MadOperands<A, B, C>,
                 "sh: mad(a, b, c) takes b and c as numbers or Attribs of a's scalar type, each of the result's "
                 "width or width 1 (ints and floats do not mix: convert with .cast<T>())");
   return {};
@@ -247,7 +252,7 @@ auto cond(const C& c, const A& a, const B& b) {
 template <class C, class A, class B>
   requires(AttribLike<A> || AttribLike<B>) && (!CondOperands<C, A, B>)
 Plain<Branch<A, B>> cond(const C&, const A&, const B&) {
-  static_assert(detail::always_false<A>,
+  static_assert(CondOperands<C, A, B>,
                 "sh: cond(c, a, b) takes a and b as numbers or Attribs of one scalar type, and c a number or "
                 "an Attrib, each of the result's width or width 1 (ints and floats do not mix in a and b: "
                 "convert with .cast<T>())");

@@ -46,6 +46,12 @@ class Matrix {
   std::array<Row, R> rows_;
 };
 
+// What m | v takes: v of the matrix's scalar type with C components, or
+// C - 1 (homogeneous) where the matrix has 4 columns and 3 or more rows.
+template <class V, int R, int C, class T>
+concept MatrixOperand = AttribLike<V> && std::same_as<typename V::scalar_type, T> &&
+                        (V::width == C || (V::width == C - 1 && C == 4 && R >= 3));
+
 template <int R, int C, class T, AttribLike V>
   requires std::same_as<typename V::scalar_type, T> && (V::width == C)
 Attrib<R, T, V::semantic> operator|(const Matrix<R, C, T>& m, const V& v) {
@@ -76,6 +82,15 @@ Attrib<3, T, V::semantic> operator|(const Matrix<R, C, T>& m, const V& v) {
     }
   }
   return out;
+}
+
+template <int R, int C, class T, AttribLike V>
+  requires(!MatrixOperand<V, R, C, T>)
+Attrib<R, T, V::semantic> operator|(const Matrix<R, C, T>&, const V&) {
+  static_assert(MatrixOperand<V, R, C, T>,
+                "sh: Matrix<R, C, T> | v takes v of the matrix's scalar type T with C components, or C - 1 "
+                "(homogeneous) where C is 4 and R at least 3 (ints and floats do not mix: convert with .cast<T>())");
+  return {};
 }
 
 template <int R, int K, int C, class T>

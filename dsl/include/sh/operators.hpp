@@ -7,8 +7,10 @@
 namespace sh {
 
 template <class A, class B>
-concept Compatible = AttribLike<A> && AttribLike<B> &&
-                     std::same_as<typename A::scalar_type, typename B::scalar_type> &&
+concept SameScalar = std::same_as<typename A::scalar_type, typename B::scalar_type>;
+
+template <class A, class B>
+concept Compatible = AttribLike<A> && AttribLike<B> && SameScalar<A, B> &&
                      (A::width == B::width || A::width == 1 || B::width == 1);
 
 // The wider operand decides width and semantic; equal widths keep a shared
@@ -36,11 +38,26 @@ R wrap(detail::Value v) {
   return R(detail::FromValue{}, std::move(v));
 }
 
+// Two Attribs that are not Compatible: the first error says which rule
+// they break, naming the operation (the compiler's "In instantiation of"
+// line above it names the two types).  library.hpp's functions use it too.
+#define SH_REJECT_OPERANDS(what)                                                                  \
+  static_assert(SameScalar<A, B>, "sh: " what ": the operands have different scalar types (ints " \
+                                  "and floats do not mix): convert one with .cast<T>()");         \
+  static_assert(!SameScalar<A, B>, "sh: " what ": the operands' widths differ and neither is 1: " \
+                                   "pick components with a swizzle, or fillcast<N>()");           \
+  return {}
+
 #define SH_BINARY_OPERATOR(sym, OP)                                                        \
   template <AttribLike A, AttribLike B>                                                    \
     requires Compatible<A, B>                                                              \
   typename Result<A, B>::type operator sym(const A& a, const B& b) {                       \
     return wrap<typename Result<A, B>::type>(detail::apply(ir::Op::OP, {a.value(), b.value()})); \
+  }                                                                                        \
+  template <AttribLike A, AttribLike B>                                                    \
+    requires(!Compatible<A, B>)                                                            \
+  typename Result<A, B>::type operator sym(const A&, const B&) {                           \
+    SH_REJECT_OPERANDS("operator " #sym);                                                  \
   }                                                                                        \
   template <AttribLike A, Number U>                                                        \
   Plain<A> operator sym(const A& a, U b) {                                                 \

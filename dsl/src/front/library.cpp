@@ -12,6 +12,7 @@ Value k(const Value& like, double v) { return constant(like.scalar(), v); }
 }  // namespace
 
 Value fold(ir::Op op, const Value& v) {
+  if (v.width() == 1) return copy(v);  // the result is a new value, never a view of v
   Value acc = component(v, 0);
   for (int i = 1; i < v.width(); ++i) acc = apply(op, {acc, component(v, i)});
   return acc;
@@ -33,8 +34,7 @@ Value lerp(const Value& f, const Value& a, const Value& b) {
 }
 
 Value cond(const Value& c, const Value& a, const Value& b) {
-  Value mask = c.scalar() == a.scalar() ? c : cast(c, a.scalar());
-  return apply(ir::Op::Cond, {mask, a, b});
+  return apply(ir::Op::Cond, {as_scalar(c, a.scalar()), a, b});
 }
 
 // The largest magnitude m, and v / m, keep the squares in range.
@@ -78,12 +78,7 @@ Value faceforward(const Value& n, const Value& v) {
   return cond(apply(ir::Op::Ge, {dot(n, v), k(n, 0)}), n, apply(ir::Op::Neg, {n}));
 }
 
-Value fillcast(const Value& v, int width) {
-  Value out = v;
-  out.swizzle.size = width;
-  for (int i = 0; i < width; ++i) out.swizzle.index[i] = v.swizzle[std::min(i, v.width() - 1)];
-  return out;
-}
+Value fillcast(const Value& v, int width) { return copy(widened(v, width)); }
 
 Value join(const Value& a, const Value& b) {
   Value out = declare({a.scalar(), a.width() + b.width()}, Declared::Temp);

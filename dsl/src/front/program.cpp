@@ -2,7 +2,7 @@
 
 #include "recorder.hpp"
 #include "sh/error.hpp"
-#include "sh/ir/printer.hpp"
+#include "sh/ir/serialize.hpp"
 
 namespace sh {
 

@@ -112,8 +112,15 @@ Value apply(ir::Op op, std::initializer_list<Value> args) {
   return whole(std::move(node));
 }
 
+Value copy(const Value& v) {
+  if (Recorder* r = current_recorder()) return r->emit_result(v.type(), ir::Op::Mov, {r->read(v)});
+  auto node = new_node(ir::VarKind::Uniform, v.type());
+  for (int i = 0; i < v.width(); ++i) node->value[i] = host_component(v, i);
+  return whole(std::move(node));
+}
+
 Value cast(const Value& v, ir::Scalar to) {
-  if (v.scalar() == to) return v;
+  if (v.scalar() == to) return copy(v);
   ir::Type type{to, v.width()};
   if (Recorder* r = current_recorder()) return r->emit_result(type, ir::Op::Cast, {r->read(v)});
   auto node = new_node(ir::VarKind::Uniform, type);
@@ -140,6 +147,15 @@ Value swizzle(const Value& v, std::initializer_list<int> components) {
 
 Value component(const Value& v, int i) { return swizzle(v, {i}); }
 
+Value as_scalar(const Value& v, ir::Scalar to) { return v.scalar() == to ? v : cast(v, to); }
+
+Value widened(const Value& v, int width) {
+  Value out = v;
+  out.swizzle.size = width;
+  for (int i = 0; i < width; ++i) out.swizzle.index[i] = v.swizzle[std::min(i, v.width() - 1)];
+  return out;
+}
+
 std::array<double, 4> host_value(const Value& v) {
   std::array<double, 4> out{};
   for (int i = 0; i < v.width(); ++i) out[i] = host_component(v, i);
@@ -157,7 +173,7 @@ Value table_read(const std::shared_ptr<TableStorage>& table, ir::Op op, const Va
   if (coords.width() != table->decl.rank)
     r->fail("table '" + table->decl.name + "' has " + std::to_string(table->decl.rank) + " dimensions but is read with " +
             std::to_string(coords.width()) + " coordinates");
-  Value c = op == ir::Op::Fetch ? cast(coords, ir::Scalar::I32) : coords;
+  Value c = op == ir::Op::Fetch ? as_scalar(coords, ir::Scalar::I32) : coords;
   if (op == ir::Op::Sample && !ir::is_float(c.scalar())) c = cast(c, ir::Scalar::F32);
   return r->emit_result(table->decl.element, op, {r->read(c)}, r->table_index(table));
 }
@@ -172,8 +188,8 @@ void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& 
   if (value.width() != d.element.width && value.width() != 1)
     r->fail(what + " is given a value of " + std::to_string(value.width()) + " components");
   if (value.scalar() != d.element.scalar) r->fail(what + " is given a value of type " + ir::scalar_name(value.scalar()));
-  Value v = value.width() == d.element.width ? value : fillcast(value, d.element.width);
-  r->emit_scatter(ir::Scatter{r->table_index(accumulator), r->read(cast(index, ir::Scalar::I32)), r->read(v)});
+  Value v = widened(value, d.element.width);
+  r->emit_scatter(ir::Scatter{r->table_index(accumulator), r->read(as_scalar(index, ir::Scalar::I32)), r->read(v)});
 }
 
 }  // namespace sh::detail

@@ -150,18 +150,4 @@ std::string print(const Program& p, const Stmt& s) { return Printer(p, {}).state
 
 std::string print_operand(const Program& p, const Operand& o) { return Printer(p, {}).operand(o); }
 
-std::uint64_t structural_hash(const Program& p) {
-  PrintOptions o;
-  o.names = false;
-  o.declare_temps = true;
-  o.inline_consts = false;
-  std::string text = print(p, o);
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
 }  // namespace sh::ir

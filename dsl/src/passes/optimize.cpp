@@ -1,4 +1,4 @@
-#include "sh/ir/printer.hpp"
+#include "sh/ir/serialize.hpp"
 #include "sh/ir/verifier.hpp"
 #include "sh/passes.hpp"
 

@@ -48,7 +48,14 @@ void assign(const Value& dest, const Value& src);
 
 // Component-wise operation; the result's width is the widest operand's.
 Value apply(ir::Op op, std::initializer_list<Value> args);
+// A new variable holding v's value (v converted to `to`): writing the
+// result never writes v, even where nothing needs converting.
+Value copy(const Value& v);
 Value cast(const Value& v, ir::Scalar to);
+// Views of v, for reading only: v itself where it is already of scalar
+// `to`; v's components with its last one repeated up to `width`.
+Value as_scalar(const Value& v, ir::Scalar to);
+Value widened(const Value& v, int width);
 Value swizzle(const Value& v, std::initializer_list<int> components);
 Value component(const Value& v, int i);
 

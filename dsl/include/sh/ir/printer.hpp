@@ -1,8 +1,7 @@
 #pragma once
 // The stable text form of a program: what `sh::print`, `--dump-ir` and the
-// golden tests show.  The hash is taken over the same walk with names left
-// out and every variable declared, so it changes exactly when structure does.
-#include <cstdint>
+// golden tests show.  (The hash is taken over the serialized bytes:
+// serialize.hpp.)
 #include <string>
 
 #include "sh/ir/program.hpp"
@@ -18,9 +17,6 @@ struct PrintOptions {
 std::string print(const Program& p, const PrintOptions& options = {});
 std::string print(const Program& p, const Stmt& s);  // one statement, one line
 std::string print_operand(const Program& p, const Operand& o);
-
-// Structural hash: independent of names and of uniform values.
-std::uint64_t structural_hash(const Program& p);
 
 std::string format_number(double v, Scalar s);
 
