@@ -12,6 +12,9 @@
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
 #include <tbb/global_control.h>
+#ifdef SHTRACE_WITH_MPI
+#include <sh/mpi.hpp>
+#endif
 
 #include "accel_compare.hpp"
 #include "embree_anchor.hpp"
@@ -34,7 +37,7 @@ struct Common {
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;
-  std::vector<std::string> settings;  // KEY=VALUE for the backend
+  std::vector<std::string> settings;  // KEY=VALUE: a backend's own option (Options::set)
   bool bidirectional = false;
   LightPassSettings light_pass;
   LoadLimits load;
@@ -51,8 +54,8 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
   app->add_option("--threads", c.threads, "CPU threads, for tracing and for building accelerators (0: all)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  app->add_option("--set", c.settings, "backend setting KEY=VALUE, repeatable (cpu: width=scalar|4|8|16; mpi: chunk=N, "
-                  "schedule=dynamic|static)");
+  app->add_option("--set", c.settings, "a backend's setting KEY=VALUE or BACKEND.KEY=VALUE, repeatable (cpu: "
+                  "width=scalar|4|8|16; mpi: chunk=N, schedule=dynamic|static, split_tables=BYTES; `shtrace info` lists all)");
   app->add_option("--samples", c.samples, "shadow rays per disk light and shading point")
       ->capture_default_str()->check(CLI::Range(1, kMaxShadowSamples));
   app->add_option("--pattern", c.pattern, "disk sample pattern: random or pseudo")
@@ -113,7 +116,7 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   for (const std::string& kv : c.settings) {
     auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw Error("--set: expected KEY=VALUE, got '" + kv + "'");
-    s.options.settings[kv.substr(0, eq)] = kv.substr(eq + 1);
+    s.options.set(kv.substr(0, eq), kv.substr(eq + 1));
   }
   s.shadow_samples = c.samples;
   s.pattern = parse_pattern(c.pattern);
@@ -126,15 +129,11 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   return s;
 }
 
-// mpi with split tables: each table's cache over a pass, in the seed's terms
-// (a lazy octree's tables are each rank's own, read whole: not listed).
-void print_caches(const char* pass, const std::vector<TableCacheStats>& caches) {
-  for (const TableCacheStats& c : caches)
-    if (c.counts.reads > 0)
-      std::printf("%s: split table %-18s %6zu blocks, cache %zu per rank: %9zu reads, hit rate %6.2f %%, %zu from other "
-                  "ranks, %.1f ms filling\n",
-                  pass, c.table.c_str(), c.blocks, c.cache_blocks, c.counts.reads, 100 * c.counts.hit_rate(),
-                  c.counts.remote_misses, 1e3 * c.counts.fill_s);
+// What the backend reports of its own over a pass (mpi: each rank's work
+// and each split table's cache).
+void print_details(const char* pass, const std::shared_ptr<RunDetails>& details) {
+  if (!details) return;
+  for (const std::string& line : details->describe()) std::printf("%s: %s\n", pass, line.c_str());
 }
 
 // The kernel's program in its serialized form (names kept): the bytes the
@@ -232,8 +231,8 @@ int render_command(const Common& c, const std::string& backend_name, const std::
                 c.light_pass.samples, report.light.compile_ms, report.light.run_ms,
                 report.light.rays / (report.light.run_ms * 1e3), e.x, e.y, e.z);
   }
-  print_caches("light pass", report.light.caches);
-  print_caches("render", report.caches);
+  print_details("light pass", report.light.details);
+  print_details("render", report.details);
   shtrace::print_lazy_builds(report);
   return 0;
 }
@@ -282,7 +281,7 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
     if (b == "mpi") continue;
     for (const Backend::Variant& v : find_backend(b).variants()) {
       RenderSettings s = settings_for(c, b);
-      s.options.settings.insert(v.settings.begin(), v.settings.end());
+      s.options.set(v.options);
       Renderer r(scene, s);
       RenderReport first, second;
       r.render(&first);
@@ -316,8 +315,10 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
 
 int info_command() {
   std::printf("backends (default: %s):\n", default_backend_name().c_str());
-  for (const std::string& b : backend_names())
-    for (const std::string& line : find_backend(b).describe()) std::printf("  %s\n", line.c_str());
+  for (const BackendInfo& b : backends()) {
+    for (const std::string& line : find_backend(b.name).describe()) std::printf("  %s\n", line.c_str());
+    for (const Backend::Setting& s : b.settings) std::printf("    --set %s=...: %s\n", s.name.c_str(), s.values.c_str());
+  }
   return 0;
 }
 
@@ -381,7 +382,7 @@ int main(int argc, char** argv) {
     // accelerators) to as many, on every rank.
     std::optional<tbb::global_control> threads;
     if (common.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(common.threads));
-#if __has_include(<sh/mpi.hpp>)
+#ifdef SHTRACE_WITH_MPI
     // Under mpirun, serving ranks wait for rank 0 from here on.
     if (backend_name == "mpi") sh::mpi::start();
 #endif

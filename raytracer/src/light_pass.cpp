@@ -156,7 +156,7 @@ std::vector<float> LightPass::run(const BackendChoice& choice, LightPassReport* 
     r.backend = stats.backend;
     r.compile_ms += stats.compile_ms;
     r.run_ms += stats.run_ms;
-    add_cache_stats(r.caches, stats.caches);
+    add_details(r.details, stats.details);
   }
   if (report) *report = r;
   return energy_.values();

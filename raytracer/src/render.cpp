@@ -128,7 +128,7 @@ void Renderer::count(const RunStats& s, RenderReport& r) const {
   r.waves += s.waves;
   r.resumed += s.resumed;
   if (!s.refined.empty()) r.refined = s.refined;
-  add_cache_stats(r.caches, s.caches);
+  add_details(r.details, s.details);
 }
 
 // Over a lazy octree the tracer runs in waves, each pixel's path carried

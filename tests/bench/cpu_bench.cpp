@@ -6,6 +6,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <sh/cpu.hpp>
+
 #include "kernels.hpp"
 
 namespace {
@@ -32,7 +34,7 @@ void count_mandelbrot_flops(benchmark::State& state, const std::vector<float>& s
 
 Options with_lanes(std::int64_t lanes) {
   Options o;
-  o.settings["width"] = lanes == 1 ? "scalar" : std::to_string(lanes);
+  o.set(cpu::Options{.width = static_cast<cpu::Width>(lanes)});
   return o;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include <sh/raytracer.hpp>
+#include <sh/mpi.hpp>
 #include <sh/sh.hpp>
 
 int main(int argc, char** argv) {
@@ -19,10 +20,10 @@ int main(int argc, char** argv) {
   settings.width = w;
   settings.height = h;
   settings.backend = "mpi";
-  settings.options.local_backend = "cpu";
+  settings.options.set("mpi.local", "cpu");
   settings.options.threads = 1;  // one core per rank, as on a cluster node slot
-  if (argc > 3) settings.options.settings["schedule"] = argv[3];
-  if (argc > 4) settings.options.settings["chunk"] = argv[4];
+  if (argc > 3) settings.options.set("mpi.schedule", argv[3]);
+  if (argc > 4) settings.options.set("mpi.chunk", argv[4]);
   // "uneven": the spheres scene seen from above the grid, looking level:
   // the upper half of the image is sky whose rays never enter the grid,
   // the lower half floor and spheres (reflections, shadow rays), so a
@@ -45,7 +46,7 @@ int main(int argc, char** argv) {
   RunStats s = run(r.program(), {pixels}, {color, distance, triangle}, backend("mpi", settings.options));
   std::printf("ranks %d scene %s %dx%d schedule %s chunk %s: best frame %.1f ms\n", mpi::size(), scene_name.c_str(), w, h,
               argc > 3 ? argv[3] : "dynamic", argc > 4 ? argv[4] : "auto", best);
-  for (const PartStats& p : s.parts)
+  for (const mpi::PartStats& p : s.details_as<mpi::RunDetails>()->parts)
     std::printf("  rank %d: %zu elements, %zu chunks, busy %.1f ms, idle %.1f ms, sent %zu B, received %zu B\n", p.part,
                 p.elements, p.chunks, p.busy_s * 1e3, p.idle_s * 1e3, p.bytes_sent, p.bytes_received);
   return 0;

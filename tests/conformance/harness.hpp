@@ -35,7 +35,7 @@ class Conformance : public testing::TestWithParam<Mode> {
   sh::BackendChoice choice(sh::Options o = {}) const {
     o.precision = mode().precision;
     o.math = mode().math;
-    o.settings.insert(mode().variant.settings.begin(), mode().variant.settings.end());
+    o.set(mode().variant.options);
     return sh::backend(mode().backend, o);
   }
   sh::RunStats run(const sh::Program& p, const std::vector<std::shared_ptr<sh::detail::Buffer>>& in,

@@ -1,5 +1,6 @@
 // The library functions of Sh and GLSL that are expanded into operations
-// while recording (library_more.hpp), on every backend, against references
+// while recording (library_more.hpp), and the user-facing names of the
+// operations added through the table, on every backend, against references
 // computed here in double from the same float inputs.
 //
 // Bounds.  u = 2^-24 is float's unit roundoff.  A result computed through at
@@ -33,6 +34,53 @@ struct Checker {
 };
 
 std::string at(const char* what, std::size_t e) { return std::string(what) + " at element " + std::to_string(e); }
+
+// ---- the operations added through the table, by their library names ----
+
+TEST_P(Conformance, HyperbolicBaseTenAndCubeRootByTheirLibraryNames) {
+  using sh::Attrib3f;
+  sh::Program p = SH_BEGIN_PROGRAM("library_new_ops") {
+    sh::Input<Attrib3f> x;
+    sh::Output<Attrib3f> sh_, ch, th, ash, ach, ath, e10, l10, cr;
+    sh_ = sh::sinh(x);
+    ch = sh::cosh(x);
+    th = sh::tanh(x);
+    ash = sh::asinh(x);
+    ach = sh::acosh(x);
+    ath = sh::atanh(x);
+    e10 = sh::exp10(x);
+    l10 = sh::log10(x);
+    cr = sh::cbrt(x);
+  } SH_END;
+  std::vector<float> xs = {0.5f, -0.75f, 1.5f, 2, 10, -3, 0.125f, 1e-3f, 30, -0.999f, 1.25f, 7.5f};
+  sh::Channel<Attrib3f> in(xs);
+  std::vector<sh::Channel<Attrib3f>> out(9);
+  std::vector<std::shared_ptr<sh::detail::Buffer>> outs(out.begin(), out.end());
+  run(p, {in}, outs);
+  struct Fn {
+    const char* name;
+    double (*ref)(double);
+  };
+  const Fn fns[] = {{"sinh", [](double x) { return std::sinh(x); }},   {"cosh", [](double x) { return std::cosh(x); }},
+                    {"tanh", [](double x) { return std::tanh(x); }},   {"asinh", [](double x) { return std::asinh(x); }},
+                    {"acosh", [](double x) { return std::acosh(x); }}, {"atanh", [](double x) { return std::atanh(x); }},
+                    {"exp10", [](double x) { return std::pow(10.0, x); }},
+                    {"log10", [](double x) { return std::log10(x); }}, {"cbrt", [](double x) { return std::cbrt(x); }}};
+  for (std::size_t f = 0; f < 9; ++f)
+    for (std::size_t k = 0; k < xs.size(); ++k) {
+      double want = fns[f].ref(xs[k]);
+      float got = out[f][k];
+      UlpBound b = ulp_bound(fns[f].name);
+      std::string what = std::string(fns[f].name) + "(" + std::to_string(xs[k]) + ")";
+      if (std::isnan(want)) {
+        EXPECT_TRUE(fast() || std::isnan(got)) << what;
+        continue;
+      }
+      std::uint64_t d = ulp_distance<float>(static_cast<float>(want), got);
+      bool ok = fast() ? d <= b.fast || std::fabs(got - want) <= 1e-4 * std::max(1.0, std::fabs(want)) : d <= b.precise;
+      EXPECT_TRUE(ok) << what << ": got " << got << ", want " << want << " (" << d << " ulp)";
+    }
+}
 
 // ---- norms and reductions ----
 

@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <sh/cpu.hpp>
 #include <sh/sh.hpp>
 
 #include <algorithm>
@@ -33,27 +34,60 @@ TEST(CpuBackend, ListingIsTheOptimisedLlvmIr) {
   EXPECT_NE(kernel_for(polynomial(), backend("cpu", fast))->listing().find("fast"), std::string::npos);
   Options f64;
   f64.precision = Precision::F64;
-  f64.settings["width"] = "scalar";
+  f64.set(cpu::Options{.width = cpu::Width::Scalar});
   EXPECT_NE(kernel_for(polynomial(), backend("cpu", f64))->listing().find("fmul double"), std::string::npos);
-  f64.settings["width"] = "8";
+  f64.set(cpu::Options{.width = cpu::Width::Lanes8});
   EXPECT_NE(kernel_for(polynomial(), backend("cpu", f64))->listing().find("fmul <8 x double>"), std::string::npos);
 }
 
 TEST(CpuBackend, WidthSettingPicksTheLanesAndRejectsOthers) {
   for (const char* width : {"4", "16"}) {
     Options o;
-    o.settings["width"] = width;
+    o.set("width", width);  // the string form: the cpu backend owns "width"
     std::string ir = kernel_for(polynomial(), backend("cpu", o))->listing();
     EXPECT_NE(ir.find(std::string("<") + width + " x float>"), std::string::npos) << width;
   }
   Options bad;
-  bad.settings["width"] = "7";
   try {
-    kernel_for(polynomial(), backend("cpu", bad));
+    bad.set("width", "7");
     FAIL() << "width 7 was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("\"width\" is \"7\""), std::string::npos) << e.what();
   }
+  Options typed;
+  typed.set(cpu::Options{.width = static_cast<cpu::Width>(7)});
+  EXPECT_THROW(kernel_for(polynomial(), backend("cpu", typed)), Error);
+  try {
+    bad.set("cpu.lanes", "8");
+    FAIL() << "an unknown setting was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the cpu backend has no setting 'lanes'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CpuBackend, OptionsHaveAStringFormAndVariantsCoverEveryWidth) {
+  Options o;
+  o.set("width", "scalar").set("tables", "fetched");
+  cpu::Options mine = o.get<cpu::Options>();
+  EXPECT_EQ(mine.width, cpu::Width::Scalar);
+  EXPECT_EQ(mine.tables, cpu::Tables::Fetched);
+  EXPECT_EQ(mine.settings(), (Settings{{"tables", "fetched"}, {"width", "scalar"}}));
+  EXPECT_EQ(cpu::Options{}.settings(), Settings{}) << "defaults are not spelt out";
+  std::vector<std::string> widths;
+  for (const BackendInfo& b : backends())
+    if (b.name == "cpu")
+      for (const Backend::Variant& v : b.variants) widths.push_back(v.options.settings()["width"]);
+  EXPECT_EQ(widths, (std::vector<std::string>{"scalar", "4", "8", "16", "scalar", "16"}));
+}
+
+TEST(CpuBackend, ReadsThroughSourcesWithFetchedTablesOnOneThread) {
+  Options o;
+  o.threads = 8;
+  o.set(cpu::Options{.width = cpu::Width::Lanes4});
+  ASSERT_TRUE(find_backend("cpu").read_through_sources(o));
+  EXPECT_EQ(o.get<cpu::Options>().tables, cpu::Tables::Fetched);
+  EXPECT_EQ(o.get<cpu::Options>().width, cpu::Width::Lanes4) << "the other options stay";
+  EXPECT_EQ(o.threads, 1);
 }
 
 TEST(CpuBackend, CompilesOncePerProgramAndOptions) {
@@ -162,7 +196,7 @@ TEST(CpuBackend, StreamTailTouchesNothingPastTheEnd) {
   ir::Type vec3{ir::Scalar::F32, 3};
   for (const char* width : {"scalar", "4", "8", "16"}) {
     Options o;
-    o.settings["width"] = width;
+    o.set("cpu.width", width);
     std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
     for (std::size_t n : {1, 5, 15, 16, 17, 35}) {
       GuardedFloats in(3 * n), out(3 * n);
@@ -186,7 +220,7 @@ TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
     r = t[i];
   } SH_END;
   Options o;
-  o.settings["width"] = "8";
+  o.set(cpu::Options{.width = cpu::Width::Lanes8});
   std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
   float one = 1.0f;
   std::int32_t index = 0;
@@ -246,7 +280,7 @@ TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
   }
   for (const char* width : {"scalar", "4", "16"}) {
     Options o;
-    o.settings = {{"width", width}, {"tables", "fetched"}};
+    o.set("width", width).set("tables", "fetched");
     o.threads = 1;
     std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
     std::vector<float> out(is.size());
@@ -262,12 +296,12 @@ TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
     EXPECT_EQ(source.spans + source.inline_reads, reads) << width;
     EXPECT_GT(source.inline_reads, 0u) << width << ": no read was served from a span";
     Options memory = o;
-    memory.settings.erase("tables");
+    memory.set("tables", "memory");
     try {
       kernel_for(p, backend("cpu", memory))->run(args, stats);
       ADD_FAILURE() << "a kernel that loads read a table it does not hold";
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("\"tables\": \"fetched\""), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("tables=fetched"), std::string::npos) << e.what();
     }
   }
 }

@@ -7,7 +7,8 @@
 // program, the data, each side's values) and a summary line.
 //
 //   fuzz_ir [--programs N] [--seed S] [--backends cpu,opencl,...]
-//           [--modes-per-program M] [--minimize K] [--replay PROGRAM_SEED]...
+//           [--modes-per-program M] [--minimize K] [--no-accumulators]
+//           [--replay PROGRAM_SEED]...
 //
 // Each program runs on every mode, or with --modes-per-program on M of
 // them in turn (CI's budget: a kernel takes 20-150 ms to compile, and a
@@ -49,10 +50,12 @@ struct Options {
   int minimize = 0;
   std::size_t modes_per_program = 0;  // 0: all
   std::vector<std::uint64_t> replay;
+  GeneratorOptions generator;
 };
 
 struct Tally {
   std::size_t programs = 0, runs = 0, disagreements = 0, failing_programs = 0, invalid = 0;
+  std::size_t accumulator_only = 0;  // disagreements in accumulator sums alone
   std::map<std::string, std::size_t> by_mode, by_backend, by_operations;
 };
 
@@ -64,7 +67,7 @@ struct Finding {
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "fuzz_ir: " << why
             << "\nusage: fuzz_ir [--programs N] [--seed S] [--backends a,b] [--modes-per-program M] [--minimize K]\n"
-               "               [--replay PROGRAM_SEED]...\n";
+               "               [--no-accumulators] [--replay PROGRAM_SEED]...\n";
   std::exit(2);
 }
 
@@ -88,6 +91,10 @@ Options parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--help") usage("differential fuzzing of the IR");
+    if (a == "--no-accumulators") {
+      o.generator.accumulators = false;
+      continue;
+    }
     if (i + 1 >= argc) usage("missing a value after " + a);
     const char* v = argv[++i];
     if (a == "--programs") o.programs = number(a, v);
@@ -120,7 +127,7 @@ void print_findings(const Case& c, const std::vector<Finding>& findings) {
     for (std::size_t k = 0; k < f.mismatches.size() && k < 4; ++k)
       std::cout << describe(f.mismatches[k], slot_scalar(c, f.mismatches[k].slot), f.mode->name()) << "\n";
     std::size_t e = f.mismatches[0].element;
-    if (f.mismatches[0].slot >= 0 && e != shown_element) {
+    if (f.mismatches[0].stream && e != shown_element) {
       std::cout << "data of element " << e << ":\n" << describe_data(c, e);
       shown_element = e;
     }
@@ -155,10 +162,10 @@ void minimise_and_print(const Case& c, const Finding& first, const std::vector<M
     Result ref = run(candidate, reference_mode(mode.precision), false);
     if (!ref.error.empty()) return false;
     for (const Mismatch& x : compare(candidate, ref, run(candidate, mode, true)))
-      if (x.slot == m.slot && x.component == m.component) return true;
+      if (x.name == m.name && x.component == m.component) return true;
     return false;
   };
-  Case small = minimize(c, m.element, fails);
+  Case small = minimize(c, m.stream ? m.element : 0, m.name, fails);
   Result reference[2];
   std::string why;
   std::cout << "minimised on " << mode.name() << ":\n" << sh::ir::print(small.program);
@@ -174,16 +181,26 @@ void minimise_and_print(const Case& c, const Finding& first, const std::vector<M
   ++tally.by_operations[operations_used(small)];
 }
 
+std::string replay_command(std::uint64_t seed, const GeneratorOptions& options) {
+  return std::string("fuzz_ir ") + (options.accumulators ? "" : "--no-accumulators ") + "--replay " + std::to_string(seed);
+}
+
+bool only_accumulators(const Finding& f) {
+  for (const Mismatch& m : f.mismatches)
+    if (m.stream) return false;
+  return true;
+}
+
 // Runs one program on `modes`; a minimised disagreement runs on `all`.
-void fuzz_one(std::uint64_t seed, const std::vector<Mode>& modes, const std::vector<Mode>& all, int& minimise_budget,
-              Tally& tally) {
-  Case c = generate(seed);
+void fuzz_one(std::uint64_t seed, const GeneratorOptions& options, const std::vector<Mode>& modes, const std::vector<Mode>& all,
+              int& minimise_budget, Tally& tally) {
+  Case c = generate(seed, options);
   ++tally.programs;
   Result reference[2];
   std::string why;
   if (!references(c, reference, why)) {
     ++tally.invalid;
-    std::cout << "=== invalid program, seed " << seed << " (fuzz_ir --replay " << seed << "): " << why << "\n"
+    std::cout << "=== invalid program, seed " << seed << " (" << replay_command(seed, options) << "): " << why << "\n"
               << sh::ir::print(c.program);
     return;
   }
@@ -192,10 +209,11 @@ void fuzz_one(std::uint64_t seed, const std::vector<Mode>& modes, const std::vec
   if (findings.empty()) return;
   ++tally.failing_programs;
   tally.disagreements += findings.size();
-  std::cout << "=== disagreement: program seed " << seed << " (fuzz_ir --replay " << seed << "), " << c.count
+  std::cout << "=== disagreement: program seed " << seed << " (" << replay_command(seed, options) << "), " << c.count
             << " elements, on";
   for (const Finding& f : findings) {
     std::cout << " " << f.mode->name();
+    tally.accumulator_only += only_accumulators(f);
     ++tally.by_mode[f.mode->name()];
     ++tally.by_backend[f.mode->backend];
   }
@@ -218,6 +236,7 @@ void summary(const Tally& t, const Options& o, double seconds) {
   std::printf("fuzz_ir: %zu programs, %zu runs, %zu disagreements in %zu programs, %zu invalid programs; seed %llu; %.0f s\n",
               t.programs, t.runs, t.disagreements, t.failing_programs, t.invalid, static_cast<unsigned long long>(o.seed),
               seconds);
+  std::printf("  in accumulator sums only: %zu of the disagreements\n", t.accumulator_only);
   std::printf("  by backend: %s\n  by mode: %s\n", counts(t.by_backend).c_str(), counts(t.by_mode).c_str());
   if (!t.by_operations.empty()) std::printf("  minimised, by operations kept: %s\n", counts(t.by_operations).c_str());
 }
@@ -248,7 +267,7 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < seeds.size(); ++k) {
     std::vector<Mode> these;
     for (std::size_t j = 0; j < per_program; ++j) these.push_back(modes[(k * per_program + j) % modes.size()]);
-    fuzz_one(seeds[k], these, modes, minimise_budget, tally);
+    fuzz_one(seeds[k], o.generator, these, modes, minimise_budget, tally);
     if ((k + 1) % 1000 == 0)
       std::printf("progress: %zu of %zu programs, %zu disagreements in %zu programs, %zu invalid, %.0f s\n", k + 1, seeds.size(),
                   tally.disagreements, tally.failing_programs, tally.invalid, seconds());

@@ -36,7 +36,7 @@ struct Context {
 
 class Generator {
  public:
-  explicit Generator(std::uint64_t seed) : rng_(seed) { c_.seed = seed; }
+  Generator(std::uint64_t seed, const GeneratorOptions& options) : rng_(seed), options_(options) { c_.seed = seed; }
 
   Case run() {
     p().name = "fuzz_" + std::to_string(c_.seed);
@@ -98,7 +98,7 @@ class Generator {
       c_.uniforms.push_back(u);
     }
     for (int i = rng_.between(0, 2); i > 0; --i) table(false);
-    if (rng_.chance(25)) table(true);
+    if (rng_.chance(25) && options_.accumulators) table(true);
     for (int i = rng_.between(1, 3); i > 0; --i)
       p().outputs.push_back(add(VarKind::Output, random_type(), "out" + std::to_string(p().outputs.size()), false, true));
     for (Scalar s : kScalars) {
@@ -363,6 +363,7 @@ class Generator {
   }
 
   Rng rng_;
+  GeneratorOptions options_;
   Case c_;
   std::vector<Reg> regs_;
   std::vector<VarId> needs_init_;
@@ -378,6 +379,6 @@ std::vector<Op> generated_ops() {
   return ops;
 }
 
-Case generate(std::uint64_t seed) { return Generator(seed).run(); }
+Case generate(std::uint64_t seed, const GeneratorOptions& options) { return Generator(seed, options).run(); }
 
 }  // namespace fuzz_ir

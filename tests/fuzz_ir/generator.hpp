@@ -33,7 +33,11 @@ struct Case {
   int prologue = 0;  // the body's first statements: they initialise every register
 };
 
-Case generate(std::uint64_t seed);
+struct GeneratorOptions {
+  bool accumulators = true;  // declare accumulators and scatter-add into them
+};
+
+Case generate(std::uint64_t seed, const GeneratorOptions& options = {});
 
 // The operations programs are drawn from: every row of the op table but
 // the table reads that take more than coordinates (legal IR's `load`,

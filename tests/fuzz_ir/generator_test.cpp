@@ -153,7 +153,7 @@ TEST(FuzzMinimize, KeepsWhatTheFailureNeedsAndDropsTheRest) {
       return h.found;
     };
     if (!fails(c)) continue;
-    Case small = minimize(c, c.count - 1, fails);
+    Case small = minimize(c, c.count - 1, "", fails);
     EXPECT_EQ(small.count, 1u);
     EXPECT_NO_THROW(verify(small.program));
     ASSERT_EQ(static_cast<int>(small.program.body.size()), small.prologue + 1) << print(small.program);

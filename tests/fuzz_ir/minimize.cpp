@@ -5,6 +5,7 @@
 #include <sh/error.hpp>
 #include <sh/ir/verifier.hpp>
 #include <sh/ir/visitor.hpp>
+#include <sh/passes.hpp>
 
 #include "exactness.hpp"
 
@@ -140,6 +141,46 @@ void drop_unused_initialisation(Case& c) {
   c.prologue = kept;
 }
 
+// Leaves out the inputs, uniforms and outputs nothing mentions after the
+// prologue (with their data), then the variables no statement mentions.
+Case without_unused_interface(Case c, const std::string& keep) {
+  Program& p = c.program;
+  std::vector<int> count(p.vars.size(), 0);
+  Mentions m(count);
+  m.visit(Block(p.body.begin() + c.prologue, p.body.end()));
+  auto unused = [&](VarId id) { return count[id] == 0; };
+  for (std::size_t k = p.inputs.size(); k-- > 0;)
+    if (unused(p.inputs[k]) && p.var(p.inputs[k]).kind == VarKind::Input) {
+      p.vars[p.inputs[k]].kind = VarKind::Temp;
+      p.inputs.erase(p.inputs.begin() + static_cast<std::ptrdiff_t>(k));
+      c.inputs.erase(c.inputs.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+  for (std::size_t k = p.uniforms.size(); k-- > 0;)
+    if (unused(p.uniforms[k])) {
+      p.vars[p.uniforms[k]].kind = VarKind::Temp;
+      p.uniforms.erase(p.uniforms.begin() + static_cast<std::ptrdiff_t>(k));
+      c.uniforms.erase(c.uniforms.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+  std::erase_if(p.outputs, [&](VarId id) {
+    if (!unused(id) || p.var(id).kind != VarKind::Output || p.var(id).name == keep) return false;
+    p.vars[id].kind = VarKind::Temp;
+    return true;
+  });
+  Block body;
+  int prologue = 0;
+  for (int k = 0; k < static_cast<int>(p.body.size()); ++k) {
+    if (k < c.prologue && p.var(std::get<Assign>(p.body[k].node).dest).kind == VarKind::Temp &&
+        unused(std::get<Assign>(p.body[k].node).dest))
+      continue;
+    prologue += k < c.prologue;
+    body.push_back(p.body[k]);
+  }
+  p.body = std::move(body);
+  c.prologue = prologue;
+  c.program = sh::passes::compact_variables(std::move(c.program));
+  return c;
+}
+
 }  // namespace
 
 Case only_element(const Case& c, std::size_t element) {
@@ -152,9 +193,9 @@ Case only_element(const Case& c, std::size_t element) {
   return one;
 }
 
-Case minimize(Case c, std::size_t element, const std::function<bool(const Case&)>& fails) {
-  if (c.count > 1) {
-    Case one = only_element(c, element);
+Case minimize(Case c, std::size_t element, const std::string& keep, const std::function<bool(const Case&)>& fails) {
+  for (std::size_t k = 0; c.count > 1 && k <= c.count; ++k) {
+    Case one = only_element(c, k == 0 ? element : k - 1);
     if (fails(one)) c = std::move(one);
   }
   for (bool progress = true; progress;) {
@@ -170,7 +211,9 @@ Case minimize(Case c, std::size_t element, const std::function<bool(const Case&)
   }
   Case trimmed = c;
   drop_unused_initialisation(trimmed);
-  return acceptable(trimmed) && fails(trimmed) ? trimmed : c;
+  if (!acceptable(trimmed) || !fails(trimmed)) return c;
+  Case tidy = without_unused_interface(trimmed, keep);
+  return acceptable(tidy) && fails(tidy) ? tidy : trimmed;
 }
 
 }  // namespace fuzz_ir

@@ -59,17 +59,17 @@ std::string place(const std::string& name, std::size_t element, int component) {
 }
 
 void compare_data(const Data& want, const Data& got, const Tolerance& tolerance, const std::string& name, int slot,
-                  std::vector<Mismatch>& out) {
+                  bool stream, std::vector<Mismatch>& out) {
   int width = want.type.width;
   if (got.values.size() != want.values.size()) {
-    out.push_back({name, slot, 0, 0, 0, 0, 0, "holds " + std::to_string(got.values.size()) + " values, not " + std::to_string(want.values.size())});
+    out.push_back({name, name, slot, true, 0, 0, 0, 0, 0, "holds " + std::to_string(got.values.size()) + " values, not " + std::to_string(want.values.size())});
     return;
   }
   for (std::size_t k = 0; k < want.values.size(); ++k) {
     int c = static_cast<int>(k % width);
     double a = want.values[k], b = got.values[k];
     bool same = sh::ir::is_float(want.type.scalar) ? ulp_distance(want.type.scalar, a, b) <= tolerance[c] : a == b;
-    if (!same) out.push_back({place(name, k / width, c), slot, k / width, c, a, b, tolerance[c], {}});
+    if (!same) out.push_back({place(name, k / width, c), name, slot, stream, k / width, c, a, b, tolerance[c], {}});
   }
 }
 
@@ -138,7 +138,7 @@ std::vector<Mismatch> compare(const Case& c, const Result& reference, const Resu
   std::vector<Mismatch> out;
   if (!reference.error.empty() || !got.error.empty()) {
     if (reference.error.empty() != got.error.empty())
-      out.push_back({"error", -1, 0, 0, 0, 0, 0, got.error.empty() ? "the interpreter threw: " + reference.error : got.error});
+      out.push_back({"error", "error", -1, false, 0, 0, 0, 0, 0, got.error.empty() ? "the interpreter threw: " + reference.error : got.error});
     return out;
   }
   const sh::ir::Program& p = c.program;
@@ -146,11 +146,12 @@ std::vector<Mismatch> compare(const Case& c, const Result& reference, const Resu
   for (std::size_t k = 0; k < p.outputs.size(); ++k) {
     const std::string& name = p.var(p.outputs[k]).name;
     compare_data(reference.outputs[k], got.outputs[k], tolerance[p.outputs[k]], name.empty() ? "out" + std::to_string(k) : name,
-                 static_cast<int>(k), out);
+                 static_cast<int>(k), true, out);
   }
   for (std::size_t t = 0; t < p.tables.size(); ++t)
     if (p.tables[t].accumulator)
-      compare_data(reference.sums[t], got.sums[t], Tolerance{0, 0, 0, 0}, p.tables[t].name, static_cast<int>(p.outputs.size() + t), out);
+      compare_data(reference.sums[t], got.sums[t], Tolerance{0, 0, 0, 0}, p.tables[t].name, static_cast<int>(p.outputs.size() + t), false,
+                   out);
   return out;
 }
 

@@ -39,7 +39,9 @@ inline constexpr std::uint64_t kLoopCap = 1000;
 
 struct Mismatch {
   std::string where;  // "out1[7].y", "acc2[3].x", "error"
+  std::string name;   // the output's or accumulator's name
   int slot = -1;      // output index, or program.outputs.size() + table index
+  bool stream = true; // element is a stream element (else an accumulator's)
   std::size_t element = 0;
   int component = 0;
   double expected = 0, got = 0;

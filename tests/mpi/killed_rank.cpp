@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include <sh/mpi.hpp>
 #include <sh/sh.hpp>
 
 int main(int argc, char** argv) {

@@ -2,6 +2,8 @@
 // tables sent once per version, uniforms, errors on one rank.
 #include <gtest/gtest.h>
 
+#include <sh/cpu.hpp>
+#include <sh/mpi.hpp>
 #include <sh/sh.hpp>
 
 #include <algorithm>
@@ -10,6 +12,13 @@
 namespace {
 
 using namespace sh;
+
+// An mpi run's own figures, which every mpi run has.
+const mpi::RunDetails& details(const RunStats& s) {
+  const auto* d = s.details_as<mpi::RunDetails>();
+  if (!d) throw std::runtime_error("an mpi run without mpi::RunDetails");
+  return *d;
+}
 
 TEST(Mpi, EveryRankComputesAndResultsLandInOrder) {
   Program p = SH_BEGIN_PROGRAM("work") {
@@ -25,9 +34,10 @@ TEST(Mpi, EveryRankComputesAndResultsLandInOrder) {
   RunStats s = run(p, {in}, {out}, backend("mpi"));
   run(p, {in}, {reference}, backend("cpu"));
   EXPECT_EQ(out.values(), reference.values());
-  ASSERT_EQ(static_cast<int>(s.parts.size()), mpi::size());
+  const std::vector<mpi::PartStats>& parts = details(s).parts;
+  ASSERT_EQ(static_cast<int>(parts.size()), mpi::size());
   std::size_t elements = 0, chunks = 0;
-  for (const PartStats& part : s.parts) {
+  for (const mpi::PartStats& part : parts) {
     elements += part.elements;
     chunks += part.chunks;
     if (part.part != 0) {
@@ -35,7 +45,7 @@ TEST(Mpi, EveryRankComputesAndResultsLandInOrder) {
     }
   }
   EXPECT_EQ(elements, xs.size());
-  EXPECT_GE(chunks, 8u * s.parts.size()) << "many more chunks than ranks";
+  EXPECT_GE(chunks, 8u * parts.size()) << "many more chunks than ranks";
 }
 
 TEST(Mpi, TablesAndUniformsGoOutOncePerVersion) {
@@ -52,7 +62,7 @@ TEST(Mpi, TablesAndUniformsGoOutOncePerVersion) {
   for (int k = 0; k < 1000; ++k) is[k] = k * 7;
   Channel<Attrib1i> in(is);
   Channel<Attrib1f> out;
-  auto sent = [](const RunStats& s) { return s.parts.at(0).bytes_sent; };
+  auto sent = [](const RunStats& s) { return details(s).parts.at(0).bytes_sent; };
   RunStats first = run(p, {in}, {out}, backend("mpi"));
   RunStats second = run(p, {in}, {out}, backend("mpi"));
   EXPECT_EQ(out[5], 2.f);
@@ -113,29 +123,27 @@ TEST(Mpi, StaticScheduleGivesEachRankOneShareAndBadSettingsAreErrors) {
   std::vector<float> xs(9001, 1.0f);
   Channel<Attrib1f> in(xs), out;
   Options o;
-  o.settings["schedule"] = "static";
+  o.set(mpi::Options{.schedule = mpi::Schedule::Static});
   RunStats s = run(p, {in}, {out}, backend("mpi", o));
-  ASSERT_EQ(static_cast<int>(s.parts.size()), mpi::size());
+  const std::vector<mpi::PartStats>& parts = details(s).parts;
+  ASSERT_EQ(static_cast<int>(parts.size()), mpi::size());
   // Rank r at r, whatever order the ranks reported in; each has the share
   // that is its rank's (rank r the r-th, rank 0 the last): the sizes tell.
-  std::size_t share = (xs.size() + s.parts.size() - 1) / s.parts.size();
-  for (std::size_t r = 0; r < s.parts.size(); ++r) {
-    const PartStats& part = s.parts[r];
+  std::size_t share = (xs.size() + parts.size() - 1) / parts.size();
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    const mpi::PartStats& part = parts[r];
     EXPECT_EQ(part.part, static_cast<int>(r));
     EXPECT_EQ(part.chunks, 1u) << "rank " << part.part;
-    std::size_t index = r == 0 ? s.parts.size() - 1 : r - 1, begin = std::min(index * share, xs.size());
+    std::size_t index = r == 0 ? parts.size() - 1 : r - 1, begin = std::min(index * share, xs.size());
     EXPECT_EQ(part.elements, std::min(share, xs.size() - begin)) << "rank " << r;
   }
   EXPECT_EQ(out[9000], 3.f);
-  o.settings["schedule"] = "round-robin";
-  EXPECT_THROW(run(p, {in}, {out}, backend("mpi", o)), Error);
-  o.settings["schedule"] = "dynamic";
-  o.settings["chunk"] = "-5";
-  EXPECT_THROW(run(p, {in}, {out}, backend("mpi", o)), Error);
-  o.settings["chunk"] = "100";
+  EXPECT_THROW(o.set("schedule", "round-robin"), Error);
+  EXPECT_THROW(o.set("chunk", "-5"), Error);
+  o.set("schedule", "dynamic").set("chunk", "100");
   s = run(p, {in}, {out}, backend("mpi", o));
   std::size_t chunks = 0;
-  for (const PartStats& part : s.parts) chunks += part.chunks;
+  for (const mpi::PartStats& part : details(s).parts) chunks += part.chunks;
   EXPECT_EQ(chunks, 91u);
 }
 
@@ -145,15 +153,16 @@ namespace {
 
 using namespace sh;
 
-Options split(const char* cache_blocks, const std::string& local = "cpu") {
+Options split(std::uint64_t cache_blocks, const std::string& local = "cpu") {
   Options o;
-  o.local_backend = local;
-  o.settings = {{"split_tables", "0"}, {"block_bytes", "256"}, {"cache_blocks", cache_blocks}};
+  o.set(mpi::Options{.local = local, .split_tables = 0, .block_bytes = 256, .cache_blocks = cache_blocks});
   return o;
 }
 
-const TableCacheStats& cache_of(const RunStats& s, const std::string& table) {
-  for (const TableCacheStats& c : s.caches)
+const std::vector<mpi::TableCacheStats>& caches(const RunStats& s) { return details(s).caches; }
+
+const mpi::TableCacheStats& cache_of(const RunStats& s, const std::string& table) {
+  for (const mpi::TableCacheStats& c : caches(s))
     if (c.table == table) return c;
   throw std::runtime_error("no cache for table " + table);
 }
@@ -193,10 +202,10 @@ TEST(MpiSplitTables, TheCacheReturnsWhatTheWholeTableHolds) {
   run(p, {in}, {whole}, backend("cpu"));
   for (std::string local : {"cpu", "interp"}) {
     Channel<Attrib3f> out;
-    RunStats s = run(p, {in}, {out}, backend("mpi", split("4", local)));
+    RunStats s = run(p, {in}, {out}, backend("mpi", split(4, local)));
     EXPECT_EQ(out.values(), whole.values()) << local;
-    ASSERT_EQ(s.caches.size(), 2u) << local;
-    const TableCacheStats& points_cache = cache_of(s, "points");
+    ASSERT_EQ(caches(s).size(), 2u) << local;
+    const mpi::TableCacheStats& points_cache = cache_of(s, "points");
     EXPECT_EQ(points_cache.blocks, (n * 12 + 251) / 252u) << "21 float3 (252 bytes) in a 256-byte block";
     EXPECT_EQ(points_cache.cache_blocks, 4u);
     std::size_t loop_reads = 0;
@@ -233,15 +242,15 @@ TEST(MpiSplitTables, TheCacheReplacesTheLeastRecentlyUsedBlock) {
   for (std::size_t k = 0; k < is.size(); ++k) is[k] = static_cast<std::int32_t>(k);
   Channel<Attrib1i> in(is);
   for (std::size_t slots : {2, 5}) {
-    Options o = split(std::to_string(slots).c_str());
-    o.settings["schedule"] = "static";  // each rank reads one contiguous share in order,
-    o.settings["width"] = "scalar";     // one element after another
+    Options o = split(slots);
+    o.set("schedule", "static");  // each rank reads one contiguous share in order,
+    o.set("width", "scalar");     // one element after another (the local cpu backend's setting)
     Channel<Attrib1f> out;
     RunStats s = run(p, {in}, {out}, backend("mpi", o));
     EXPECT_EQ(out[2999], 256.f);
-    const CacheCounts& c = cache_of(s, "hot and cold").counts;
+    const mpi::CacheCounts& c = cache_of(s, "hot and cold").counts;
     EXPECT_EQ(c.reads, is.size());
-    std::size_t shares = s.parts.size(), share = (is.size() + shares - 1) / shares, expected = 0;
+    std::size_t shares = details(s).parts.size(), share = (is.size() + shares - 1) / shares, expected = 0;
     for (std::size_t begin = 0; begin < is.size(); begin += share) {
       std::size_t end = std::min(begin + share, is.size()), odd = end / 2 - begin / 2;
       expected += slots == 2 ? 1 + odd : 5;  // the hot block once, each cold read; or each block once
@@ -260,24 +269,27 @@ TEST(MpiSplitTables, BadSettingsAreErrorsAndOpenClKeepsTablesWhole) {
   } SH_END;
   Channel<Attrib1i> in(std::vector<std::int32_t>(500, 3));
   Channel<Attrib1f> out;
-  for (const char* bad : {"split_tables=-1", "cache_blocks=0", "block_bytes=2k"}) {
-    Options o = split("4");
-    std::string kv = bad;
-    o.settings[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
+  for (const char* bad : {"split_tables=-1", "cache_blocks=0", "block_bytes=2k", "colour=red"}) {
+    Options o = split(4);
+    std::string kv = bad, name = kv.substr(0, kv.find('='));
     try {
-      run(p, {in}, {out}, backend("mpi", o));
+      o.set("mpi." + name, kv.substr(kv.find('=') + 1));
       ADD_FAILURE() << bad << " was accepted";
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(kv.substr(0, kv.find('='))), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("mpi"), std::string::npos) << e.what();
     }
   }
-  Options o = split("4");
-  o.settings["split_tables"] = "1000";  // 400 bytes: below, so whole
-  EXPECT_TRUE(run(p, {in}, {out}, backend("mpi", o)).caches.empty());
+  Options typed;  // the typed form's ranges are checked when it compiles
+  typed.set(mpi::Options{.split_tables = 0, .block_bytes = 1 << 25});
+  EXPECT_THROW(run(p, {in}, {out}, backend("mpi", typed)), Error);
+  Options o = split(4);
+  o.set("split_tables", "1000");  // 400 bytes: below, so whole
+  EXPECT_TRUE(caches(run(p, {in}, {out}, backend("mpi", o))).empty());
   std::vector<std::string> names = backend_names();
   if (std::find(names.begin(), names.end(), "opencl") != names.end()) {
-    RunStats s = run(p, {in}, {out}, backend("mpi", split("4", "opencl")));
-    EXPECT_TRUE(s.caches.empty()) << "OpenCL kernels cannot call back: the table stays whole";
+    RunStats s = run(p, {in}, {out}, backend("mpi", split(4, "opencl")));
+    EXPECT_TRUE(caches(s).empty()) << "OpenCL kernels cannot read through a TableSource: the table stays whole";
     EXPECT_EQ(out[499], 2.f);
   }
 }

@@ -9,6 +9,7 @@
 #include <sh/raytracer/octree_refiner.hpp>
 #include <sh/raytracer/render.hpp>
 #include <sh/raytracer/scene.hpp>
+#include <sh/mpi.hpp>
 #include <sh/sh.hpp>
 
 namespace {
@@ -29,16 +30,19 @@ TEST(RaytracerOnRanks, BidirectionalImagesAgreeWithCpuWholeAndSplit) {
   sh::rt::Image want = sh::rt::Renderer(scene, glass_settings("cpu")).render();
   for (bool split : {false, true}) {
     sh::rt::RenderSettings s = glass_settings("mpi");
-    if (split) s.options.settings = {{"split_tables", "0"}, {"cache_blocks", "8"}};
+    if (split) s.options.set(sh::mpi::Options{.split_tables = 0, .cache_blocks = 8});
     sh::rt::Renderer on_ranks(scene, s);
     sh::rt::RenderReport report;
     sh::rt::Image got = on_ranks.render(&report);
     EXPECT_GE(sh::rt::share_within(want, got, 2.0f / 255), 0.995) << "split " << split;
     EXPECT_GT(sh::rt::psnr(want, got), 45.0) << "split " << split;
-    EXPECT_EQ(report.caches.empty(), !split);
+    auto* details = dynamic_cast<const sh::mpi::RunDetails*>(report.details.get());
+    ASSERT_NE(details, nullptr) << "an mpi render reports its ranks";
+    EXPECT_EQ(static_cast<int>(details->parts.size()), sh::mpi::size());
+    EXPECT_EQ(details->caches.empty(), !split);
     if (split && sh::mpi::size() > 1) {
       std::size_t remote = 0;
-      for (const sh::TableCacheStats& c : report.caches) remote += c.counts.remote_misses;
+      for (const sh::mpi::TableCacheStats& c : details->caches) remote += c.counts.remote_misses;
       EXPECT_GT(remote, 0u) << "blocks came from other ranks";
     }
   }

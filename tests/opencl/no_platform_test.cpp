@@ -3,6 +3,7 @@
 // rest of the project works.
 #include <gtest/gtest.h>
 
+#include <sh/opencl.hpp>
 #include <sh/sh.hpp>
 
 namespace {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include <sh/opencl.hpp>
 #include <sh/sh.hpp>
 
 #include "../../backends/opencl/src/runtime.hpp"

@@ -14,9 +14,10 @@
 namespace sh::cpu {
 namespace {
 
+// Options in this file: sh::Options; cpu::Options are the backend's own.
 class CpuKernel : public Kernel {
  public:
-  CpuKernel(const ir::Program& p, const Options& o)
+  CpuKernel(const ir::Program& p, const sh::Options& o)
       : program_(p), options_(o), fetched_(fetches_tables(o)), jitted_(program_, options_),
         arena_(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
 
@@ -88,7 +89,8 @@ class CpuKernel : public Kernel {
     if (!t.source) throw Error("program '" + program_.name + "': table '" + program_.tables[i].name + "' has no data");
     if (!fetched_)
       throw Error("program '" + program_.name + "': table '" + program_.tables[i].name +
-                  "' is not held in this process; the cpu backend reads it only with the setting \"tables\": \"fetched\"");
+                  "' is not held in this process; the cpu backend reads it only with cpu::Options::tables Fetched "
+                  "(the setting tables=fetched)");
   }
 
   // A whole table is one window; a source's starts empty.
@@ -107,7 +109,7 @@ class CpuKernel : public Kernel {
   }
 
   ir::Program program_;  // the loops in error messages point into it
-  Options options_;
+  sh::Options options_;
   bool fetched_;
   Jitted jitted_;
   tbb::task_arena arena_;
@@ -116,28 +118,38 @@ class CpuKernel : public Kernel {
 class CpuBackend : public Backend {
  public:
   std::string name() const override { return "cpu"; }
-  std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+  std::unique_ptr<Kernel> compile(const ir::Program& p, const sh::Options& o) override {
     return std::make_unique<CpuKernel>(p, o);
   }
+  std::vector<Setting> settings() const override { return cpu::settings(); }
+  BackendOptions default_options() const override { return Options{}; }
   std::vector<Variant> variants() const override {
-    return {{"scalar", {{"width", "scalar"}}},
-            {"w4", {{"width", "4"}}},
-            {"w8", {{"width", "8"}}},
-            {"w16", {{"width", "16"}}},
-            {"scalar_fetched", {{"width", "scalar"}, {"tables", "fetched"}}},
-            {"w16_fetched", {{"width", "16"}, {"tables", "fetched"}}}};
+    return {{"scalar", Options{.width = Width::Scalar}},
+            {"w4", Options{.width = Width::Lanes4}},
+            {"w8", Options{.width = Width::Lanes8}},
+            {"w16", Options{.width = Width::Lanes16}},
+            {"scalar_fetched", Options{.width = Width::Scalar, .tables = Tables::Fetched}},
+            {"w16_fetched", Options{.width = Width::Lanes16, .tables = Tables::Fetched}}};
+  }
+  // Fetched reads on one thread: a TableSource is called from one at a time.
+  bool read_through_sources(sh::Options& o) const override {
+    Options mine = o.get<Options>();
+    mine.tables = Tables::Fetched;
+    o.set(mine);
+    o.threads = 1;
+    return true;
   }
   std::vector<std::string> describe() const override {
-    return {"cpu: LLVM 15 ORC JIT for the host CPU, SPMD with " + std::to_string(lane_count(Options{})) +
+    return {"cpu: LLVM 15 ORC JIT for the host CPU, SPMD with " + std::to_string(lane_count(sh::Options{})) +
             " lanes by default (setting \"width\": scalar, 4, 8, 16), oneTBB with " +
             std::to_string(tbb::this_task_arena::max_concurrency()) + " threads"};
   }
 };
 
-}  // namespace
+// Registered as the library loads: linking it is enough.  The fastest
+// backend for any program on the host, so the default where it is linked.
+const bool registered = (sh::register_backend("cpu", [] { return std::make_unique<CpuBackend>(); }, 10), true);
 
-void register_backend() {
-  sh::register_backend("cpu", [] { return std::make_unique<CpuBackend>(); });
-}
+}  // namespace
 
 }  // namespace sh::cpu

@@ -4,6 +4,7 @@
 
 #include "lowering.hpp"
 #include "signature.hpp"
+#include "sh/ir/verifier.hpp"
 
 namespace sh::cpu {
 
@@ -12,6 +13,7 @@ using llvm::Value;
 
 Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVMContext& ctx)
     : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {
+  ir::verify_legal(p);
   if (spmd()) facts_ = analyse_spmd(p);
 }
 

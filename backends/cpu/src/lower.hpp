@@ -19,14 +19,16 @@ struct Lowered {
 
 Lowered lower(const ir::Program& program, const Options& options, int width, llvm::LLVMContext& context);
 
-// The lanes a kernel runs with: the setting "width" (scalar, 4, 8, 16 or
-// auto), auto being the host's widest vectors (16 with AVX-512, 8 with AVX,
-// 4 otherwise).
+// The lanes a kernel runs with: cpu::Options::width, Auto being the host's
+// widest vectors (16 with AVX-512, 8 with AVX, 4 otherwise).
 int lane_count(const Options& options);
 
-// The setting "tables": "memory" (default) reads tables from the run's
-// memory; "fetched" reads each element through a call to the run's
-// TableAccess (signature.hpp), so that a table may live elsewhere.
+// cpu::Options::tables: Memory reads tables from the run's memory; Fetched
+// reads each element through a call to the run's TableAccess
+// (signature.hpp), so that a table may live elsewhere.
 bool fetches_tables(const Options& options);
+
+// The string form of cpu::Options, for Backend::settings().
+std::vector<Backend::Setting> settings();
 
 }  // namespace sh::cpu

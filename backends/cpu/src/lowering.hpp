@@ -89,9 +89,8 @@ class Lowering {
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
   Value* sign(Value* a, bool fp);
-  Value* int_divide(ir::Op op, Value* a, Value* b);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
-  Value* flat_index(int table, const ir::Operand& coord, bool sample, bool gather);
+  Value* flat_index(int table, const ir::Operand& coord, bool gather);
   Value* access_field(int table, unsigned k);
   Value* fetched_element(int table, Value* flat);
   std::array<Value*, 4> fetch(int table, Value* flat);

@@ -89,8 +89,9 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Add: return fp ? b_.CreateFAdd(a, b) : b_.CreateAdd(a, b);
     case Op::Sub: return fp ? b_.CreateFSub(a, b) : b_.CreateSub(a, b);
     case Op::Mul: return fp ? b_.CreateFMul(a, b) : b_.CreateMul(a, b);
-    case Op::Div: return fp ? b_.CreateFDiv(a, b) : int_divide(op, a, b);
-    case Op::Mod: return fp ? b_.CreateFRem(a, b) : int_divide(op, a, b);
+    // Legal IR divides integers only by divisors that cannot trap.
+    case Op::Div: return fp ? b_.CreateFDiv(a, b) : b_.CreateSDiv(a, b);
+    case Op::Mod: return fp ? b_.CreateFRem(a, b) : b_.CreateSRem(a, b);
     case Op::Neg: return fp ? b_.CreateFNeg(a) : b_.CreateNeg(a);
     case Op::Min: return intrinsic(fp ? I::minnum : I::smin, {a, b});
     case Op::Max: return intrinsic(fp ? I::maxnum : I::smax, {a, b});
@@ -116,6 +117,15 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Acos: return libm("acos", {a});
     case Op::Atan: return libm("atan", {a});
     case Op::Atan2: return libm("atan2", {a, b});
+    case Op::Sinh: return libm("sinh", {a});
+    case Op::Cosh: return libm("cosh", {a});
+    case Op::Tanh: return libm("tanh", {a});
+    case Op::Asinh: return libm("asinh", {a});
+    case Op::Acosh: return libm("acosh", {a});
+    case Op::Atanh: return libm("atanh", {a});
+    case Op::Exp10: return libm("exp10", {a});  // LLVM 15 has no exp10 intrinsic
+    case Op::Log10: return intrinsic(I::log10, {a});
+    case Op::Cbrt: return libm("cbrt", {a});
     case Op::Lt: return mask(fp ? b_.CreateFCmp(P::FCMP_OLT, a, b) : b_.CreateICmp(P::ICMP_SLT, a, b), t);
     case Op::Le: return mask(fp ? b_.CreateFCmp(P::FCMP_OLE, a, b) : b_.CreateICmp(P::ICMP_SLE, a, b), t);
     case Op::Gt: return mask(fp ? b_.CreateFCmp(P::FCMP_OGT, a, b) : b_.CreateICmp(P::ICMP_SGT, a, b), t);
@@ -126,7 +136,8 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Or: return mask(b_.CreateOr(truthy(a, from), truthy(b, from)), t);
     case Op::Not: return mask(b_.CreateNot(truthy(a, from)), t);
     case Op::Cond: return b_.CreateSelect(truthy(a, from), b, c);
-    case Op::Fetch: case Op::Sample: break;  // table_read()
+    case Op::Extent: case Op::Load: break;  // table_read()
+    case Op::Fetch: case Op::Sample: break;  // not legal IR: the backend refuses it at compile
   }
   throw Error(std::string("cpu backend: ") + ir::op_name(op) + " reached the arithmetic lowering");
 }
@@ -158,27 +169,18 @@ Value* Lowering::sign(Value* a, bool fp) {
   return b_.CreateSelect(b_.CreateICmpSGT(a, zero), llvm::ConstantInt::get(t, 1), neg);
 }
 
-// x / 0 and x % 0 give 0; INT_MIN / -1 wraps to INT_MIN (divide by 1).
-Value* Lowering::int_divide(ir::Op op, Value* a, Value* b) {
-  llvm::Type* t = a->getType();
-  auto number = [t](std::int64_t v) { return llvm::ConstantInt::getSigned(t, v); };
-  Value* zero = number(0);
-  Value* by_zero = b_.CreateICmpEQ(b, zero);
-  Value* overflow = b_.CreateAnd(b_.CreateICmpEQ(a, number(INT32_MIN)), b_.CreateICmpEQ(b, number(-1)));
-  Value* safe = b_.CreateSelect(b_.CreateOr(by_zero, overflow), number(1), b);
-  Value* r = op == ir::Op::Div ? b_.CreateSDiv(a, safe) : b_.CreateSRem(a, safe);
-  if (op == ir::Op::Mod) r = b_.CreateSelect(overflow, zero, r);
-  return b_.CreateSelect(by_zero, zero, r);
-}
-
-// Clamps exactly as sh::fetch_index / sample_index do.  A varying read is a
-// gather over the running lanes, indexed in 32 bits (the kernel refuses
-// bigger tables) so that it is one gather instruction per 16 lanes, not
-// two; a uniform read is one load.
+// A table's extent, or its element at coordinates in range (legal IR).  A
+// varying read is a gather over the running lanes, indexed in 32 bits (the
+// kernel refuses bigger tables) so that it is one gather instruction per 16
+// lanes, not two; a uniform read is one load.
 void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   const ir::TableDecl& t = p_.tables[a.table];
   bool gather = varying(a.dest);
-  Value* flat = flat_index(a.table, a.args[0], a.op == ir::Op::Sample, gather);
+  if (a.op == ir::Op::Extent) {
+    for (int d = 0; d < t.rank; ++d) result[d] = gather ? widen(table_dims_[a.table][d]) : table_dims_[a.table][d];
+    return;
+  }
+  Value* flat = flat_index(a.table, a.args[0], gather);
   if (fetches_tables(o_)) {
     std::array<Value*, 4> raw = gather ? fetch_lanes(a.table, flat) : fetch(a.table, flat);
     for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
@@ -318,10 +320,9 @@ void Lowering::for_each_running_lane(const std::function<void(std::uint64_t lane
   }
 }
 
-// The element a read or scatter names, clamped to the edge in each
-// dimension: i32 lanes where `gather`, else one i64.
-Value* Lowering::flat_index(int table, const ir::Operand& coord, bool sample, bool gather) {
-  ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
+// The element a read or scatter names (coordinates in range: legal IR):
+// i32 lanes where `gather`, else one i64.
+Value* Lowering::flat_index(int table, const ir::Operand& coord, bool gather) {
   llvm::Type* index_type = gather ? lanes(b_.getInt32Ty()) : b_.getInt64Ty();
   auto index_of = [&](Value* i32) { return gather ? i32 : b_.CreateZExt(i32, index_type); };
   Value* flat = llvm::ConstantInt::get(index_type, 0);
@@ -329,13 +330,7 @@ Value* Lowering::flat_index(int table, const ir::Operand& coord, bool sample, bo
   for (int d = 0; d < p_.tables[table].rank; ++d) {
     Value* dim = gather ? splat(table_dims_[table][d]) : table_dims_[table][d];
     Value* i = gather ? widen(read(coord, d)) : read(coord, d);
-    if (sample) {
-      Value* scaled = b_.CreateFMul(i, b_.CreateSIToFP(dim, i->getType()));
-      i = cast(intrinsic(llvm::Intrinsic::floor, {scaled}), coord_scalar, ir::Scalar::I32);
-    }
-    Value* lowest = intrinsic(llvm::Intrinsic::smax, {i, llvm::ConstantInt::get(i->getType(), 0)});
-    Value* clamped = intrinsic(llvm::Intrinsic::smin, {lowest, b_.CreateSub(dim, llvm::ConstantInt::get(dim->getType(), 1))});
-    flat = b_.CreateAdd(flat, b_.CreateMul(index_of(clamped), stride));
+    flat = b_.CreateAdd(flat, b_.CreateMul(index_of(i), stride));
     stride = b_.CreateMul(stride, index_of(dim));
   }
   return flat;
@@ -347,7 +342,7 @@ Value* Lowering::flat_index(int table, const ir::Operand& coord, bool sample, bo
 void Lowering::scatter(const ir::Scatter& sc) {
   const ir::TableDecl& t = p_.tables[sc.table];
   bool per_lane = spmd();
-  Value* flat = flat_index(sc.table, sc.index, false, per_lane);
+  Value* flat = flat_index(sc.table, sc.index, per_lane);
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   std::array<Value*, 4> value{};
   for (int c = 0; c < t.element.width; ++c) {

@@ -1,8 +1,10 @@
-// The cpu backend's settings, read from Options::settings.
+// The cpu backend's own options (sh::cpu::Options): their string form, and
+// what the kernel compiler reads from them.
 #include <llvm/ADT/StringMap.h>
 #include <llvm/Support/Host.h>
 
 #include "lower.hpp"
+#include "sh/cpu.hpp"
 #include "sh/error.hpp"
 
 namespace sh::cpu {
@@ -16,22 +18,58 @@ int host_lanes() {
   return 4;
 }
 
-}  // namespace
+std::string width_name(Width w) { return w == Width::Auto ? "auto" : w == Width::Scalar ? "scalar" : std::to_string(static_cast<int>(w)); }
 
-int lane_count(const Options& options) {
-  auto it = options.settings.find("width");
-  if (it == options.settings.end() || it->second == "auto") return host_lanes();
-  const std::string& w = it->second;
-  if (w == "scalar" || w == "1") return 1;
-  if (w == "4" || w == "8" || w == "16") return std::stoi(w);
+Width parse_width(const std::string& w) {
+  if (w == "auto") return Width::Auto;
+  if (w == "scalar" || w == "1") return Width::Scalar;
+  if (w == "4") return Width::Lanes4;
+  if (w == "8") return Width::Lanes8;
+  if (w == "16") return Width::Lanes16;
   throw Error("cpu backend: setting \"width\" is \"" + w + "\"; expected scalar, 4, 8, 16 or auto");
 }
 
-bool fetches_tables(const Options& options) {
-  auto it = options.settings.find("tables");
-  if (it == options.settings.end() || it->second == "memory") return false;
-  if (it->second == "fetched") return true;
-  throw Error("cpu backend: setting \"tables\" is \"" + it->second + "\"; expected memory or fetched");
+Tables parse_tables(const std::string& t) {
+  if (t == "memory") return Tables::Memory;
+  if (t == "fetched") return Tables::Fetched;
+  throw Error("cpu backend: setting \"tables\" is \"" + t + "\"; expected memory or fetched");
 }
+
+}  // namespace
+
+Settings Options::settings() const {
+  Settings s;
+  if (width != Width::Auto) s["width"] = width_name(width);
+  if (tables != Tables::Memory) s["tables"] = "fetched";
+  return s;
+}
+
+void Options::set(const std::string& name, const std::string& value) {
+  if (name == "width")
+    width = parse_width(value);
+  else if (name == "tables")
+    tables = parse_tables(value);
+  else
+    throw Error("the cpu backend has no setting '" + name + "' (width, tables)");
+}
+
+std::vector<Backend::Setting> settings() {
+  return {{"width", "scalar, 4, 8, 16 or auto: lanes per kernel, auto the host's widest"},
+          {"tables", "memory or fetched: fetched reads tables through calls, so they may be TableSources"}};
+}
+
+int lane_count(const sh::Options& options) {
+  switch (options.get<Options>().width) {
+    case Width::Auto: return host_lanes();
+    case Width::Scalar: return 1;
+    case Width::Lanes4: return 4;
+    case Width::Lanes8: return 8;
+    case Width::Lanes16: return 16;
+  }
+  throw Error("cpu backend: width " + std::to_string(static_cast<int>(options.get<Options>().width)) +
+              " is not one of scalar, 4, 8, 16 or auto");
+}
+
+bool fetches_tables(const sh::Options& options) { return options.get<Options>().tables == Tables::Fetched; }
 
 }  // namespace sh::cpu

@@ -36,16 +36,18 @@ std::set<std::uint64_t>& refiners_sent() {
 
 class Coordinator : public Kernel {
  public:
-  Coordinator(const ir::Program& p, const Options& o)
-      : program_(p), schedule_(schedule_of(o)), chunk_(chunk_of(o)), split_(split_settings(o)) {
+  // The local backend gets `o` without the mpi backend's own options.
+  Coordinator(const ir::Program& p, const sh::Options& o)
+      : program_(p), mine_(o.get<Options>()), split_(split_settings(mine_)), local_name_(local_backend_of(mine_)) {
     static std::uint64_t next_id = 1;
     id_ = next_id++;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
-    Options local = o;
-    local.local_backend.clear();
-    if (split_.enabled) configure_split_reads(o.local_backend, local);
-    local_ = find_backend(o.local_backend).compile(p, local);
-    if (ranks_ > 1) compile_everywhere(local, o.local_backend);
+    sh::Options local = o;
+    local.backends.erase(Options::backend_name);
+    Backend& backend = find_backend(local_name_);
+    if (split_.enabled) ask_to_read_split_tables(backend, local);
+    local_ = backend.compile(p, local);
+    if (ranks_ > 1) compile_everywhere(local);
   }
 
   void run(const RunArgs& args, RunStats& stats) override { spread(args, nullptr, stats); }
@@ -99,16 +101,17 @@ class Coordinator : public Kernel {
     if (ranks_ > 1) broadcast(run_command(whole, split, waves), t);
     // Rank 0 reads split tables through its cache, as every rank does.
     RunArgs args = whole;
-    hold_split_tables(args, split, stats, t);
+    auto details = std::make_shared<RunDetails>();
+    hold_split_tables(args, split, *details, t);
     PartStats mine;
     mine.part = 0;
     // Dynamic: many more chunks than ranks (16 each unless a size is set);
     // static: one contiguous share per rank.  Runs in waves are static
     // unless the settings say otherwise: each rank's refiner keeps what it
     // built for its share, which the next run hands it again.
-    bool fixed = schedule_ == "static" || (schedule_.empty() && waves);
+    bool fixed = mine_.schedule == mpi::Schedule::Static || (mine_.schedule == mpi::Schedule::Auto && waves);
     std::size_t shares = fixed ? ranks_ : 16 * ranks_;
-    std::size_t chunk = chunk_ > 0 && !fixed ? chunk_ : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
+    std::size_t chunk = mine_.chunk > 0 && !fixed ? mine_.chunk : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
     Schedule s{args, chunk, 0, {}, waves, fixed, std::vector<bool>(static_cast<std::size_t>(ranks_), false)};
     std::size_t served = 0;  // serving ranks that have been told they are done
     // Per serving rank (rank r at r - 1), however their stats arrive.
@@ -142,7 +145,7 @@ class Coordinator : public Kernel {
       std::string message = receive(MPI_ANY_SOURCE, MPI_ANY_TAG, t, &source, &tag);
       mine.idle_s += seconds_since(idle);
       if (tag == kStats) {
-        take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), stats);
+        take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), *details);
         --waiting_stats;
         continue;
       }
@@ -153,10 +156,10 @@ class Coordinator : public Kernel {
     for (; waiting_stats > 0; --waiting_stats) {
       int source = 0;
       std::string message = receive(MPI_ANY_SOURCE, kStats, t, &source);
-      take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), stats);
+      take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), *details);
     }
     for (std::size_t i = 0, k = 0; i < args.tables.size(); ++i)
-      if (split[i]) stats.caches[k++].counts += static_cast<SplitTable*>(args.tables[i].source)->take_counts();
+      if (split[i]) details->caches[k++].counts += static_cast<SplitTable*>(args.tables[i].source)->take_counts();
     mine.chunks = (mine.elements + chunk - 1) / chunk;  // rank 0 computes in pieces: its chunks' worth
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
@@ -170,7 +173,8 @@ class Coordinator : public Kernel {
       stats.waves += p.waves;
       stats.resumed += p.resumed;
     }
-    stats.parts = std::move(parts);
+    details->parts = std::move(parts);
+    stats.details = std::move(details);
     if (!s.error.empty()) throw Error("mpi backend: " + s.error);
   }
 
@@ -178,29 +182,25 @@ class Coordinator : public Kernel {
   // accumulators' sums, added into ours, and its caches' counts.  Stats
   // arrive in any order; they are kept by rank.
   static void take_stats(const std::string& message, const RunArgs& args, PartStats& part, std::string& summary,
-                         RunStats& stats) {
+                         RunDetails& details) {
     Unpacker u(message);
     part = u.get<PartStats>();
     if (u.get<bool>()) summary = u.text();
     for (const TableView& table : args.tables)
       if (table.sums) add_sums(table, u.take(table.bytes()));
-    for (TableCacheStats& cache : stats.caches) cache.counts += u.get<CacheCounts>();
+    for (TableCacheStats& cache : details.caches) cache.counts += u.get<CacheCounts>();
   }
 
-  // Local kernels that can call back into the runtime read split tables
-  // (cpu with fetched reads, on one thread: MPI is called from the kernel);
-  // OpenCL kernels cannot, and keep every table whole on every rank.
-  void configure_split_reads(const std::string& local_backend, Options& local) {
-    if (local_backend == "cpu") {
-      local.settings["tables"] = "fetched";
-      local.threads = 1;
-    } else if (local_backend != "interp") {
-      std::fprintf(stderr,
-                   "sh: mpi backend: %s kernels cannot call back into the runtime; program '%s' keeps its tables "
-                   "whole on every rank\n",
-                   local_backend.c_str(), program_.name.c_str());
-      split_.enabled = false;
-    }
+  // Split tables are read through sources, so only by local kernels that
+  // can call back into the runtime (cpu, interp; MPI is then called from
+  // the kernel); others (OpenCL) keep every table whole on every rank.
+  void ask_to_read_split_tables(const Backend& backend, sh::Options& local) {
+    if (backend.read_through_sources(local)) return;
+    std::fprintf(stderr,
+                 "sh: mpi backend: %s kernels cannot read tables through a TableSource; program '%s' keeps its tables "
+                 "whole on every rank\n",
+                 local_name_.c_str(), program_.name.c_str());
+    split_.enabled = false;
   }
 
   std::vector<bool> which_split(const RunArgs& args) const {
@@ -212,7 +212,7 @@ class Coordinator : public Kernel {
 
   // Collective with the serving ranks: each new split table's shares go
   // out, then every rank holds its own; the run reads them through caches.
-  void hold_split_tables(RunArgs& args, const std::vector<bool>& split, RunStats& stats, Traffic& t) {
+  void hold_split_tables(RunArgs& args, const std::vector<bool>& split, RunDetails& details, Traffic& t) {
     for (std::size_t i = 0; i < args.tables.size(); ++i) {
       if (!split[i]) continue;
       TableView& table = args.tables[i];
@@ -223,7 +223,7 @@ class Coordinator : public Kernel {
       }
       table.source = split_tables().at(table.id).table.get();
       table.data = nullptr;
-      stats.caches.push_back({program_.tables[i].name, layout.blocks(), split_.cache_blocks, {}});
+      details.caches.push_back({program_.tables[i].name, layout.blocks(), split_.cache_blocks, {}});
     }
   }
 
@@ -244,12 +244,10 @@ class Coordinator : public Kernel {
     static_cast<T*>(ours)[i] += x;
   }
 
-  void compile_everywhere(const Options& local, const std::string& local_backend) {
-    Options sent = local;
-    sent.local_backend = local_backend;
+  void compile_everywhere(const sh::Options& local) {
     Packer p;
-    p.put(Command::Compile).put(id_);
-    pack(p, sent);
+    p.put(Command::Compile).put(id_).put(local_name_);
+    pack(p, local);
     p.put(ir::serialize(program_));
     Traffic t;
     broadcast(p.bytes(), t);
@@ -358,30 +356,16 @@ class Coordinator : public Kernel {
     }
   }
 
-  // Empty where the settings do not say.
-  static std::string schedule_of(const Options& o) {
-    auto it = o.settings.find("schedule");
-    if (it == o.settings.end()) return "";
-    std::string s = it->second;
-    if (s != "dynamic" && s != "static") throw Error("mpi backend: schedule must be dynamic or static, not '" + s + "'");
-    return s;
-  }
-  static std::size_t chunk_of(const Options& o) {
-    auto it = o.settings.find("chunk");
-    if (it == o.settings.end()) return 0;
-    try {
-      long long n = std::stoll(it->second);
-      if (n < 1) throw std::invalid_argument("");
-      return static_cast<std::size_t>(n);
-    } catch (const std::exception&) {
-      throw Error("mpi backend: chunk must be a positive number of elements, not '" + it->second + "'");
-    }
+  static std::string local_backend_of(const Options& o) {
+    std::string name = o.local.empty() ? preferred_backend_name(Options::backend_name) : o.local;
+    if (name == Options::backend_name) throw Error("mpi backend: the local backend cannot be mpi itself");
+    return name;
   }
 
   ir::Program program_;
-  std::string schedule_;
-  std::size_t chunk_;
+  Options mine_;
   SplitSettings split_;
+  std::string local_name_;
   std::uint64_t id_ = 0;
   int ranks_ = 1;
   std::unique_ptr<Kernel> local_;
@@ -390,7 +374,7 @@ class Coordinator : public Kernel {
 
 }  // namespace
 
-std::unique_ptr<Kernel> coordinator(const ir::Program& program, const Options& options) {
+std::unique_ptr<Kernel> coordinator(const ir::Program& program, const sh::Options& options) {
   return std::make_unique<Coordinator>(program, options);
 }
 

@@ -7,6 +7,6 @@ namespace sh::mpi {
 
 // Rank 0's kernel: compiles locally and on every rank, and runs a stream
 // by handing chunks to whichever rank asks while computing chunks itself.
-std::unique_ptr<Kernel> coordinator(const ir::Program& program, const Options& options);
+std::unique_ptr<Kernel> coordinator(const ir::Program& program, const sh::Options& options);
 
 }  // namespace sh::mpi

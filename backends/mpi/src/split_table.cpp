@@ -4,35 +4,18 @@
 #include <chrono>
 #include <cstring>
 
+#include "options.hpp"
 #include "sh/error.hpp"
 
 namespace sh::mpi {
-namespace {
-
-std::size_t count_setting(const Options& o, const char* name, std::size_t fallback, std::size_t least,
-                          std::size_t most = SIZE_MAX / 2) {
-  auto it = o.settings.find(name);
-  if (it == o.settings.end()) return fallback;
-  try {
-    std::size_t used = 0;
-    long long n = std::stoll(it->second, &used);
-    if (used != it->second.size() || n < static_cast<long long>(least) || static_cast<std::size_t>(n) > most)
-      throw std::invalid_argument("");
-    return static_cast<std::size_t>(n);
-  } catch (const std::exception&) {
-    throw Error("mpi backend: setting \"" + std::string(name) + "\" must be a whole number from " + std::to_string(least) +
-                " to " + std::to_string(most) + ", not '" + it->second + "'");
-  }
-}
-
-}  // namespace
 
 SplitSettings split_settings(const Options& o) {
+  check(o);
   SplitSettings s;
-  s.enabled = o.settings.count("split_tables") > 0;
-  s.min_bytes = count_setting(o, "split_tables", 0, 0);
-  s.block_bytes = count_setting(o, "block_bytes", s.block_bytes, 1, 1 << 24);  // one MPI_Get moves a block
-  s.cache_blocks = count_setting(o, "cache_blocks", s.cache_blocks, 1, 1 << 20);
+  s.enabled = o.split_tables.has_value();
+  s.min_bytes = o.split_tables.value_or(0);
+  s.block_bytes = o.block_bytes;
+  s.cache_blocks = o.cache_blocks;
   return s;
 }
 

@@ -15,19 +15,19 @@
 #include <string>
 #include <vector>
 
-#include "sh/backend.hpp"
+#include "sh/mpi.hpp"
 
 namespace sh::mpi {
 
-// What a run asked for: tables of at least `min_bytes` are split.
+// What a run asked for: tables of at least `min_bytes` are split.  Sent
+// to the ranks as it is.
 struct SplitSettings {
   bool enabled = false;
   std::size_t min_bytes = 0;
   std::size_t block_bytes = 2048;
   std::size_t cache_blocks = 64;
 };
-// From Options::settings "split_tables" (minimum bytes), "block_bytes",
-// "cache_blocks"; throws sh::Error naming a bad one.
+// From mpi::Options (split_tables, block_bytes, cache_blocks), checked.
 SplitSettings split_settings(const Options& options);
 
 // How a table's elements fall into blocks and onto ranks.

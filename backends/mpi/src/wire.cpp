@@ -13,15 +13,18 @@ const char* Unpacker::take(std::size_t n) {
   return p;
 }
 
-void pack(Packer& p, const Options& o) {
+void pack(Packer& p, const sh::Options& o) {
   p.put(o.precision).put(o.math).put(o.threads).put(o.max_loop_iterations).put(o.checked).put(o.optimize);
-  p.put(o.device).put(o.local_backend);
-  p.put(static_cast<std::uint64_t>(o.settings.size()));
-  for (const auto& [name, value] : o.settings) p.put(name).put(value);
+  p.put(o.device);
+  Settings settings;
+  for (const auto& [backend, options] : o.backends)
+    for (const auto& [name, value] : options.settings()) settings[backend + "." + name] = value;
+  p.put(static_cast<std::uint64_t>(settings.size()));
+  for (const auto& [name, value] : settings) p.put(name).put(value);
 }
 
-Options unpack_options(Unpacker& u) {
-  Options o;
+sh::Options unpack_options(Unpacker& u) {
+  sh::Options o;
   o.precision = u.get<Precision>();
   o.math = u.get<MathMode>();
   o.threads = u.get<int>();
@@ -29,11 +32,10 @@ Options unpack_options(Unpacker& u) {
   o.checked = u.get<bool>();
   o.optimize = u.get<bool>();
   o.device = u.text();
-  o.local_backend = u.text();
   auto n = u.get<std::uint64_t>();
   for (std::uint64_t i = 0; i < n; ++i) {
     std::string name = u.text();
-    o.settings[name] = u.text();
+    o.set(name, u.text());
   }
   return o;
 }

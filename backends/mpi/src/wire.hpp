@@ -62,8 +62,10 @@ class Unpacker {
   std::size_t at_ = 0;
 };
 
-void pack(Packer& p, const Options& o);
-Options unpack_options(Unpacker& u);
+// sh::Options (spelt out: sh::mpi::Options are the backend's own), each
+// backend's own options in their string form, parsed again on arrival.
+void pack(Packer& p, const sh::Options& o);
+sh::Options unpack_options(Unpacker& u);
 
 // Counted, checked transfers (MPI errors end the job, as MPI's default).
 struct Traffic {

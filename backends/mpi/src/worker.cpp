@@ -55,13 +55,14 @@ class Worker {
  private:
   void compile(Unpacker& u) {
     auto id = u.get<std::uint64_t>();
-    Options o = unpack_options(u);
-    std::string ir = u.text();
+    std::string local = u.text();
     Traffic t;
     try {
+      sh::Options o = unpack_options(u);
+      std::string ir = u.text();
       LocalKernel k;
       k.program = ir::deserialize(ir);
-      k.kernel = find_backend(o.local_backend).compile(k.program, o);
+      k.kernel = find_backend(local).compile(k.program, o);
       kernels_[id] = std::move(k);
       send({}, 0, kDone, t);
     } catch (const std::exception& e) {

@@ -225,12 +225,11 @@ class OpenClBackend : public Backend {
   }
 };
 
+// Registered as the library loads: linking it is enough.
+const bool registered = (sh::register_backend("opencl", [] { return std::make_unique<OpenClBackend>(); }), true);
+
 }  // namespace
 
 std::vector<std::string> devices() { return list_devices(); }
-
-void register_backend() {
-  sh::register_backend("opencl", [] { return std::make_unique<OpenClBackend>(); });
-}
 
 }  // namespace sh::opencl

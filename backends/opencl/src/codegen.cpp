@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sh/ir/printer.hpp"
+#include "sh/ir/verifier.hpp"
 
 namespace sh::opencl {
 namespace {
@@ -242,7 +243,7 @@ class Generator {
   // One case per row of the op table (ops.def), no default: a new
   // operation does not build until it is generated here.  Signed overflow
   // is undefined in OpenCL C, so wrapping integer arithmetic goes through
-  // uint; division by zero gives 0 and INT_MIN / -1 wraps.
+  // uint.
   std::string operation(ir::Op op, ir::Scalar from, ir::Scalar to, const std::string& a, const std::string& b,
                         const std::string& c) const {
     using ir::Op;
@@ -255,16 +256,15 @@ class Generator {
       return std::string(f) + "(" + x + ", " + y + ")";
     };
     auto wrap = [&](const char* sym) { return "(int)((uint)" + a + " " + sym + " (uint)" + b + ")"; };
-    std::string overflow = "(" + a + " == (-2147483647 - 1) && " + b + " == -1)";
     switch (op) {
       case Op::Mov: return a;
       case Op::Cast: return cast(a, from, to);
       case Op::Add: return fp ? a + " + " + b : wrap("+");
       case Op::Sub: return fp ? a + " - " + b : wrap("-");
       case Op::Mul: return fp ? a + " * " + b : wrap("*");
-      case Op::Div:
-        return fp ? a + " / " + b : "(" + b + " == 0 ? 0 : " + overflow + " ? " + a + " : " + a + " / " + b + ")";
-      case Op::Mod: return fp ? call2("fmod", a, b) : "(" + b + " == 0 || " + overflow + " ? 0 : " + a + " % " + b + ")";
+      // Legal IR divides integers only by divisors that cannot trap.
+      case Op::Div: return a + " / " + b;
+      case Op::Mod: return fp ? call2("fmod", a, b) : a + " % " + b;
       case Op::Neg: return fp ? "-" + a : "(int)(0u - (uint)" + a + ")";
       case Op::Min: return call2(fp ? "fmin" : "min", a, b);
       case Op::Max: return call2(fp ? "fmax" : "max", a, b);
@@ -290,6 +290,15 @@ class Generator {
       case Op::Acos: return call("acos", a);
       case Op::Atan: return call("atan", a);
       case Op::Atan2: return call2("atan2", a, b);
+      case Op::Sinh: return call("sinh", a);
+      case Op::Cosh: return call("cosh", a);
+      case Op::Tanh: return call("tanh", a);
+      case Op::Asinh: return call("asinh", a);
+      case Op::Acosh: return call("acosh", a);
+      case Op::Atanh: return call("atanh", a);
+      case Op::Exp10: return call("exp10", a);
+      case Op::Log10: return call("log10", a);
+      case Op::Cbrt: return call("cbrt", a);
       case Op::Lt: return mask(a + " < " + b);
       case Op::Le: return mask(a + " <= " + b);
       case Op::Gt: return mask(a + " > " + b);
@@ -300,7 +309,8 @@ class Generator {
       case Op::Or: return mask(pos(a) + " || " + pos(b));
       case Op::Not: return mask("!" + pos(a));
       case Op::Cond: return pos(a) + " ? " + b + " : " + c;
-      case Op::Fetch: case Op::Sample: break;  // table_read()
+      case Op::Extent: case Op::Load: break;   // table_read()
+      case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
   }
@@ -311,18 +321,14 @@ class Generator {
     return std::string("(") + reg_type(to) + ")(" + a + ")";
   }
 
-  // The element a read or scatter names, clamped exactly as
-  // sh::fetch_index / sample_index do.
-  std::string flat_index(int table, const ir::Operand& coord, bool sample) const {
+  // The element a read or scatter names (coordinates in range: legal IR).
+  std::string flat_index(int table, const ir::Operand& coord) const {
     std::string name = "table" + std::to_string(table);
-    ir::Scalar coord_scalar = p_.type_of(coord.var).scalar;
     std::string index, stride = "1";
     for (int d = 0; d < p_.tables[table].rank; ++d) {
       std::string dim = name + "_" + kComponent[d];
-      std::string i = read(coord, d);
-      if (sample) i = "convert_int_sat(floor(" + i + " * (" + reg_type(coord_scalar) + ")" + dim + "))";
-      std::string clamped = "(long)clamp(" + i + ", 0, " + dim + " - 1)";
-      index += (d ? " + " : "") + clamped + (d ? " * " + stride : "");
+      std::string i = "(long)" + read(coord, d);
+      index += (d ? " + " : "") + i + (d ? " * " + stride : "");
       stride = d ? stride + " * " + dim : "(long)" + dim;
     }
     return "(" + index + ") * " + std::to_string(p_.tables[table].element.width);
@@ -331,7 +337,11 @@ class Generator {
   void table_read(const ir::Assign& a, std::string* results) {
     const ir::TableDecl& t = p_.tables[a.table];
     std::string name = "table" + std::to_string(a.table);
-    std::string at = flat_index(a.table, a.args[0], a.op == ir::Op::Sample);
+    if (a.op == ir::Op::Extent) {
+      for (int d = 0; d < t.rank; ++d) results[d] = name + "_" + kComponent[d];
+      return;
+    }
+    std::string at = flat_index(a.table, a.args[0]);
     for (int c = 0; c < t.element.width; ++c)
       results[c] = std::string("(") + reg_type(t.element.scalar) + ")" + name + "[" + at + " + " + std::to_string(c) + "]";
   }
@@ -341,7 +351,7 @@ class Generator {
     const ir::TableDecl& t = p_.tables[sc.table];
     bool is_float = ir::is_float(t.element.scalar);
     line(depth, "{");
-    line(depth + 1, "const long at = " + flat_index(sc.table, sc.index, false) + ";");
+    line(depth + 1, "const long at = " + flat_index(sc.table, sc.index) + ";");
     for (int c = 0; c < t.element.width; ++c) {
       std::string place = "table" + std::to_string(sc.table) + " + at + " + std::to_string(c);
       std::string value = std::string("(") + storage_type(t.element.scalar) + ")" + read(sc.value, c);
@@ -365,6 +375,9 @@ class Generator {
 
 }  // namespace
 
-Source generate(const ir::Program& program, const Options& options) { return Generator(program, options).run(); }
+Source generate(const ir::Program& program, const Options& options) {
+  ir::verify_legal(program);
+  return Generator(program, options).run();
+}
 
 }  // namespace sh::opencl

@@ -3,10 +3,15 @@
 // by name, and the run() call users make.  A kernel is a pure function of
 // the optimised IR and the options: uniform values and tables are handed to
 // it at every run, so a new uniform value never recompiles anything.
+//
+// dsl names no backend but its own interpreter: a backend's library
+// registers it as the library loads, and the umbrella target sh::sh keeps
+// every backend built linked into the program (see the top CMakeLists.txt).
+// sh::backends() lists what is there.  A backend's header (sh/cpu.hpp,
+// sh/mpi.hpp, ...) holds only its own API: its options, its statistics.
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,29 +19,10 @@
 #include "sh/error.hpp"
 #include "sh/ir/eval.hpp"
 #include "sh/ir/program.hpp"
+#include "sh/options.hpp"
 #include "sh/program.hpp"
 
 namespace sh {
-
-using ir::Precision;
-enum class MathMode : std::uint8_t { Precise, Fast };
-
-struct Options {
-  Precision precision = Precision::F32;
-  MathMode math = MathMode::Precise;
-  int threads = 0;                        // 0: every core
-  std::uint64_t max_loop_iterations = 1u << 24;  // per loop, per element
-  bool checked = false;                   // interp: report first NaN / bad table read
-  bool optimize = true;                   // run the passes before compiling
-  std::string device;                     // backend-specific device choice
-  std::string local_backend;              // for backends that delegate (mpi): what each part runs; default cpu
-  // Backend-specific knobs by name (cpu: "width", "tables"; mpi: "chunk"
-  // elements per chunk, "schedule" dynamic or static, "split_tables",
-  // "block_bytes", "cache_blocks").  Part of the kernel key.
-  std::map<std::string, std::string> settings;
-
-  std::string key() const;  // what a compiled kernel depends on
-};
 
 struct BufferView {
   ir::Type type;
@@ -44,14 +30,16 @@ struct BufferView {
   void* data = nullptr;
 };
 
-// A table this process does not hold whole (the mpi backend splits big
-// tables across ranks): a kernel asks it for the span of elements held
+// A table read on demand instead of from memory: whoever calls Kernel::run
+// may hand a kernel a table it does not hold whole (TableView::data null,
+// ::source set).  The kernel asks the source for the span of elements held
 // together with the one it reads (a block), and reads that span's other
 // elements without asking again until it needs one outside.  A span stays
-// valid until the next call; a source is called from one thread at a time
-// (the kernels that read one run on one).  The interpreter reads through
-// sources; the cpu backend does when compiled with the setting "tables":
-// "fetched"; OpenCL kernels cannot call back.
+// valid until the next call; a source is called from one thread at a time.
+// A part of the kernel interface, not of one backend: the mpi backend's
+// tables split across ranks are sources, and so are a test's; kernels that
+// can call back into the host read through them (interp always, cpu when
+// compiled for it: Backend::read_through_sources); OpenCL kernels cannot.
 class TableSource {
  public:
   struct Span {
@@ -86,38 +74,18 @@ struct RunArgs {
   std::vector<TableView> tables;                // parallel to ir.tables
 };
 
-// What one part of a run did: a rank of the mpi backend, for instance.
-struct PartStats {
-  int part = 0;
-  std::size_t elements = 0, chunks = 0;
-  double busy_s = 0, idle_s = 0;
-  std::size_t bytes_sent = 0, bytes_received = 0;
-  std::size_t waves = 0, resumed = 0;  // see RunStats
+// Figures a backend reports beyond RunStats' own (the mpi backend's per
+// rank and per split table: sh::mpi::RunDetails in sh/mpi.hpp).
+class RunDetails {
+ public:
+  virtual ~RunDetails() = default;
+  virtual std::unique_ptr<RunDetails> clone() const = 0;
+  // Adds the figures of another run of the same backend, for a caller
+  // that totals several runs (a render); another backend's are ignored.
+  virtual void add(const RunDetails& more) = 0;
+  // One line each, for reports (shtrace prints them).
+  virtual std::vector<std::string> describe() const = 0;
 };
-
-// Reads of a table through a cache of blocks (the mpi backend's split
-// tables): a miss fills a block from this process (local) or another.
-struct CacheCounts {
-  std::size_t reads = 0, local_misses = 0, remote_misses = 0;
-  double fill_s = 0;  // time spent filling blocks
-  CacheCounts& operator+=(const CacheCounts& o) {
-    reads += o.reads;
-    local_misses += o.local_misses;
-    remote_misses += o.remote_misses;
-    fill_s += o.fill_s;
-    return *this;
-  }
-  double hit_rate() const { return reads ? 1.0 - static_cast<double>(local_misses + remote_misses) / reads : 1.0; }
-};
-
-struct TableCacheStats {
-  std::string table;
-  std::size_t blocks = 0, cache_blocks = 0;  // the table's, and each part's cache's
-  CacheCounts counts;                        // summed over parts
-};
-
-// Adds `more`'s counts into `total`'s, table by table (by name).
-void add_cache_stats(std::vector<TableCacheStats>& total, const std::vector<TableCacheStats>& more);
 
 struct RunStats {
   std::string backend;
@@ -126,13 +94,19 @@ struct RunStats {
   double run_ms = 0;
   std::size_t elements = 0;
   std::vector<std::string> diagnostics;  // checked mode findings
-  std::vector<PartStats> parts;          // per rank (or device), where the backend has them
   // Runs in waves (waves.hpp): waves after the first, element runs they
   // took, and per part the refiner's summary of what it has built.
   std::size_t waves = 0, resumed = 0;
   std::vector<std::string> refined;
-  std::vector<TableCacheStats> caches;  // tables read through caches
+  std::shared_ptr<RunDetails> details;  // the backend's own figures, where it has some
+  template <class T>
+  const T* details_as() const {
+    return dynamic_cast<const T*>(details.get());
+  }
 };
+
+// Adds a run's details into `total` (a copy of them where total is empty).
+void add_details(std::shared_ptr<RunDetails>& total, const std::shared_ptr<RunDetails>& more);
 
 struct Waves;
 
@@ -153,14 +127,34 @@ class Backend {
   virtual std::unique_ptr<Kernel> compile(const ir::Program& program, const Options& options) = 0;
   // Devices or platform in one line each, for `info`.
   virtual std::vector<std::string> describe() const { return {}; }
-  // The code-generation modes a user can pick by settings, each a different
+
+  // The settings of this backend's own options in their string form (see
+  // Options::set): each name and the values it takes.
+  struct Setting {
+    std::string name, values;
+  };
+  virtual std::vector<Setting> settings() const { return {}; }
+  // This backend's own options at their defaults; empty where it has none.
+  virtual BackendOptions default_options() const { return {}; }
+
+  // The code-generation modes a user can pick by options, each a different
   // code path that the conformance suite runs (cpu: scalar and each SPMD
-  // width).  One unnamed variant with no settings by default.
+  // width).  One unnamed variant with no options by default.
   struct Variant {
     std::string name;
-    std::map<std::string, std::string> settings;
+    BackendOptions options;
   };
   virtual std::vector<Variant> variants() const { return {{}}; }
+
+  // Makes `options` ask for kernels that read a table whose TableView::data
+  // is null through its TableSource, from one thread at a time; false, and
+  // `options` unchanged, where this backend's kernels cannot call back into
+  // the host.  A backend that hands its local kernels such tables (mpi)
+  // asks its local backend this.
+  virtual bool read_through_sources(Options& options) const {
+    (void)options;
+    return false;
+  }
 };
 
 // The error every backend gives when an element runs a loop past
@@ -168,11 +162,28 @@ class Backend {
 Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t element, std::uint64_t cap);
 
 using BackendFactory = std::function<std::unique_ptr<Backend>()>;
-void register_backend(const std::string& name, BackendFactory factory);
+// Called by a backend's library as it loads (a static initializer).  Where
+// no backend is named, programs run on the one with the highest
+// `preference` (interp has 1).
+void register_backend(const std::string& name, BackendFactory factory, int preference = 0);
 std::vector<std::string> backend_names();
 Backend& find_backend(const std::string& name);  // throws sh::Error naming the known ones
 
-// SH_BACKEND from the environment, else "cpu" where built, else "interp".
+// What a linked backend offers: the variants a conformance run covers and
+// the settings of its own options.  Backend::describe() adds its devices.
+struct BackendInfo {
+  std::string name;
+  std::vector<Backend::Variant> variants;
+  std::vector<Backend::Setting> settings;
+  int preference = 0;
+};
+// Every backend in this process, by name: interp, and each one linked.
+std::vector<BackendInfo> backends();
+
+// The linked backend with the highest preference, `except` left out.
+std::string preferred_backend_name(const std::string& except = "");
+// use_backend()'s choice, else SH_BACKEND from the environment, else the
+// preferred backend.
 std::string default_backend_name();
 void use_backend(const std::string& name);  // Sh's shUseBackend
 

@@ -58,6 +58,15 @@ SH_UNARY_FUNCTION(tan, Tan)
 SH_UNARY_FUNCTION(asin, Asin)
 SH_UNARY_FUNCTION(acos, Acos)
 SH_UNARY_FUNCTION(atan, Atan)
+SH_UNARY_FUNCTION(sinh, Sinh)
+SH_UNARY_FUNCTION(cosh, Cosh)
+SH_UNARY_FUNCTION(tanh, Tanh)
+SH_UNARY_FUNCTION(asinh, Asinh)
+SH_UNARY_FUNCTION(acosh, Acosh)
+SH_UNARY_FUNCTION(atanh, Atanh)
+SH_UNARY_FUNCTION(exp10, Exp10)
+SH_UNARY_FUNCTION(log10, Log10)
+SH_UNARY_FUNCTION(cbrt, Cbrt)
 #undef SH_UNARY_FUNCTION
 
 #define SH_BINARY_FUNCTION(name, OP)                                                      \

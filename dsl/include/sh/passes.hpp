@@ -14,6 +14,10 @@ ir::Program eliminate_common_subexpressions(ir::Program p);
 ir::Program eliminate_dead_code(ir::Program p);
 ir::Program coalesce_moves(ir::Program p);
 ir::Program compact_variables(ir::Program p);
+// What every backend is given: table reads as in-range loads, integer
+// division that cannot trap (legalize.cpp says how).  Not an optimisation:
+// the runtime runs it after the pipeline, always.
+ir::Program legalize(ir::Program p);
 
 }  // namespace sh::passes
 

@@ -1,15 +1,7 @@
 #pragma once
-// Everything a user needs: the language and every backend that was built.
-// A backend's header registers it when included (only the targets linked
-// through sh::sh put those headers on the include path).
+// Everything a user needs: the language and the backend interface.  The
+// backends are not named here: each registers itself when its library is
+// linked (sh::sh links every one built), and sh::backends() lists them.
+// Include a backend's own header (sh/cpu.hpp, sh/opencl.hpp, sh/mpi.hpp)
+// only for its own API: typed options, statistics, devices, MPI ranks.
 #include "sh/dsl.hpp"
-
-#if __has_include(<sh/cpu.hpp>)
-#include <sh/cpu.hpp>
-#endif
-#if __has_include(<sh/opencl.hpp>)
-#include <sh/opencl.hpp>
-#endif
-#if __has_include(<sh/mpi.hpp>)
-#include <sh/mpi.hpp>
-#endif

@@ -5,7 +5,7 @@
 
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
-#include "sh/table_index.hpp"
+#include "sh/ir/verifier.hpp"
 
 namespace sh::interp {
 namespace {
@@ -117,22 +117,39 @@ class Machine {
     for (int i = 0; i < n; ++i) regs_[a.dest][a.mask[i]] = result[i];
   }
 
+  // Legal IR reads tables at coordinates in range; one outside would be a
+  // legaliser's fault, reported rather than read.
+  std::size_t element_at(const TableView& t, const ir::Operand& coords, const ir::Stmt& s) {
+    std::size_t flat = 0, stride = 1;
+    for (int d = 0; d < t.rank; ++d) {
+      double i = arg(coords, d);
+      if (!(i >= 0 && i < t.dims[d]))
+        throw Error("program '" + p_.name + "': element " + std::to_string(element_) + " reads outside a table in `" +
+                    ir::print(p_, s) + "` (the IR is not legal)");
+      flat += static_cast<std::size_t>(i) * stride;
+      stride *= static_cast<std::size_t>(t.dims[d]);
+    }
+    return flat;
+  }
+
   Reg table_read(const ir::Assign& a, const ir::Stmt& s) {
     const TableView& t = a_.tables[a.table];
-    const ir::Operand& c = a.args[0];
-    TableIndex index = a.op == ir::Op::Fetch ? fetch_index(t, [&](int i) { return arg(c, i); })
-                                             : sample_index(t, [&](int i) { return arg(c, i); },
-                                                            p_.type_of(c.var).scalar, o_.precision);
-    if (o_.checked && index.clamped) note("first out-of-range table read", s);
     Reg r{};
+    if (a.op == ir::Op::Extent) {
+      for (int d = 0; d < t.rank; ++d) r[d] = t.dims[d];
+      return r;
+    }
+    std::size_t element = element_at(t, a.args[0], s);
+    if (o_.checked)
+      for (int d = 0; d < t.rank; ++d)
+        if (arg(a.args[0], d) != arg(a.args[1], d)) note("first out-of-range table read", s);
     if (t.source) {
-      TableSource::Span span = t.source->span_of(index.element);
-      std::size_t at = (index.element - span.first) * t.element.width;
+      TableSource::Span span = t.source->span_of(element);
+      std::size_t at = (element - span.first) * t.element.width;
       for (int k = 0; k < t.element.width; ++k) r[k] = read_component(t.element.scalar, span.data, at + k);
       return r;
     }
-    for (int k = 0; k < t.element.width; ++k)
-      r[k] = read_component(t.element.scalar, t.data, index.element * t.element.width + k);
+    for (int k = 0; k < t.element.width; ++k) r[k] = read_component(t.element.scalar, t.data, element * t.element.width + k);
     return r;
   }
 
@@ -140,10 +157,9 @@ class Machine {
   // storage as every backend's atomic addition is.
   void scatter(const ir::Scatter& sc, const ir::Stmt& s) {
     const TableView& t = a_.tables[sc.table];
-    TableIndex index = fetch_index(t, [&](int i) { return arg(sc.index, i); });
-    if (o_.checked && index.clamped) note("first out-of-range scatter", s);
+    std::size_t element = element_at(t, sc.index, s);
     for (int k = 0; k < t.element.width; ++k) {
-      std::size_t at = index.element * t.element.width + k;
+      std::size_t at = element * t.element.width + k;
       write_component(t.element.scalar, t.sums, at, read_component(t.element.scalar, t.sums, at) + arg(sc.value, k));
     }
   }
@@ -191,11 +207,14 @@ class InterpBackend : public Backend {
  public:
   std::string name() const override { return "interp"; }
   std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+    ir::verify_legal(p);
     return std::make_unique<InterpKernel>(p, o);
   }
   std::vector<std::string> describe() const override {
     return {"interp: reference interpreter on the host (f32 and f64, checked mode)"};
   }
+  // Every table read goes through the TableView; elements run one by one.
+  bool read_through_sources(Options&) const override { return true; }
 };
 
 }  // namespace

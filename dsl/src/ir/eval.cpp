@@ -84,6 +84,15 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Acos: return f(std::acos(a));
     case Op::Atan: return f(std::atan(a));
     case Op::Atan2: return f(std::atan2(a, b));
+    case Op::Sinh: return f(std::sinh(a));
+    case Op::Cosh: return f(std::cosh(a));
+    case Op::Tanh: return f(std::tanh(a));
+    case Op::Asinh: return f(std::asinh(a));
+    case Op::Acosh: return f(std::acosh(a));
+    case Op::Atanh: return f(std::atanh(a));
+    case Op::Exp10: return f(std::pow(10.0, a));  // <cmath> has no exp10
+    case Op::Log10: return f(std::log10(a));
+    case Op::Cbrt: return f(std::cbrt(a));
     case Op::Lt: return a < b;
     case Op::Le: return a <= b;
     case Op::Gt: return a > b;
@@ -94,7 +103,7 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Or: return truthy(a) || truthy(b);
     case Op::Not: return !truthy(a);
     case Op::Cond: return truthy(a) ? b : c;
-    case Op::Fetch: case Op::Sample: break;
+    case Op::Fetch: case Op::Sample: case Op::Extent: case Op::Load: break;
   }
   throw Error(std::string("ir::eval: ") + op_name(op) + " reads a table; only a backend evaluates it");
 }

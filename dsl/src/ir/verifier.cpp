@@ -4,6 +4,7 @@
 
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
+#include "sh/ir/visitor.hpp"
 
 namespace sh::ir {
 namespace {
@@ -80,9 +81,15 @@ class Verifier {
   void table_read(const Assign& a, const Stmt& s) {
     if (a.table < 0 || a.table >= static_cast<int>(p_.tables.size())) fail("reads an undeclared table", &s);
     const TableDecl& t = p_.tables[a.table];
-    if (a.args[0].width() != t.rank) fail("table coordinates do not match the table's rank", &s);
-    Scalar coord = p_.type_of(a.args[0].var).scalar;
-    if (!accepts(a.op, coord)) fail(std::string(op_name(a.op)) + " coordinates must be " + domain_name(op_info(a.op).domain), &s);
+    if (op_info(a.op).result == ResultRule::TableShape) {
+      if (a.mask.size != t.rank || p_.type_of(a.dest).scalar != Scalar::I32) fail("a table's extent is i32, one per dimension", &s);
+      return;
+    }
+    for (const Operand& coords : a.args) {
+      if (coords.width() != t.rank) fail("table coordinates do not match the table's rank", &s);
+      Scalar coord = p_.type_of(coords.var).scalar;
+      if (!accepts(a.op, coord)) fail(std::string(op_name(a.op)) + " coordinates must be " + domain_name(op_info(a.op).domain), &s);
+    }
     if (t.accumulator) fail("reads an accumulator (its sums are defined only after the run)", &s);
     if (a.mask.size != t.element.width) fail("table read result width differs from the element width", &s);
     if (p_.type_of(a.dest).scalar != t.element.scalar) fail("table read result type differs from the element type", &s);
@@ -128,5 +135,19 @@ class Verifier {
 }  // namespace
 
 void verify(const Program& p) { Verifier(p).run(); }
+
+void verify_legal(const Program& p) {
+  struct Legality : Visitor {
+    using Visitor::visit;
+    const Program* p;
+    void visit(const Assign& a) override {
+      if (!is_legal(a.op))
+        throw Error("program '" + p->name + "': `" + print(*p, Stmt{a}) +
+                    "` is not legal IR; backends are given sh::passes::legalize's output");
+    }
+  } check;
+  check.p = &p;
+  check.visit(p.body);
+}
 
 }  // namespace sh::ir

@@ -14,9 +14,14 @@
 namespace sh {
 namespace {
 
+struct Registered {
+  BackendFactory factory;
+  int preference = 0;
+};
+
 struct Registry {
   std::mutex mutex;
-  std::map<std::string, BackendFactory> factories;
+  std::map<std::string, Registered> factories;
   std::map<std::string, std::unique_ptr<Backend>> instances;
   std::map<std::string, std::shared_ptr<Kernel>> kernels;
   std::string chosen;  // use_backend()
@@ -25,7 +30,7 @@ struct Registry {
 Registry& registry() {
   static Registry r;
   static bool builtin = [] {
-    r.factories["interp"] = interp::make_backend;
+    r.factories["interp"] = {interp::make_backend, 1};
     return true;
   }();
   (void)builtin;
@@ -49,7 +54,7 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     if (it != r.kernels.end()) return it->second;
   }
   auto t0 = std::chrono::steady_clock::now();
-  ir::Program ir = options.optimize ? optimize(program.ir(), options.precision) : program.ir();
+  ir::Program ir = passes::legalize(options.optimize ? optimize(program.ir(), options.precision) : program.ir());
   std::shared_ptr<Kernel> kernel = b.compile(ir, options);
   stats.compiled = true;
   stats.compile_ms = ms_since(t0);
@@ -109,14 +114,12 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
 
 }  // namespace
 
-void add_cache_stats(std::vector<TableCacheStats>& total, const std::vector<TableCacheStats>& more) {
-  for (const TableCacheStats& m : more) {
-    auto it = std::find_if(total.begin(), total.end(), [&](const TableCacheStats& t) { return t.table == m.table; });
-    if (it == total.end())
-      total.push_back(m);
-    else
-      it->counts += m.counts;
-  }
+void add_details(std::shared_ptr<RunDetails>& total, const std::shared_ptr<RunDetails>& more) {
+  if (!more) return;
+  if (total)
+    total->add(*more);
+  else
+    total = more->clone();
 }
 
 Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t element, std::uint64_t cap) {
@@ -125,18 +128,10 @@ Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t ele
                "`); raise Options::max_loop_iterations if that is intended");
 }
 
-std::string Options::key() const {
-  std::string k = std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
-                  ",t" + std::to_string(threads) + ",cap" + std::to_string(max_loop_iterations) + (checked ? ",checked" : "") +
-                  (optimize ? "" : ",noopt") + ",dev=" + device + ",local=" + local_backend;
-  for (const auto& [name, value] : settings) k += "," + name + "=" + value;
-  return k;
-}
-
-void register_backend(const std::string& name, BackendFactory factory) {
+void register_backend(const std::string& name, BackendFactory factory, int preference) {
   Registry& r = registry();
   std::lock_guard<std::mutex> lock(r.mutex);
-  r.factories[name] = std::move(factory);
+  r.factories[name] = {std::move(factory), preference};
 }
 
 std::vector<std::string> backend_names() {
@@ -158,7 +153,31 @@ Backend& find_backend(const std::string& name) {
     for (const auto& [n, ignored] : r.factories) known += (known.empty() ? "" : ", ") + n;
     throw Error("unknown backend '" + name + "' (built: " + known + ")");
   }
-  return *r.instances.emplace(name, f->second()).first->second;
+  return *r.instances.emplace(name, f->second.factory()).first->second;
+}
+
+std::vector<BackendInfo> backends() {
+  std::vector<BackendInfo> all;
+  for (const std::string& name : backend_names()) {
+    Backend& b = find_backend(name);
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    all.push_back({name, b.variants(), b.settings(), r.factories.at(name).preference});
+  }
+  return all;
+}
+
+std::string preferred_backend_name(const std::string& except) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  const std::string* best = nullptr;
+  int best_preference = 0;
+  for (const auto& [name, registered] : r.factories)
+    if (name != except && (!best || registered.preference > best_preference)) {
+      best = &name;
+      best_preference = registered.preference;
+    }
+  return best ? *best : "interp";
 }
 
 std::string default_backend_name() {
@@ -168,8 +187,7 @@ std::string default_backend_name() {
     if (!r.chosen.empty()) return r.chosen;
   }
   if (const char* env = std::getenv("SH_BACKEND"); env && *env) return env;
-  std::lock_guard<std::mutex> lock(r.mutex);
-  return r.factories.count("cpu") ? "cpu" : "interp";
+  return preferred_backend_name();
 }
 
 void use_backend(const std::string& name) {

@@ -1,29 +1,42 @@
 #pragma once
-// The CPU backend: the optimised IR is lowered to LLVM IR, compiled by
-// LLVM 15's ORC LLJIT for the host CPU, and run over the stream in oneTBB
-// parallel loops.  Including this header registers it as "cpu".
+// The CPU backend, "cpu": the optimised IR is lowered to LLVM IR, compiled
+// by LLVM 15's ORC LLJIT for the host CPU, and run over the stream in
+// oneTBB parallel loops.  Its library registers it when linked (sh::sh).
 //
 // Kernels are SPMD: each SIMD lane runs one stream element (16 lanes with
 // AVX-512, 8 with AVX, else 4), values that cannot differ between lanes
 // stay scalar, divergent ifs and loops run under lane masks, and table
-// reads are gathers.  The setting "width" picks scalar, 4, 8 or 16 lanes
-// ("auto" or absent: the host's); every width gives the same results.
+// reads are gathers.  Every width gives the same results.
 //
-// Options it honours: precision (f32 without FMA contraction, IEEE divide
-// and sqrt; f64 computes every float as double), math (fast: LLVM fast-math
-// flags), threads (a oneTBB arena; 0 = every core), max_loop_iterations,
-// settings["width"], settings["tables"] ("fetched": each table read calls
-// out to the run, so a table may be a TableSource, such as an mpi rank's
-// cache of a table split across ranks; "memory", the default, loads).
+// sh::Options it honours: precision (f32 without FMA contraction, IEEE
+// divide and sqrt; f64 computes every float as double), math (fast: LLVM
+// fast-math flags), threads (a oneTBB arena; 0 = every core),
+// max_loop_iterations, and its own options below.
 // kernel_for(p, backend("cpu"))->listing() gives the optimised LLVM IR.
-#include "sh/backend.hpp"
+#include <cstdint>
+#include <string>
+
+#include "sh/options.hpp"
 
 namespace sh::cpu {
 
-void register_backend();
+// Lanes per kernel: the host's widest vectors (Auto), one (Scalar), or 4,
+// 8 or 16.
+enum class Width : std::uint8_t { Auto = 0, Scalar = 1, Lanes4 = 4, Lanes8 = 8, Lanes16 = 16 };
 
-namespace detail {
-inline const bool registered = (register_backend(), true);
-}  // namespace detail
+// Where table elements are read: from the run's memory, or through a call
+// out of the kernel (Fetched), so that a table may be a TableSource (such
+// as an mpi rank's cache of a table split across ranks).
+enum class Tables : std::uint8_t { Memory, Fetched };
+
+struct Options {
+  static constexpr const char* backend_name = "cpu";
+  Width width = Width::Auto;
+  Tables tables = Tables::Memory;
+
+  // String form: width (scalar, 4, 8, 16, auto), tables (memory, fetched).
+  Settings settings() const;
+  void set(const std::string& name, const std::string& value);
+};
 
 }  // namespace sh::cpu

@@ -24,8 +24,9 @@ inline constexpr int kOpCount = 0
 
 // The operand scalars an operation takes.
 enum class Domain : std::uint8_t { Any, Numeric, Float, Integer };
-// How the result's scalar follows from the operands'.
-enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement };
+// How the result's scalar follows from the operands': the operands', any
+// (Cast), the table's element, or i32 per table dimension.
+enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement, TableShape };
 // Classes the cost analysis counts by.
 enum class OpClass : std::uint8_t { Move, Add, Mul, Div, Negate, Compare, Transcendental, TableRead };
 
@@ -52,7 +53,13 @@ constexpr Op op_at(int i) { return static_cast<Op>(i); }
 constexpr const OpInfo& op_info(Op op) { return detail::kOpTable[static_cast<int>(op)]; }
 constexpr const char* op_name(Op op) { return op_info(op).name; }
 constexpr int op_arity(Op op) { return op_info(op).arity; }
-constexpr bool is_table_read(Op op) { return op_info(op).result == ResultRule::TableElement; }
+// Legal IR (what backends are given) holds no fetch or sample.
+constexpr bool is_legal(Op op) { return op != Op::Fetch && op != Op::Sample; }
+// Reads a table's elements or its shape: names a table, and its result
+// follows from the table's declaration.
+constexpr bool is_table_read(Op op) {
+  return op_info(op).result == ResultRule::TableElement || op_info(op).result == ResultRule::TableShape;
+}
 
 constexpr bool accepts(Domain d, Scalar s) {
   switch (d) {

@@ -11,4 +11,9 @@ namespace sh::ir {
 // debug builds.
 void verify(const Program& p);
 
+// Checks that a program is legal IR (sh::passes::legalize's output), what
+// a backend is given: no fetch or sample.  Throws sh::Error naming the
+// program and the statement.
+void verify_legal(const Program& p);
+
 }  // namespace sh::ir

@@ -59,7 +59,7 @@ struct LightPassReport {
   std::size_t rays = 0;
   double run_ms = 0, compile_ms = 0;
   std::string backend;
-  std::vector<TableCacheStats> caches;  // mpi with split tables
+  std::shared_ptr<RunDetails> details;  // the backend's own figures over the pass's runs
 };
 
 // The pass over a scene whose tables are `tables` (grid or static octree).

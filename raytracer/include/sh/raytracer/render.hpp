@@ -56,7 +56,7 @@ struct RenderReport {
   double build_ms = 0;
   std::vector<std::string> refined;
   LightPassReport light;  // bidirectional: the light pass, when this render ran it
-  std::vector<TableCacheStats> caches;  // mpi with split tables: per table, over the render's runs
+  std::shared_ptr<RunDetails> details;  // the backend's own figures over the render's runs (mpi: per rank, per split table)
 };
 
 struct Hits {

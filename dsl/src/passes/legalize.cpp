@@ -1,0 +1,116 @@
+// Legalisation: the rules every backend would otherwise re-implement are
+// written here once, as IR, between the optimiser and the backends.
+//   - Table reads: a fetch's coordinates are clamped to the table's edge
+//     (extent - 1 and 0); a sample's coordinates in [0, 1] are scaled by the
+//     extent, floored and converted (NaN gives 0, out of range saturates)
+//     first.  Both become `load`, whose coordinates are in range; it keeps
+//     the coordinates as asked so that a checked run can say which read
+//     was clamped.  Scatter indices are clamped the same way.
+//   - Integer division and remainder: x / 0 and x % 0 give 0, INT_MIN / -1
+//     gives INT_MIN and INT_MIN % -1 gives 0.  The divisor a backend sees is
+//     never 0 or -1, so its native division cannot trap.
+// Legal IR holds no fetch or sample, and no integer division that could
+// trap; backends lower only that.
+#include "sh/ir/visitor.hpp"
+#include "sh/passes.hpp"
+
+namespace sh::passes {
+namespace {
+
+class Legalizer : public ir::Mutator {
+ public:
+  explicit Legalizer(ir::Program& p) : p_(p) {}
+  using ir::Mutator::mutate;
+
+  void mutate(ir::Assign a, ir::Block& out) override {
+    if (a.op == ir::Op::Fetch || a.op == ir::Op::Sample) return table_read(std::move(a), out);
+    if ((a.op == ir::Op::Div || a.op == ir::Op::Mod) && p_.type_of(a.dest).scalar == ir::Scalar::I32 && may_trap(a.args[1]))
+      return integer_division(std::move(a), out);
+    out.push_back(ir::Stmt{std::move(a)});
+  }
+
+  void mutate(ir::Scatter s, ir::Block& out) override {
+    s.index = clamped(s.table, s.index, out);
+    out.push_back(ir::Stmt{s});
+  }
+
+ private:
+  ir::Operand temp(ir::Type t) { return ir::whole(p_, p_.add_var({ir::VarKind::Temp, t, "", {}})); }
+  ir::Operand number(ir::Scalar s, double v) { return ir::whole(p_, p_.add_const({s, 1}, {v, v, v, v})); }
+
+  ir::Operand emit(ir::Block& out, ir::Type t, ir::Op op, std::vector<ir::Operand> args, int table = -1) {
+    ir::Operand r = temp(t);
+    out.push_back(ir::Stmt{ir::Assign{r.var, r.swizzle, op, std::move(args), table}});
+    return r;
+  }
+
+  ir::Operand extent(int table, ir::Block& out) {
+    return emit(out, {ir::Scalar::I32, p_.tables[table].rank}, ir::Op::Extent, {}, table);
+  }
+
+  // Integer coordinates clamped to [0, extent - 1] in every dimension.
+  ir::Operand clamped(int table, const ir::Operand& coords, ir::Block& out) {
+    ir::Type t{ir::Scalar::I32, coords.width()};
+    ir::Operand last = emit(out, t, ir::Op::Sub, {extent(table, out), number(ir::Scalar::I32, 1)});
+    ir::Operand low = emit(out, t, ir::Op::Max, {coords, number(ir::Scalar::I32, 0)});
+    return emit(out, t, ir::Op::Min, {low, last});
+  }
+
+  void table_read(ir::Assign a, ir::Block& out) {
+    ir::Operand asked = a.args[0];
+    if (a.op == ir::Op::Sample) {
+      ir::Scalar s = p_.type_of(asked.var).scalar;
+      ir::Type t{s, asked.width()};
+      ir::Operand size = emit(out, t, ir::Op::Cast, {extent(a.table, out)});
+      ir::Operand scaled = emit(out, t, ir::Op::Mul, {asked, size});
+      ir::Operand floored = emit(out, t, ir::Op::Floor, {scaled});
+      asked = emit(out, {ir::Scalar::I32, asked.width()}, ir::Op::Cast, {floored});
+    }
+    a.args = {clamped(a.table, asked, out), asked};
+    a.op = ir::Op::Load;
+    out.push_back(ir::Stmt{std::move(a)});
+  }
+
+  // A constant divisor with no component 0 or -1 cannot trap.
+  bool may_trap(const ir::Operand& divisor) const {
+    const ir::Var& v = p_.var(divisor.var);
+    if (v.kind != ir::VarKind::Const) return true;
+    for (int i = 0; i < divisor.width(); ++i) {
+      double d = v.value[divisor.swizzle[i]];
+      if (d == 0 || d == -1) return true;
+    }
+    return false;
+  }
+
+  void integer_division(ir::Assign a, ir::Block& out) {
+    ir::Type t{ir::Scalar::I32, a.mask.size};
+    const ir::Operand x = a.args[0], by = a.args[1];
+    ir::Operand zero = emit(out, t, ir::Op::Eq, {by, number(ir::Scalar::I32, 0)});
+    ir::Operand minus_one = emit(out, t, ir::Op::Eq, {by, number(ir::Scalar::I32, -1)});
+    ir::Operand unsafe = emit(out, t, ir::Op::Or, {zero, minus_one});
+    ir::Operand safe = emit(out, t, ir::Op::Cond, {unsafe, number(ir::Scalar::I32, 1), by});
+    ir::Operand result = emit(out, t, a.op, {x, safe});
+    if (a.op == ir::Op::Div) {
+      // x / -1 is -x, which wraps for INT_MIN.
+      ir::Operand negated = emit(out, t, ir::Op::Neg, {x});
+      result = emit(out, t, ir::Op::Cond, {minus_one, negated, result});
+      a.args = {zero, number(ir::Scalar::I32, 0), result};
+    } else {
+      a.args = {unsafe, number(ir::Scalar::I32, 0), result};
+    }
+    a.op = ir::Op::Cond;
+    out.push_back(ir::Stmt{std::move(a)});
+  }
+
+  ir::Program& p_;
+};
+
+}  // namespace
+
+ir::Program legalize(ir::Program p) {
+  Legalizer l(p);
+  p.body = l.mutate(std::move(p.body));
+  return p;
+}
+
+}  // namespace sh::passes

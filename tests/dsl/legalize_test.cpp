@@ -1,0 +1,103 @@
+// The legalisation pass: what it turns table reads and integer division
+// into, that its output is what backends accept, and that the rules it
+// writes give the documented results on the reference interpreter.
+#include <gtest/gtest.h>
+
+#include <sh/sh.hpp>
+
+#include "../common/expect_error.hpp"
+
+namespace {
+
+using namespace sh;
+
+std::string body_of(const ir::Program& p) {
+  std::string text = ir::print(p);
+  return text.substr(text.find("body\n") + 5);
+}
+
+bool contains(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+
+TEST(Legalize, FetchBecomesAClampedLoad) {
+  Table1D<Attrib1f> t(4);
+  Program p = SH_BEGIN_PROGRAM("fetch") {
+    Input<Attrib1i> i;
+    Output<Attrib1f> r;
+    r = t[i];
+  } SH_END;
+  EXPECT_THROW(ir::verify_legal(p.ir()), Error);
+  ir::Program legal = passes::legalize(p.ir());
+  ir::verify(legal);
+  ir::verify_legal(legal);
+  std::string body = body_of(legal);
+  EXPECT_TRUE(contains(body, "extent #0")) << body;
+  EXPECT_TRUE(contains(body, "max %0, 0")) << body;
+  EXPECT_TRUE(contains(body, "load #0")) << body;
+  EXPECT_FALSE(contains(body, "fetch")) << body;
+}
+
+TEST(Legalize, SampleScalesFloorsAndConvertsBeforeTheClamp) {
+  Table2D<Attrib1f> t(4, 2);
+  Program p = SH_BEGIN_PROGRAM("sample") {
+    Input<Attrib2f> uv;
+    Output<Attrib1f> r;
+    r = t(uv);
+  } SH_END;
+  ir::Program legal = passes::legalize(p.ir());
+  ir::verify_legal(legal);
+  std::string body = body_of(legal);
+  for (const char* step : {"extent #0", "cast f32", "mul", "floor", "cast i32", "load #0"})
+    EXPECT_TRUE(contains(body, step)) << step << " in\n" << body;
+  EXPECT_FALSE(contains(body, "sample")) << body;
+}
+
+TEST(Legalize, IntegerDivisionIsGuardedUnlessTheDivisorIsASafeConstant) {
+  Program p = SH_BEGIN_PROGRAM("divide") {
+    Input<Attrib1i> a;
+    Input<Attrib1i> b;
+    Output<Attrib1i> q;
+    Output<Attrib1i> k;
+    q = a / b;
+    k = a / 3;
+  } SH_END;
+  ir::Program legal = passes::legalize(p.ir());
+  ir::verify_legal(legal);
+  std::string body = body_of(legal);
+  EXPECT_TRUE(contains(body, "div %0, 3")) << body;  // a constant 3 cannot trap
+  EXPECT_TRUE(contains(body, "eq %1, 0")) << body;
+  EXPECT_TRUE(contains(body, "eq %1, -1")) << body;
+}
+
+TEST(Legalize, DefinedResultsOfIntegerDivisionOnTheReference) {
+  Program p = SH_BEGIN_PROGRAM("defined") {
+    Input<Attrib1i> a;
+    Input<Attrib1i> b;
+    Output<Attrib1i> q;
+    Output<Attrib1i> m;
+    q = a / b;
+    m = a % b;
+  } SH_END;
+  Channel<Attrib1i> a(std::vector<std::int32_t>{7, INT32_MIN, INT32_MIN, -7, 0}),
+      b(std::vector<std::int32_t>{0, -1, 1, 2, 0}), q, m;
+  run(p, {a, b}, {q, m}, backend("interp"));
+  std::vector<std::int32_t> want_q{0, INT32_MIN, INT32_MIN, -3, 0}, want_m{0, 0, 0, -1, 0};
+  for (std::size_t i = 0; i < want_q.size(); ++i) {
+    EXPECT_EQ(q[i], want_q[i]) << i;
+    EXPECT_EQ(m[i], want_m[i]) << i;
+  }
+}
+
+TEST(Legalize, BackendsRefuseIllegalIr) {
+  Table1D<Attrib1f> t(4);
+  Program p = SH_BEGIN_PROGRAM("illegal") {
+    Input<Attrib1i> i;
+    Output<Attrib1f> r;
+    r = t[i];
+  } SH_END;
+  for (const std::string& name : backend_names()) {
+    if (name == "mpi") continue;  // delegates to a local backend, which refuses it
+    expect_error([&] { find_backend(name).compile(p.ir(), Options{}); }, {"illegal", "fetch", "not legal IR"});
+  }
+}
+
+}  // namespace
