@@ -104,6 +104,24 @@ TEST(Serialize, EveryValueIsRangeChecked) {
   expect_error([&] { ir::deserialize("{\"scene\": 1}"); }, {"at offset 0: not a serialized program"});
 }
 
+// Ifs nested `depth` deep around one negation.
+ir::Program nested(int depth) {
+  ir::Program p = negation();
+  for (int d = 0; d < depth; ++d) {
+    ir::If i{whole(p, 0), std::move(p.body), {}};
+    p.body = {ir::Stmt{std::move(i)}};
+  }
+  return p;
+}
+
+// The reader recurses once per level: nesting far deeper than a recorded
+// program's is refused before it can exhaust the stack.
+TEST(Serialize, NestingIsBounded) {
+  ir::Program deep = nested(200);
+  EXPECT_EQ(ir::print(ir::deserialize(ir::serialize(deep))), ir::print(deep));
+  expect_error([] { ir::deserialize(ir::serialize(nested(5000))); }, {"statements nested deeper than"});
+}
+
 // Every prefix, every single-bit flip and thousands of random garblings of a
 // program's bytes: each either reads back as a program the verifier accepts
 // or throws sh::Error; none crashes (run under the ASan build too).
