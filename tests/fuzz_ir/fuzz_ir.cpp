@@ -8,7 +8,7 @@
 //
 //   fuzz_ir [--programs N] [--seed S] [--backends cpu,opencl,...]
 //           [--modes-per-program M] [--minimize K] [--no-accumulators]
-//           [--replay PROGRAM_SEED]...
+//           [--replay PROGRAM_SEED]... [--listing]
 //
 // Each program runs on every mode, or with --modes-per-program on M of
 // them in turn (CI's budget: a kernel takes 20-150 ms to compile, and a
@@ -16,9 +16,15 @@
 // Programs are a deterministic function of --seed; each disagreement names
 // its program's own seed, which --replay regenerates alone.  --minimize
 // shrinks the first K disagreeing programs to a few statements and one
-// element, and counts them by the operations they keep.
+// element, and counts them by the operations they keep; --listing adds
+// what each disagreeing mode was given and made of the minimised program.
+#include <signal.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <iostream>
 #include <map>
@@ -48,6 +54,7 @@ struct Options {
   std::uint64_t seed = 1;
   std::vector<std::string> backends;
   int minimize = 0;
+  bool listing = false;
   std::size_t modes_per_program = 0;  // 0: all
   std::vector<std::uint64_t> replay;
   GeneratorOptions generator;
@@ -64,10 +71,35 @@ struct Finding {
   std::vector<Mismatch> mismatches;
 };
 
+std::string replay_command(std::uint64_t seed, const GeneratorOptions& options) {
+  return std::string("fuzz_ir ") + (options.accumulators ? "" : "--no-accumulators ") + "--replay " + std::to_string(seed);
+}
+
+// The program and mode running now, for a crash's last words: a backend
+// that crashes takes the process with it, and the seed is what replays it.
+char g_program[160] = "";
+char g_mode[64] = "";
+
+void say_what_crashed(int signal) {
+  auto say = [](const char* text) {
+    ssize_t ignored = write(2, text, std::strlen(text));
+    (void)ignored;
+  };
+  say("\nfuzz_ir: crashed while running ");
+  say(g_program);
+  say(" on ");
+  say(g_mode);
+  say("\n");
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+void now_running(const std::string& mode) { std::snprintf(g_mode, sizeof g_mode, "%s", mode.c_str()); }
+
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "fuzz_ir: " << why
             << "\nusage: fuzz_ir [--programs N] [--seed S] [--backends a,b] [--modes-per-program M] [--minimize K]\n"
-               "               [--no-accumulators] [--replay PROGRAM_SEED]...\n";
+               "               [--no-accumulators] [--replay PROGRAM_SEED]... [--listing]\n";
   std::exit(2);
 }
 
@@ -91,8 +123,8 @@ Options parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--help") usage("differential fuzzing of the IR");
-    if (a == "--no-accumulators") {
-      o.generator.accumulators = false;
+    if (a == "--no-accumulators" || a == "--listing") {
+      (a == "--listing" ? o.listing : o.generator.accumulators) = a == "--listing";
       continue;
     }
     if (i + 1 >= argc) usage("missing a value after " + a);
@@ -114,6 +146,7 @@ std::vector<Finding> run_everywhere(const Case& c, const std::vector<Mode>& mode
   std::vector<Finding> findings;
   for (const Mode& m : modes) {
     const Result& ref = reference[m.precision == sh::Precision::F64];
+    now_running(m.name());
     std::vector<Mismatch> mm = compare(c, ref, run(c, m, true));
     if (!mm.empty()) findings.push_back({&m, std::move(mm)});
   }
@@ -155,7 +188,7 @@ bool references(const Case& c, Result (&reference)[2], std::string& why) {
 
 // Shrinks the case on the first finding's mode while that mode still
 // differs at the same output component; prints the result run everywhere.
-void minimise_and_print(const Case& c, const Finding& first, const std::vector<Mode>& modes, Tally& tally) {
+void minimise_and_print(const Case& c, const Finding& first, const std::vector<Mode>& modes, bool listings, Tally& tally) {
   const Mode& mode = *first.mode;
   const Mismatch& m = first.mismatches[0];
   auto fails = [&](const Case& candidate) {
@@ -178,11 +211,9 @@ void minimise_and_print(const Case& c, const Finding& first, const std::vector<M
   for (const Finding& f : findings) std::cout << " " << f.mode->name();
   std::cout << "\n";
   print_findings(small, findings);
+  for (std::size_t k = 0; listings && k < findings.size(); ++k)
+    std::cout << "--- listing, " << findings[k].mode->name() << ":\n" << listing(small, *findings[k].mode) << "\n";
   ++tally.by_operations[operations_used(small)];
-}
-
-std::string replay_command(std::uint64_t seed, const GeneratorOptions& options) {
-  return std::string("fuzz_ir ") + (options.accumulators ? "" : "--no-accumulators ") + "--replay " + std::to_string(seed);
 }
 
 bool only_accumulators(const Finding& f) {
@@ -193,8 +224,10 @@ bool only_accumulators(const Finding& f) {
 
 // Runs one program on `modes`; a minimised disagreement runs on `all`.
 void fuzz_one(std::uint64_t seed, const GeneratorOptions& options, const std::vector<Mode>& modes, const std::vector<Mode>& all,
-              int& minimise_budget, Tally& tally) {
+              int& minimise_budget, bool listings, Tally& tally) {
   Case c = generate(seed, options);
+  std::snprintf(g_program, sizeof g_program, "%s", replay_command(seed, options).c_str());
+  now_running("interp (the reference)");
   ++tally.programs;
   Result reference[2];
   std::string why;
@@ -221,7 +254,7 @@ void fuzz_one(std::uint64_t seed, const GeneratorOptions& options, const std::ve
   print_findings(c, findings);
   if (minimise_budget > 0) {
     --minimise_budget;
-    minimise_and_print(c, findings[0], all, tally);
+    minimise_and_print(c, findings[0], all, listings, tally);
   }
   std::cout.flush();
 }
@@ -245,8 +278,10 @@ void summary(const Tally& t, const Options& o, double seconds) {
 
 int main(int argc, char** argv) {
   // Tens of thousands of kernels compiled once each: none belongs in the
-  // cpu backend's on-disk cache.
+  // cpu backend's or pocl's on-disk cache.
   setenv("SH_CACHE_DIR", "off", 1);
+  setenv("POCL_KERNEL_CACHE", "0", 1);
+  for (int signal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(signal, say_what_crashed);
   Options o = parse(argc, argv);
   std::vector<Mode> modes;
   try {
@@ -267,7 +302,7 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < seeds.size(); ++k) {
     std::vector<Mode> these;
     for (std::size_t j = 0; j < per_program; ++j) these.push_back(modes[(k * per_program + j) % modes.size()]);
-    fuzz_one(seeds[k], o.generator, these, modes, minimise_budget, tally);
+    fuzz_one(seeds[k], o.generator, these, modes, minimise_budget, o.listing, tally);
     if ((k + 1) % 1000 == 0)
       std::printf("progress: %zu of %zu programs, %zu disagreements in %zu programs, %zu invalid, %.0f s\n", k + 1, seeds.size(),
                   tally.disagreements, tally.failing_programs, tally.invalid, seconds());

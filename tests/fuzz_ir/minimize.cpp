@@ -145,18 +145,22 @@ void drop_unused_initialisation(Case& c) {
 // prologue (with their data), then the variables no statement mentions.
 Case without_unused_interface(Case c, const std::string& keep) {
   Program& p = c.program;
-  std::vector<int> count(p.vars.size(), 0);
-  Mentions m(count);
+  std::vector<int> count(p.vars.size(), 0), everywhere(p.vars.size(), 0);
+  Mentions m(count), all(everywhere);
   m.visit(Block(p.body.begin() + c.prologue, p.body.end()));
+  all.visit(p.body);
+  // Inputs and uniforms that the prologue reads for registers the body
+  // uses stay; an output the body never writes goes.
   auto unused = [&](VarId id) { return count[id] == 0; };
+  auto unread = [&](VarId id) { return everywhere[id] == 0; };
   for (std::size_t k = p.inputs.size(); k-- > 0;)
-    if (unused(p.inputs[k]) && p.var(p.inputs[k]).kind == VarKind::Input) {
+    if (unread(p.inputs[k]) && p.var(p.inputs[k]).kind == VarKind::Input) {
       p.vars[p.inputs[k]].kind = VarKind::Temp;
       p.inputs.erase(p.inputs.begin() + static_cast<std::ptrdiff_t>(k));
       c.inputs.erase(c.inputs.begin() + static_cast<std::ptrdiff_t>(k));
     }
   for (std::size_t k = p.uniforms.size(); k-- > 0;)
-    if (unused(p.uniforms[k])) {
+    if (unread(p.uniforms[k])) {
       p.vars[p.uniforms[k]].kind = VarKind::Temp;
       p.uniforms.erase(p.uniforms.begin() + static_cast<std::ptrdiff_t>(k));
       c.uniforms.erase(c.uniforms.begin() + static_cast<std::ptrdiff_t>(k));
@@ -212,7 +216,8 @@ Case minimize(Case c, std::size_t element, const std::string& keep, const std::f
   Case trimmed = c;
   drop_unused_initialisation(trimmed);
   if (!acceptable(trimmed) || !fails(trimmed)) return c;
-  Case tidy = without_unused_interface(trimmed, keep);
+  // Twice: inputs that only dropped outputs' initialisation read go too.
+  Case tidy = without_unused_interface(without_unused_interface(trimmed, keep), keep);
   return acceptable(tidy) && fails(tidy) ? tidy : trimmed;
 }
 

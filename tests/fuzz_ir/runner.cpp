@@ -94,6 +94,33 @@ std::uint64_t ulp_distance(Scalar s, double a, double b) {
   return ordered_distance<std::int64_t>(a, b);
 }
 
+namespace {
+
+sh::Options options_for(const Mode& m, bool optimize) {
+  sh::Options o;
+  o.precision = m.precision;
+  o.math = sh::MathMode::Precise;
+  o.optimize = optimize;
+  o.max_loop_iterations = kLoopCap;
+  o.set(m.variant.options);
+  return o;
+}
+
+sh::ir::Program prepared(const sh::ir::Program& p, const Mode& m, bool optimize) {
+  return sh::passes::legalize(optimize ? sh::optimize(p, m.precision) : p);
+}
+
+}  // namespace
+
+std::string listing(const Case& c, const Mode& m) {
+  sh::ir::Program ir = prepared(c.program, m, true);
+  try {
+    return sh::ir::print(ir) + sh::find_backend(m.backend).compile(ir, options_for(m, true))->listing();
+  } catch (const std::exception& e) {
+    return sh::ir::print(ir) + e.what();
+  }
+}
+
 Result run(const Case& c, const Mode& m, bool optimize) {
   const sh::ir::Program& p = c.program;
   Result r;
@@ -114,16 +141,9 @@ Result run(const Case& c, const Mode& m, bool optimize) {
     void* sums = d.accumulator ? tables[t].data() : nullptr;
     args.tables.push_back({d.element, d.rank, c.tables[t].dims, tables[t].data(), sums, next_table_id(), 1, nullptr});
   }
-  sh::Options o;
-  o.precision = m.precision;
-  o.math = sh::MathMode::Precise;
-  o.optimize = optimize;
-  o.max_loop_iterations = kLoopCap;
-  o.set(m.variant.options);
   try {
-    sh::ir::Program ir = sh::passes::legalize(optimize ? sh::optimize(p, m.precision) : p);
     sh::RunStats stats;
-    sh::find_backend(m.backend).compile(ir, o)->run(args, stats);
+    sh::find_backend(m.backend).compile(prepared(p, m, optimize), options_for(m, optimize))->run(args, stats);
   } catch (const std::exception& e) {
     r.error = e.what();
     return r;

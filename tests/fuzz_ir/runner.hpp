@@ -37,6 +37,10 @@ struct Result {
 Result run(const Case& c, const Mode& m, bool optimize);
 inline constexpr std::uint64_t kLoopCap = 1000;
 
+// What `m` is given (the optimised, legalised IR) and what it makes of it
+// (Kernel::listing), for --listing.
+std::string listing(const Case& c, const Mode& m);
+
 struct Mismatch {
   std::string where;  // "out1[7].y", "acc2[3].x", "error"
   std::string name;   // the output's or accumulator's name
