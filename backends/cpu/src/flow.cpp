@@ -2,6 +2,8 @@
 // the execution mask instead, and branch only to skip work no lane needs.
 #include "lowering.hpp"
 
+#include <tuple>
+
 namespace sh::cpu {
 
 using llvm::BasicBlock;
@@ -68,8 +70,8 @@ void Lowering::branch(const ir::If& s) {
   b_.SetInsertPoint(join);
 }
 
-void Lowering::enter_masked(const ir::Stmt& s) {
-  VarSet keep = facts_.live_at_rejoin.at(&s);
+void Lowering::enter_masked(const VarSet& live) {
+  VarSet keep = live;
   if (!keep_.empty())
     for (std::size_t v = 0; v < keep.size(); ++v) keep[v] = keep[v] || keep_.back()[v];
   keep_.push_back(std::move(keep));
@@ -83,10 +85,11 @@ void Lowering::leave_masked() { keep_.pop_back(); }
 void Lowering::masked_branch(const ir::If& i, const ir::Stmt& s) {
   Value* before = exec();
   Value* cond = widen(condition(i.cond));
-  enter_masked(s);
   Value* finished = nullptr;
-  for (auto [body, lanes] : {std::pair{&i.then_body, b_.CreateAnd(before, cond)},
-                             std::pair{&i.else_body, b_.CreateAnd(before, b_.CreateNot(cond))}}) {
+  for (auto [body, lanes, live] :
+       {std::tuple{&i.then_body, b_.CreateAnd(before, cond), &facts_.live_during_then.at(&s)},
+        std::tuple{&i.else_body, b_.CreateAnd(before, b_.CreateNot(cond)), &facts_.live_at_rejoin.at(&s)}}) {
+    enter_masked(*live);
     b_.CreateStore(lanes, exec_);
     if (!body->empty()) {
       BasicBlock* run = BasicBlock::Create(ctx_, "side", fn_);
@@ -98,8 +101,8 @@ void Lowering::masked_branch(const ir::If& i, const ir::Stmt& s) {
       b_.SetInsertPoint(done);
     }
     finished = finished ? b_.CreateOr(finished, exec()) : exec();
+    leave_masked();
   }
-  leave_masked();
   b_.CreateStore(finished, exec_);
 }
 
@@ -137,7 +140,7 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   Value* entered = masked ? exec() : nullptr;
   if (masked) {
     b_.CreateStore(entered, active);
-    enter_masked(s);
+    enter_masked(facts_.live_at_rejoin.at(&s));
   }
   auto run_active = [&] {
     if (masked) b_.CreateStore(b_.CreateLoad(mask_type(), active), exec_);

@@ -66,7 +66,7 @@ class Lowering {
   void block(const ir::Block& body);
   void branch(const ir::If& s);
   void masked_branch(const ir::If& i, const ir::Stmt& s);
-  void enter_masked(const ir::Stmt& s);
+  void enter_masked(const VarSet& live);
   void leave_masked();
   void loop(const ir::Loop& l, const ir::Stmt& s, bool masked);
   void leave(bool is_break);

@@ -109,9 +109,15 @@ class RejoinLiveness {
       return live;
     }
     if (auto* i = std::get_if<ir::If>(&s.node)) {
+      // The then side runs first: its inactive lanes wait to run the else
+      // side, so what the else side reads is live for them too.
+      VarSet else_in = block(i->else_body, live);
+      VarSet during_then = live;
+      add(during_then, else_in);
       f_.live_at_rejoin[&s] = live;
+      f_.live_during_then[&s] = during_then;
       VarSet in = block(i->then_body, live);
-      add(in, block(i->else_body, live));
+      add(in, else_in);
       use(in, i->cond);
       return in;
     }

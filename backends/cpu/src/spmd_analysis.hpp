@@ -8,8 +8,9 @@
 //
 // A varying write under a mask must keep the inactive lanes' old values
 // only where some lane may read them: where the variable is live at a point
-// the inactive lanes wait at (after the `if` or loop, or at a loop's
-// update, where continuing lanes rejoin).
+// the inactive lanes wait at (after the `if` or loop, at the else side of an
+// `if` while its then side runs, or at a loop's update, where continuing
+// lanes rejoin).
 #include <unordered_map>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct SpmdFacts {
   std::unordered_map<const ir::Stmt*, bool> divergent;
   // Per if and loop: the variables live where its inactive lanes rejoin.
   std::unordered_map<const ir::Stmt*, VarSet> live_at_rejoin;
+  // Per if: the variables live for the lanes that wait while its then side
+  // runs (those after the if and those the else side reads).
+  std::unordered_map<const ir::Stmt*, VarSet> live_during_then;
 };
 
 SpmdFacts analyse_spmd(const ir::Program& p);

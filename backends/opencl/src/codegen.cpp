@@ -268,7 +268,9 @@ class Generator {
       case Op::Neg: return fp ? "-" + a : "(int)(0u - (uint)" + a + ")";
       case Op::Min: return call2(fp ? "fmin" : "min", a, b);
       case Op::Max: return call2(fp ? "fmax" : "max", a, b);
-      case Op::Abs: return fp ? call("fabs", a) : "(int)abs(" + a + ")";
+      // In uint: abs(INT_MIN) wraps to INT_MIN, where PoCL's abs assumes a
+      // result that is not negative.
+      case Op::Abs: return fp ? call("fabs", a) : "(int)(" + a + " < 0 ? 0u - (uint)" + a + " : (uint)" + a + ")";
       case Op::Sign:
         if (fp) return "(" + a + " > 0 ? " + one(from) + " : (" + a + " < 0 ? -" + one(from) + " : " + a + "))";
         return "(" + a + " > 0 ? 1 : (" + a + " < 0 ? -1 : 0))";

@@ -160,7 +160,9 @@ class Machine {
     std::size_t element = element_at(t, sc.index, s);
     for (int k = 0; k < t.element.width; ++k) {
       std::size_t at = element * t.element.width + k;
-      write_component(t.element.scalar, t.sums, at, read_component(t.element.scalar, t.sums, at) + arg(sc.value, k));
+      double sum = ir::eval(ir::Op::Add, t.element.scalar, t.element.scalar, o_.precision,
+                            read_component(t.element.scalar, t.sums, at), arg(sc.value, k));  // i32 wraps
+      write_component(t.element.scalar, t.sums, at, sum);
     }
   }
 
