@@ -317,9 +317,19 @@ class Generator {
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
   }
 
+  // NaN gives 0, told by its bits: PoCL's convert_int_sat of a NaN it can
+  // see at compile time is undefined, so the store of it vanished, and a
+  // float isnan() test was folded the same way.
+  std::string float_to_int(const std::string& a, ir::Scalar from) const {
+    bool is_double = std::string(reg_type(from)) == "double";
+    std::string nan = is_double ? "(as_ulong(" + a + ") & 0x7fffffffffffffffUL) > 0x7ff0000000000000UL"
+                                : "(as_uint(" + a + ") & 0x7fffffffU) > 0x7f800000U";
+    return "(" + nan + " ? 0 : convert_int_sat(" + a + "))";
+  }
+
   std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const {
     if (to == ir::Scalar::Bool) return "(int)(" + a + " > 0)";
-    if (to == ir::Scalar::I32) return ir::is_float(from) ? "convert_int_sat(" + a + ")" : a;
+    if (to == ir::Scalar::I32) return ir::is_float(from) ? float_to_int(a, from) : a;
     return std::string("(") + reg_type(to) + ")(" + a + ")";
   }
 
