@@ -184,7 +184,8 @@ Tally run_campaign(const Options& o, std::FILE* control_file) {
   Control control(control_file);
   std::vector<std::uint64_t> seeds = program_seeds(o);
   std::size_t per_program = o.modes_per_program == 0 || !o.replay.empty() ? modes.size() : std::min(o.modes_per_program, modes.size());
-  for (std::size_t k = o.start; k < seeds.size(); ++k) {
+  std::size_t end = o.end == 0 ? seeds.size() : std::min(o.end, seeds.size());
+  for (std::size_t k = o.start; k < end; ++k) {
     std::vector<Mode> these;
     for (std::size_t j = 0; j < per_program; ++j) these.push_back(modes[(k * per_program + j) % modes.size()]);
     control.program = k;

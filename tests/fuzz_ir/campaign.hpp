@@ -21,7 +21,9 @@ struct Options {
   std::size_t modes_per_program = 0;   // 0: all
   std::vector<std::uint64_t> replay;   // these programs instead of --programs
   GeneratorOptions generator;
-  std::size_t start = 0;               // the first program (a worker restarted after a crash)
+  std::size_t jobs = 1;                // workers at once
+  // A worker's programs: [start, end) of program_seeds() (end 0: to the last).
+  std::size_t start = 0, end = 0;
   bool worker = false;
 };
 
@@ -29,7 +31,7 @@ struct Options {
 std::vector<std::uint64_t> program_seeds(const Options& o);
 std::string replay_command(std::uint64_t seed, const GeneratorOptions& options);
 
-// Runs programs from o.start on, printing every disagreement on stdout.
+// Runs programs [o.start, o.end), printing every disagreement on stdout.
 // Tells `control` (when not null), one line each, "run K MODE" before each
 // backend runs program K and "done K <Tally::line()>" with the counts so
 // far after it; then nothing is lost when a backend takes the process down.
