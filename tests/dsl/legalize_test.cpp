@@ -87,6 +87,29 @@ TEST(Legalize, DefinedResultsOfIntegerDivisionOnTheReference) {
   }
 }
 
+TEST(Legalize, ShiftsPastTheWidthShiftEverythingOut) {
+  Program p = SH_BEGIN_PROGRAM("shifts") {
+    Input<Attrib1i> a;
+    Input<Attrib1i> n;
+    Output<Attrib1i> left;
+    Output<Attrib1i> right;
+    Output<Attrib1i> by_three;
+    left = shl(a, n);
+    right = shr(a, n);
+    by_three = shl(a, 3);
+  } SH_END;
+  std::string body = body_of(passes::legalize(p.ir()));
+  EXPECT_TRUE(contains(body, "shl %0, 3")) << body;  // a constant count in range is left alone
+  EXPECT_TRUE(contains(body, "gt %1, 31")) << body;
+  Channel<Attrib1i> a(std::vector<std::int32_t>{1, 1, -8, -8, 5, 1}), n(std::vector<std::int32_t>{31, 32, 2, 40, -1, 0}), l, r, k;
+  run(p, {a, n}, {l, r, k}, backend("interp"));
+  std::vector<std::int32_t> want_l{INT32_MIN, 0, -32, 0, 0, 1}, want_r{0, 0, -2, -1, 0, 1};
+  for (std::size_t i = 0; i < want_l.size(); ++i) {
+    EXPECT_EQ(l[i], want_l[i]) << i;
+    EXPECT_EQ(r[i], want_r[i]) << i;
+  }
+}
+
 TEST(Legalize, BackendsRefuseIllegalIr) {
   Table1D<Attrib1f> t(4);
   Program p = SH_BEGIN_PROGRAM("illegal") {

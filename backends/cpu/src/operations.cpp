@@ -126,6 +126,13 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Exp10: return libm("exp10", {a});  // LLVM 15 has no exp10 intrinsic
     case Op::Log10: return intrinsic(I::log10, {a});
     case Op::Cbrt: return libm("cbrt", {a});
+    case Op::BitAnd: return b_.CreateAnd(a, b);
+    case Op::BitOr: return b_.CreateOr(a, b);
+    case Op::BitXor: return b_.CreateXor(a, b);
+    case Op::BitNot: return b_.CreateNot(a);
+    // Legal IR shifts by counts in [0, 31] only.
+    case Op::Shl: return b_.CreateShl(a, b);
+    case Op::Shr: return b_.CreateAShr(a, b);
     case Op::Lt: return mask(fp ? b_.CreateFCmp(P::FCMP_OLT, a, b) : b_.CreateICmp(P::ICMP_SLT, a, b), t);
     case Op::Le: return mask(fp ? b_.CreateFCmp(P::FCMP_OLE, a, b) : b_.CreateICmp(P::ICMP_SLE, a, b), t);
     case Op::Gt: return mask(fp ? b_.CreateFCmp(P::FCMP_OGT, a, b) : b_.CreateICmp(P::ICMP_SGT, a, b), t);

@@ -301,6 +301,14 @@ class Generator {
       case Op::Exp10: return call("exp10", a);
       case Op::Log10: return call("log10", a);
       case Op::Cbrt: return call("cbrt", a);
+      case Op::BitAnd: return "(" + a + " & " + b + ")";
+      case Op::BitOr: return "(" + a + " | " + b + ")";
+      case Op::BitXor: return "(" + a + " ^ " + b + ")";
+      case Op::BitNot: return "(~" + a + ")";
+      // Legal IR shifts by counts in [0, 31] only; a left shift into the
+      // sign bit is defined on uint.
+      case Op::Shl: return "(int)((uint)" + a + " << " + b + ")";
+      case Op::Shr: return "(" + a + " >> " + b + ")";
       case Op::Lt: return mask(a + " < " + b);
       case Op::Le: return mask(a + " <= " + b);
       case Op::Gt: return mask(a + " > " + b);

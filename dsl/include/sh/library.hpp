@@ -67,6 +67,7 @@ SH_UNARY_FUNCTION(atanh, Atanh)
 SH_UNARY_FUNCTION(exp10, Exp10)
 SH_UNARY_FUNCTION(log10, Log10)
 SH_UNARY_FUNCTION(cbrt, Cbrt)
+SH_UNARY_FUNCTION(bit_not, BitNot)
 #undef SH_UNARY_FUNCTION
 
 #define SH_BINARY_FUNCTION(name, OP)                                                      \
@@ -96,6 +97,13 @@ SH_BINARY_FUNCTION(max, Max)
 SH_BINARY_FUNCTION(pow, Pow)
 SH_BINARY_FUNCTION(atan2, Atan2)
 SH_BINARY_FUNCTION(mod, Mod)
+// Bits of integers.  Functions, not operators: `|` and `^` are Sh's dot and
+// cross products, and `<<` its program algebra.
+SH_BINARY_FUNCTION(bit_and, BitAnd)
+SH_BINARY_FUNCTION(bit_or, BitOr)
+SH_BINARY_FUNCTION(bit_xor, BitXor)
+SH_BINARY_FUNCTION(shl, Shl)  // a count outside [0, 31] gives 0
+SH_BINARY_FUNCTION(shr, Shr)  // arithmetic; a count outside [0, 31] gives 0 or -1
 #undef SH_BINARY_FUNCTION
 #undef SH_CHECK_DOMAIN
 

@@ -23,6 +23,14 @@ double wrapped_product(double a, double b) {
 double int_divide(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) / whole(b)); }
 double int_remainder(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) % whole(b)); }
 
+// A shift count outside [0, 31] shifts every bit out.
+bool shifts_out(double count) { return count < 0 || count > 31; }
+double shift_left(double a, double count) {
+  return shifts_out(count) ? 0 : wrap(static_cast<std::int64_t>(static_cast<std::uint32_t>(whole(a)) << whole(count)));
+}
+double shift_right(double a, double count) { return static_cast<double>(whole(a) >> (shifts_out(count) ? 31 : whole(count))); }
+double bits(double a, double b, std::int64_t (*f)(std::int64_t, std::int64_t)) { return wrap(f(whole(a), whole(b))); }
+
 double cast(Scalar from, Scalar to, double v) {
   switch (to) {
     case Scalar::Bool: return truthy(v) ? 1 : 0;
@@ -93,6 +101,12 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Exp10: return f(std::pow(10.0, a));  // <cmath> has no exp10
     case Op::Log10: return f(std::log10(a));
     case Op::Cbrt: return f(std::cbrt(a));
+    case Op::BitAnd: return bits(a, b, [](std::int64_t x, std::int64_t y) { return x & y; });
+    case Op::BitOr: return bits(a, b, [](std::int64_t x, std::int64_t y) { return x | y; });
+    case Op::BitXor: return bits(a, b, [](std::int64_t x, std::int64_t y) { return x ^ y; });
+    case Op::BitNot: return wrap(~whole(a));
+    case Op::Shl: return shift_left(a, b);
+    case Op::Shr: return shift_right(a, b);
     case Op::Lt: return a < b;
     case Op::Le: return a <= b;
     case Op::Gt: return a > b;

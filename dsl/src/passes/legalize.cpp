@@ -9,8 +9,10 @@
 //   - Integer division and remainder: x / 0 and x % 0 give 0, INT_MIN / -1
 //     gives INT_MIN and INT_MIN % -1 gives 0.  The divisor a backend sees is
 //     never 0 or -1, so its native division cannot trap.
-// Legal IR holds no fetch or sample, and no integer division that could
-// trap; backends lower only that.
+//   - Shifts: a count outside [0, 31] shifts every bit out.  The count a
+//     backend sees is in range, where its native shift is defined.
+// Legal IR holds no fetch or sample, no integer division that could trap
+// and no shift past the width; backends lower only that.
 #include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
 
@@ -26,6 +28,7 @@ class Legalizer : public ir::Mutator {
     if (a.op == ir::Op::Fetch || a.op == ir::Op::Sample) return table_read(std::move(a), out);
     if ((a.op == ir::Op::Div || a.op == ir::Op::Mod) && p_.type_of(a.dest).scalar == ir::Scalar::I32 && may_trap(a.args[1]))
       return integer_division(std::move(a), out);
+    if ((a.op == ir::Op::Shl || a.op == ir::Op::Shr) && !count_in_range(a.args[1])) return shift(std::move(a), out);
     out.push_back(ir::Stmt{std::move(a)});
   }
 
@@ -99,6 +102,36 @@ class Legalizer : public ir::Mutator {
       a.args = {unsafe, number(ir::Scalar::I32, 0), result};
     }
     a.op = ir::Op::Cond;
+    out.push_back(ir::Stmt{std::move(a)});
+  }
+
+  bool count_in_range(const ir::Operand& count) const {
+    const ir::Var& v = p_.var(count.var);
+    if (v.kind != ir::VarKind::Const) return false;
+    for (int i = 0; i < count.width(); ++i) {
+      double c = v.value[count.swizzle[i]];
+      if (c < 0 || c > 31) return false;
+    }
+    return true;
+  }
+
+  // A count outside [0, 31] shifts every bit out: shl gives 0, and shr by
+  // 31 gives what shifting further would (0 or -1 by the sign).
+  void shift(ir::Assign a, ir::Block& out) {
+    ir::Type t{ir::Scalar::I32, a.mask.size};
+    const ir::Operand x = a.args[0], count = a.args[1];
+    ir::Operand below = emit(out, t, ir::Op::Lt, {count, number(ir::Scalar::I32, 0)});
+    ir::Operand above = emit(out, t, ir::Op::Gt, {count, number(ir::Scalar::I32, 31)});
+    ir::Operand outside = emit(out, t, ir::Op::Or, {below, above});
+    if (a.op == ir::Op::Shr) {
+      a.args = {x, emit(out, t, ir::Op::Cond, {outside, number(ir::Scalar::I32, 31), count})};
+      out.push_back(ir::Stmt{std::move(a)});
+      return;
+    }
+    ir::Operand safe = emit(out, t, ir::Op::Cond, {outside, number(ir::Scalar::I32, 0), count});
+    ir::Operand shifted = emit(out, t, ir::Op::Shl, {x, safe});
+    a.op = ir::Op::Cond;
+    a.args = {outside, number(ir::Scalar::I32, 0), shifted};
     out.push_back(ir::Stmt{std::move(a)});
   }
 
