@@ -2,7 +2,6 @@
 // tables sent once per version, uniforms, errors on one rank.
 #include <gtest/gtest.h>
 
-#include <sh/cpu.hpp>
 #include <sh/mpi.hpp>
 #include <sh/sh.hpp>
 

@@ -23,6 +23,12 @@ double wrapped_product(double a, double b) {
 double int_divide(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) / whole(b)); }
 double int_remainder(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) % whole(b)); }
 
+// min and max of a NaN (quiet or signaling) and a number give the number,
+// as LLVM's minnum and OpenCL's fmin do; C's fmin quiets a signaling one.
+double either_not_nan(double a, double b, double (*f)(double, double)) {
+  return std::isnan(a) ? b : std::isnan(b) ? a : f(a, b);
+}
+
 // A shift count outside [0, 31] shifts every bit out.
 bool shifts_out(double count) { return count < 0 || count > 31; }
 double shift_left(double a, double count) {
@@ -68,8 +74,8 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Div: return integer ? int_divide(a, b) : f(a / b);
     case Op::Mod: return integer ? int_remainder(a, b) : f(std::fmod(a, b));
     case Op::Neg: return integer ? wrap(-whole(a)) : -a;
-    case Op::Min: return integer ? std::min(a, b) : std::fmin(a, b);
-    case Op::Max: return integer ? std::max(a, b) : std::fmax(a, b);
+    case Op::Min: return integer ? std::min(a, b) : either_not_nan(a, b, std::fmin);
+    case Op::Max: return integer ? std::max(a, b) : either_not_nan(a, b, std::fmax);
     case Op::Abs: return integer ? wrap(std::abs(whole(a))) : std::fabs(a);
     case Op::Sign: return a > 0 ? 1.0 : a < 0 ? -1.0 : a;  // keeps ±0 and NaN
     case Op::Floor: return std::floor(a);
