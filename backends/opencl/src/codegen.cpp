@@ -42,10 +42,20 @@ class Generator {
     block(p_.body, 1);
     store_outputs();
     body_ << "}\n";
-    return Source{head.str() + body_.str(), needs_fp64_};
+    return Source{head.str() + nan_constants() + body_.str(), needs_fp64_};
   }
 
  private:
+  // A NaN constant is read from a volatile, so that PoCL's compiler never
+  // sees it: given a NaN it knows, some of its built-ins (convert_int_sat,
+  // exp10) give an undefined value and the store of it disappears.
+  std::string nan_constants() const {
+    std::string decls;
+    if (uses_nan_float_) decls += "  volatile float sh_nan_f = NAN;\n";
+    if (uses_nan_double_) decls += "  volatile double sh_nan_d = (double)NAN;\n";
+    return decls;
+  }
+
   bool adds_floats() const {
     for (const ir::TableDecl& t : p_.tables)
       if (t.accumulator && ir::is_float(t.element.scalar)) return true;
@@ -81,7 +91,10 @@ class Generator {
       auto i = static_cast<long long>(v);
       return i == -2147483648LL ? "(-2147483647 - 1)" : std::to_string(i);
     }
-    if (std::isnan(v)) return is_double ? "(double)NAN" : "NAN";
+    if (std::isnan(v)) {
+      (is_double ? uses_nan_double_ : uses_nan_float_) = true;
+      return is_double ? "sh_nan_d" : "sh_nan_f";
+    }
     if (std::isinf(v)) return std::string(v < 0 ? "-" : "") + (is_double ? "(double)INFINITY" : "INFINITY");
     char buf[64];
     auto r = is_double ? std::to_chars(buf, buf + sizeof buf, v) : std::to_chars(buf, buf + sizeof buf, static_cast<float>(v));
@@ -389,6 +402,7 @@ class Generator {
   const Options& o_;
   std::ostringstream body_;
   bool needs_fp64_ = false;
+  mutable bool uses_nan_float_ = false, uses_nan_double_ = false;
   int loops_ = 0;
   std::vector<Jump> jumps_;
 };
