@@ -13,32 +13,35 @@ using namespace sh::ir;
 // Component i of the result reads this component of operand o.
 int component_read(const Operand& o, int i) { return o.swizzle[o.width() == 1 ? 0 : i]; }
 
-bool inexact_op(Op op) { return op_info(op).ulp_precise > 0; }
 
 // One pass over the assignments: raises each written component to the
 // bound its operation adds or its operands carry.  Returns whether
 // anything rose.
 class Propagate : public Visitor {
  public:
-  explicit Propagate(std::vector<Tolerance>& t) : t_(t) {}
+  Propagate(const Program& p, std::vector<Tolerance>& t) : p_(p), t_(t) {}
   using Visitor::visit;
   bool changed = false;
 
   void visit(const Assign& a) override {
+    bool exact = exact_operation(a.op, p_.type_of(a.dest).scalar);
     for (int i = 0; i < a.mask.size; ++i) {
-      std::uint32_t bound = inexact_op(a.op) ? op_info(a.op).ulp_precise : 0;
+      Bound bound{exact ? 0 : op_info(a.op).ulp_precise, exact};
       for (std::size_t k = 0; k < a.args.size(); ++k)
-        if (passes_error_through(a.op, static_cast<int>(k)))
-          bound = std::max(bound, t_[a.args[k].var][component_read(a.args[k], i)]);
-      std::uint32_t& slot = t_[a.dest][a.mask[i]];
-      if (bound > slot) {
-        slot = bound;
+        if (passes_error_through(a.op, static_cast<int>(k))) {
+          const Bound& from = t_[a.args[k].var][component_read(a.args[k], i)];
+          bound = {std::max(bound.ulps, from.ulps), bound.exact && from.exact};
+        }
+      Bound& slot = t_[a.dest][a.mask[i]];
+      if (bound.ulps > slot.ulps || (!bound.exact && slot.exact)) {
+        slot = {std::max(bound.ulps, slot.ulps), slot.exact && bound.exact};
         changed = true;
       }
     }
   }
 
  private:
+  const Program& p_;
   std::vector<Tolerance>& t_;
 };
 
@@ -50,7 +53,7 @@ class FindLeak : public Visitor {
 
   void visit(const Assign& a) override {
     for (std::size_t k = 0; k < a.args.size(); ++k)
-      if (!passes_error_through(a.op, static_cast<int>(k)) || inexact_op(a.op) || is_table_read(a.op))
+      if (!passes_error_through(a.op, static_cast<int>(k)) || op_info(a.op).ulp_precise > 0 || is_table_read(a.op))
         check(a.args[k], Stmt{a});
   }
   void visit(const If& s) override {
@@ -69,7 +72,7 @@ class FindLeak : public Visitor {
  private:
   void check(const Operand& o, const Stmt& s) {
     for (int i = 0; i < o.width(); ++i)
-      if (leak.empty() && t_[o.var][o.swizzle[i]] > 0) leak = "an inexact value reaches `" + print(p_, s) + "`";
+      if (leak.empty() && !t_[o.var][o.swizzle[i]].exact) leak = "an inexact value reaches `" + print(p_, s) + "`";
   }
   const Program& p_;
   const std::vector<Tolerance>& t_;
@@ -77,15 +80,20 @@ class FindLeak : public Visitor {
 
 }  // namespace
 
+bool exact_operation(Op op, Scalar s) {
+  if (is_float(s) && (op == Op::Min || op == Op::Max)) return false;
+  return op_info(op).ulp_precise == 0;
+}
+
 bool passes_error_through(Op op, int arg) {
   if (op == Op::Mov || op == Op::Neg || op == Op::Abs || op == Op::Min || op == Op::Max) return true;
   return op == Op::Cond && arg > 0;
 }
 
 std::vector<Tolerance> tolerances(const Program& p) {
-  std::vector<Tolerance> t(p.vars.size(), Tolerance{0, 0, 0, 0});
+  std::vector<Tolerance> t(p.vars.size(), Tolerance{});
   for (;;) {
-    Propagate pass(t);
+    Propagate pass(p, t);
     pass.visit(p.body);
     if (!pass.changed) return t;
   }

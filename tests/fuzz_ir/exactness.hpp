@@ -30,10 +30,25 @@ namespace fuzz_ir {
 // operands made by an exact condition).
 bool passes_error_through(sh::ir::Op op, int arg);
 
-using Tolerance = std::array<std::uint32_t, 4>;
+// Whether `op` on operands of scalar `s` gives, from exact operands, a
+// result every backend must reproduce (up to NaN payloads and the sign of
+// zero, which compare equal): a precise bound of 0, and a result the
+// contract defines fully.  min and max of floats leave open the sign of a
+// zero result (min(+0, -0) is +0 on cpu and mpi, -0 on interp and
+// opencl), and 1 / that is +inf or -inf; the contract leaves it open
+// (docs/operations.md), so they count as inexact with a bound of 0.
+bool exact_operation(sh::ir::Op op, sh::ir::Scalar s);
+
+// How far a component may stray: `ulps`, and whether it is exact (may
+// reach a condition, a comparison, a conversion or a coordinate).
+struct Bound {
+  std::uint32_t ulps = 0;
+  bool exact = true;
+};
+using Tolerance = std::array<Bound, 4>;
 
 // Per variable, per component: the ULPs by which a backend's value may
-// differ from the interpreter's (0 for exact values), over every path.
+// differ from the interpreter's, over every path.
 std::vector<Tolerance> tolerances(const sh::ir::Program& p);
 
 // The first place where an inexact value reaches an operand that needs an

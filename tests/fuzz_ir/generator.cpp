@@ -184,7 +184,7 @@ class Generator {
   std::optional<Assign> same_as_operands(Op op) {
     const OpInfo& info = op_info(op);
     Scalar s = rng_.pick(accepted(info.domain));
-    std::optional<VarId> d = dest(s, 1, info.ulp_precise > 0);
+    std::optional<VarId> d = dest(s, 1, !exact_operation(op, s));
     if (!d) return std::nullopt;
     int width = p().type_of(*d).width, size = rng_.between(1, width);
     Assign a{*d, mask(size, width), op, {}, -1};
@@ -195,8 +195,8 @@ class Generator {
 
   std::optional<Assign> converted(Op op) {
     const OpInfo& info = op_info(op);
-    Scalar from = rng_.pick(accepted(info.domain));
-    std::optional<VarId> d = dest(rng_.pick(kScalars), 1, info.ulp_precise > 0);
+    Scalar from = rng_.pick(accepted(info.domain)), to = rng_.pick(kScalars);
+    std::optional<VarId> d = dest(to, 1, !exact_operation(op, to));
     if (!d) return std::nullopt;
     int width = p().type_of(*d).width, size = rng_.between(1, width);
     Assign a{*d, mask(size, width), op, {}, -1};
@@ -212,7 +212,7 @@ class Generator {
     if (readable.empty() || info.arity != 1) return std::nullopt;
     int t = rng_.pick(readable);
     const TableDecl& decl = p().tables[t];
-    std::optional<VarId> d = dest(decl.element.scalar, decl.element.width, info.ulp_precise > 0);
+    std::optional<VarId> d = dest(decl.element.scalar, decl.element.width, !exact_operation(op, decl.element.scalar));
     if (!d) return std::nullopt;
     Assign a{*d, mask(decl.element.width, p().type_of(*d).width), op, {}, t};
     a.args.push_back(operand(rng_.pick(accepted(info.domain)), decl.rank, false, false));
@@ -223,7 +223,7 @@ class Generator {
     if (p().tables.empty() || op_info(op).arity != 0) return std::nullopt;
     int t = rng_.below(static_cast<int>(p().tables.size()));
     int rank = p().tables[t].rank;
-    std::optional<VarId> d = dest(Scalar::I32, rank, op_info(op).ulp_precise > 0);
+    std::optional<VarId> d = dest(Scalar::I32, rank, !exact_operation(op, Scalar::I32));
     if (!d) return std::nullopt;
     return Assign{*d, mask(rank, p().type_of(*d).width), op, {}, t};
   }

@@ -1,8 +1,18 @@
 #pragma once
 // Random, well-typed IR programs with the data they run on.  Every program
-// passes ir::verify, terminates (each loop counts up to a constant), keeps
-// inexact values away from anything that needs an exact one
-// (exactness.hpp), and initialises every register before the body reads it.
+// passes ir::verify, terminates (each loop counts up to a constant of at
+// most 4, in a register nothing else writes), and initialises every
+// register before the body reads it.
+//
+// Comparisons stay sound: a backend may differ from the interpreter by an
+// operation's ULP bound, and a value one ulp off that reaches a condition,
+// a comparison, floor/ceil/round, a cast to an integer or a table
+// coordinate may change the result by any amount without a bug.  So
+// registers are exact (written only by operations whose precise bound is
+// 0, from exact operands: every backend must agree bit for bit) or inexact
+// (an inexact operation's result, read only by mov, neg, abs, min, max and
+// cond's values on the way to an output, which keep an error's size);
+// exactness.hpp tracks the bounds and checks that no inexact value leaks.
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -124,10 +124,20 @@ Program inexact_program(bool leak) {
 TEST(FuzzExactness, BoundsFlowThroughErrorPreservingOperationsOnly) {
   Program p = inexact_program(false);
   std::vector<Tolerance> t = tolerances(p);
-  EXPECT_EQ(t[2][0], 0u) << "out.x is a copy of the input";
-  EXPECT_EQ(t[2][1], op_info(Op::Sin).ulp_precise) << "out.y is max(sin(in), in)";
+  EXPECT_EQ(t[2][0].ulps, 0u) << "out.x is a copy of the input";
+  EXPECT_TRUE(t[2][0].exact);
+  EXPECT_EQ(t[2][1].ulps, op_info(Op::Sin).ulp_precise) << "out.y is max(sin(in), in)";
+  EXPECT_FALSE(t[2][1].exact);
   EXPECT_EQ(inexact_leak(p), "");
   EXPECT_NE(inexact_leak(inexact_program(true)), "");
+}
+
+TEST(FuzzExactness, FloatMinAndMaxLeaveTheSignOfZeroOpen) {
+  EXPECT_FALSE(exact_operation(Op::Min, Scalar::F32));
+  EXPECT_FALSE(exact_operation(Op::Max, Scalar::F64));
+  EXPECT_TRUE(exact_operation(Op::Min, Scalar::I32));
+  EXPECT_TRUE(exact_operation(Op::Add, Scalar::F64));
+  EXPECT_FALSE(exact_operation(Op::Sin, Scalar::F32));
 }
 
 class HasOp : public Visitor {

@@ -68,8 +68,8 @@ void compare_data(const Data& want, const Data& got, const Tolerance& tolerance,
   for (std::size_t k = 0; k < want.values.size(); ++k) {
     int c = static_cast<int>(k % width);
     double a = want.values[k], b = got.values[k];
-    bool same = sh::ir::is_float(want.type.scalar) ? ulp_distance(want.type.scalar, a, b) <= tolerance[c] : a == b;
-    if (!same) out.push_back({place(name, k / width, c), name, slot, stream, k / width, c, a, b, tolerance[c], {}});
+    bool same = sh::ir::is_float(want.type.scalar) ? ulp_distance(want.type.scalar, a, b) <= tolerance[c].ulps : a == b;
+    if (!same) out.push_back({place(name, k / width, c), name, slot, stream, k / width, c, a, b, tolerance[c].ulps, {}});
   }
 }
 
@@ -170,7 +170,7 @@ std::vector<Mismatch> compare(const Case& c, const Result& reference, const Resu
   }
   for (std::size_t t = 0; t < p.tables.size(); ++t)
     if (p.tables[t].accumulator)
-      compare_data(reference.sums[t], got.sums[t], Tolerance{0, 0, 0, 0}, p.tables[t].name, static_cast<int>(p.outputs.size() + t), false,
+      compare_data(reference.sums[t], got.sums[t], Tolerance{}, p.tables[t].name, static_cast<int>(p.outputs.size() + t), false,
                    out);
   return out;
 }
