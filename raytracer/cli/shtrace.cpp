@@ -18,6 +18,7 @@
 
 #include "accel_compare.hpp"
 #include "embree_anchor.hpp"
+#include "output_file.hpp"
 #include "tradeoff.hpp"
 
 namespace {
@@ -149,6 +150,7 @@ void write_program_bytes(const std::string& path, const Program& p) {
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!f) throw Error(path + ": cannot write the program's bytes");
   }
+  shtrace::say_if_replacing(path);
   std::filesystem::rename(partial, path);
   std::printf("program %s: %zu bytes of serialized IR in %s\n", p.name().c_str(), bytes.size(), path.c_str());
 }
@@ -210,10 +212,10 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   }
   report.compile_ms = compile_ms;
   report.render_ms = best_ms;
-  std::filesystem::path out(output);
-  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
-  write_png(output, image);
+  std::string written = shtrace::write_image(output, c.scene, [&](const std::string& path) { write_png(path, image); });
   if (!aov.empty()) {
+    shtrace::say_if_replacing(aov + "_distance.pfm");
+    shtrace::say_if_replacing(aov + "_triangle.pfm");
     write_pfm(aov + "_distance.pfm", image.width, image.height, image.distance);
     std::vector<float> ids(image.triangle.begin(), image.triangle.end());
     write_pfm(aov + "_triangle.pfm", image.width, image.height, ids);
@@ -221,7 +223,7 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   std::printf("rendered %dx%d on %s: compile %.1f ms, render %.1f ms%s (%.2f Mrays/s primary, %.2f fps)\nimage: %s\n",
               image.width, image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
               frames > 1 ? " (best warm frame)" : "", report.rays / (report.render_ms * 1e3), 1000.0 / report.render_ms,
-              std::filesystem::absolute(output).c_str());
+              std::filesystem::absolute(written).c_str());
   if (!aov.empty()) std::printf("aov: %s_distance.pfm, %s_triangle.pfm\n", aov.c_str(), aov.c_str());
   if (report.light.rays > 0) {
     Vec3 e = r.element_light()->total();
@@ -328,7 +330,7 @@ int main(int argc, char** argv) {
   CLI::App app{"shtrace: the stream ray tracer of the sh language"};
   app.require_subcommand(1);
   Common common;
-  std::string backend_name, output = "out/render.png", aov, eye, look_at, up;
+  std::string backend_name, output, aov, eye, look_at, up;
   float fov = 0;
   bool dump_ir = false, general = false, analyze = false, ir_optimized = false;
   std::string dump_ir_bytes, ir_file;
@@ -338,7 +340,10 @@ int main(int argc, char** argv) {
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG");
   add_common(render, common);
   render->add_option("--backend", backend_name, "interp, cpu, opencl (default: SH_BACKEND, else cpu)");
-  render->add_option("--output,-o", output, "PNG to write")->capture_default_str();
+  render->add_option("--output,-o", output,
+                     "PNG to write; if it exists it is replaced, and the output says \"replacing FILE\" (default: "
+                     "out/SCENE.png, SCENE the built-in scene's name or the scene or model file's name without its "
+                     "extension; if that exists, the first free of out/SCENE-2.png, -3, ..., never replacing a file)");
   render->add_option("--aov", aov, "also write PREFIX_distance.pfm and PREFIX_triangle.pfm");
   render->add_option("--eye", eye, "camera position x,y,z");
   render->add_option("--look-at", look_at, "point looked at x,y,z");

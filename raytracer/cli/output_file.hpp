@@ -1,0 +1,25 @@
+#pragma once
+// Where `shtrace render` writes: a file named after the scene unless the
+// user names one, and never over an existing file without saying so.
+#include <functional>
+#include <string>
+
+namespace shtrace {
+
+// out/SCENE.png: a built-in scene's name, or a scene or model file's stem
+// (`--scene models/bunny.obj` gives out/bunny.png).
+std::string default_image_path(const std::string& scene);
+
+// Writes a file through `write(path)`, which writes to a temporary and
+// renames it (write_png, write_pfm), and returns the path written.
+// `chosen` set: that path, replaced with a "replacing PATH" line if it exists.
+// `chosen` empty: default_image_path(scene), or the first of SCENE-2.png,
+// SCENE-3.png, ... that does not exist, claimed without ever replacing a file
+// (even one another process writes meanwhile); a line names the one taken.
+using FileWriter = std::function<void(const std::string& path)>;
+std::string write_image(const std::string& chosen, const std::string& scene, const FileWriter& write);
+
+// Prints "replacing PATH" if PATH exists: for files the user names.
+void say_if_replacing(const std::string& path);
+
+}  // namespace shtrace
