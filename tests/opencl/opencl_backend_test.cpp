@@ -56,10 +56,11 @@ TEST(OpenClBackend, DevicesAreListedAndChosenByIndexOrName) {
   Channel<Attrib3f> n(std::vector<float>{1, 1, 1});
   Channel<Attrib1f> r;
   Options o;
-  o.device = "0:0";
+  o.set(opencl::Options{.device = "0:0"});
   run(shader(), {n}, {r}, backend("opencl", o));
+  EXPECT_EQ(o.get<opencl::Options>().device, "0:0");
   EXPECT_FLOAT_EQ(r[0], std::sqrt(3.f));
-  o.device = "no such device";
+  o.set("opencl.device", "no such device");
   try {
     run(shader(), {n}, {r}, backend("opencl", o));
     FAIL();

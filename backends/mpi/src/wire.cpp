@@ -15,7 +15,6 @@ const char* Unpacker::take(std::size_t n) {
 
 void pack(Packer& p, const sh::Options& o) {
   p.put(o.precision).put(o.math).put(o.threads).put(o.max_loop_iterations).put(o.checked).put(o.optimize);
-  p.put(o.device);
   Settings settings;
   for (const auto& [backend, options] : o.backends)
     for (const auto& [name, value] : options.settings()) settings[backend + "." + name] = value;
@@ -31,7 +30,6 @@ sh::Options unpack_options(Unpacker& u) {
   o.max_loop_iterations = u.get<std::uint64_t>();
   o.checked = u.get<bool>();
   o.optimize = u.get<bool>();
-  o.device = u.text();
   auto n = u.get<std::uint64_t>();
   for (std::uint64_t i = 0; i < n; ++i) {
     std::string name = u.text();

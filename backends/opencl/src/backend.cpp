@@ -28,14 +28,15 @@ struct Buffer {
   }
 };
 
-std::string build_options(const Options& o) {
+std::string build_options(const sh::Options& o) {
   if (o.math == MathMode::Fast) return "-cl-fast-relaxed-math";
   return "-cl-fp32-correctly-rounded-divide-sqrt";
 }
 
 class OpenClKernel : public Kernel {
  public:
-  OpenClKernel(const ir::Program& p, const Options& o) : program_(p), options_(o), device_(open_device(o.device)) {
+  OpenClKernel(const ir::Program& p, const sh::Options& o)
+      : program_(p), options_(o), device_(open_device(o.get<Options>().device)) {
     Source source = generate(p, o);
     source_ = std::move(source.text);
     if (source.needs_fp64 && !device_->fp64)
@@ -198,7 +199,7 @@ class OpenClKernel : public Kernel {
   }
 
   ir::Program program_;
-  Options options_;
+  sh::Options options_;
   std::shared_ptr<Device> device_;
   struct Cached {
     Buffer buffer;
@@ -214,9 +215,13 @@ class OpenClKernel : public Kernel {
 class OpenClBackend : public Backend {
  public:
   std::string name() const override { return "opencl"; }
-  std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+  std::unique_ptr<Kernel> compile(const ir::Program& p, const sh::Options& o) override {
     return std::make_unique<OpenClKernel>(p, o);
   }
+  std::vector<Setting> settings() const override {
+    return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"}};
+  }
+  BackendOptions default_options() const override { return Options{}; }
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);

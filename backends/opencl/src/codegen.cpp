@@ -23,7 +23,7 @@ const char kAtomicAddFloat[] =
 
 class Generator {
  public:
-  Generator(const ir::Program& p, const Options& o) : p_(p), o_(o) {}
+  Generator(const ir::Program& p, const sh::Options& o) : p_(p), o_(o) {}
 
   Source run() {
     needs_fp64_ = o_.precision == Precision::F64;
@@ -399,7 +399,7 @@ class Generator {
   };
 
   const ir::Program& p_;
-  const Options& o_;
+  const sh::Options& o_;
   std::ostringstream body_;
   bool needs_fp64_ = false;
   mutable bool uses_nan_float_ = false, uses_nan_double_ = false;
@@ -409,7 +409,7 @@ class Generator {
 
 }  // namespace
 
-Source generate(const ir::Program& program, const Options& options) {
+Source generate(const ir::Program& program, const sh::Options& options) {
   ir::verify_legal(program);
   return Generator(program, options).run();
 }

@@ -17,6 +17,6 @@ struct Source {
 // input, then per output; one scalar per uniform component; per table a
 // __global buffer (an accumulator's is read and added into) and three int
 // dimensions; __global long* status.
-Source generate(const ir::Program& program, const Options& options);
+Source generate(const ir::Program& program, const sh::Options& options);
 
 }  // namespace sh::opencl

@@ -89,7 +89,6 @@ struct Options {
   std::uint64_t max_loop_iterations = 1u << 24;  // per loop, per element
   bool checked = false;                   // interp: report first NaN / bad table read
   bool optimize = true;                   // run the passes before compiling
-  std::string device;                     // backend-specific device choice
   // Each backend's own options, by backend name.  A backend that runs
   // another (mpi runs a local backend) passes these on, so one Options
   // holds both: o.set(mpi::Options{...}).set(cpu::Options{...}).

@@ -80,7 +80,7 @@ Options& Options::set(const std::string& name, const std::string& value) {
 std::string Options::key() const {
   std::string k = std::string(precision == Precision::F32 ? "f32" : "f64") + (math == MathMode::Fast ? ",fast" : ",precise") +
                   ",t" + std::to_string(threads) + ",cap" + std::to_string(max_loop_iterations) + (checked ? ",checked" : "") +
-                  (optimize ? "" : ",noopt") + ",dev=" + device;
+                  (optimize ? "" : ",noopt");
   for (const auto& [backend, options] : backends)
     for (const auto& [name, value] : options.settings()) k += "," + backend + "." + name + "=" + value;
   return k;

@@ -4,16 +4,27 @@
 // any OpenCL device; PoCL on the CPU is the default.  Its library registers
 // it as "opencl" when linked (sh::sh); this header is its own API.
 //
-// Device choice: Options::device or the environment variable
-// SH_OPENCL_DEVICE, as "P:D" (platform and device indices) or a piece of
-// the device's name; otherwise the first device of the first platform.
+// Device choice: opencl::Options::device (the setting "device") or the
+// environment variable SH_OPENCL_DEVICE, as "P:D" (platform and device
+// indices) or a piece of the device's name; otherwise the first device of
+// the first platform.
 // kernel_for(p, backend("opencl"))->listing() gives the OpenCL C.
 // OpenCL kernels cannot call back into the host: they read tables from
 // device memory only (no TableSource).
 #include <string>
 #include <vector>
 
+#include "sh/options.hpp"
+
 namespace sh::opencl {
+
+struct Options {
+  static constexpr const char* backend_name = "opencl";
+  std::string device;  // "P:D" or a piece of a device's name; empty: the default
+  // String form: device.
+  Settings settings() const;
+  void set(const std::string& name, const std::string& value);
+};
 
 // Every platform and device found, one line each ("P:D name (platform)").
 std::vector<std::string> devices();
