@@ -35,8 +35,22 @@ class Channel {
     for (std::size_t i = 0; i < data.size(); ++i) buffer_->set(i / components, static_cast<int>(i % components), static_cast<double>(data[i]));
   }
 
+  // `count` elements in `memory`, read and written in place where the
+  // backend can (Sh's ShChannel(memory, count)); the channel shares
+  // ownership of the memory.  Throws sh::Error where they do not fit.
+  Channel(MemoryPtr memory, std::size_t count) : Channel() { this->memory(std::move(memory), count); }
+
   std::size_t size() const { return buffer_->size(); }
+  std::size_t count() const { return buffer_->size(); }  // Sh's name
   void resize(std::size_t count) { buffer_->resize(count); }
+  // The memory the elements lie in (for a channel that allocated its own,
+  // that storage, handed out without a copy).
+  MemoryPtr memory() const { return buffer_->memory(); }
+  // From now on the channel holds `count` elements in `memory`; every
+  // stream built from this channel sees the change.
+  void memory(MemoryPtr memory, std::size_t count) {
+    buffer_->view(std::move(memory), count, "a channel of " + ir::type_name(A::ir_type()));
+  }
   // The i-th scalar of the storage; bool channels are stored as int32.
   using stored = std::conditional_t<std::is_same_v<scalar, bool>, std::int32_t, scalar>;
   stored* data() { return static_cast<stored*>(buffer_->data()); }

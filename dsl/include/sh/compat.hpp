@@ -69,3 +69,38 @@ struct Named {
 // IR, e.g.  ShAttrib3f SH_DECL(sptr) = step > 0.0f;
 #define SH_DECL(var) var = ::sh::detail::Named{#var}
 #define SH_NAMED(var) var.name(#var)
+
+// Host memory, Sh's way of handing a program the user's data (sh/memory.hpp):
+//   ShHostMemoryPtr mem = new ShHostMemory(n * 3 * sizeof(float), data, SH_FLOAT);
+//   ShChannel<ShPoint3f> points(mem, n);      // no copy: the channel is data
+//   result = program << points;               // result on memory too
+// When the user's memory holds the results: when the assignment (or
+// sh::run) that runs the program returns, on every backend.  interp and cpu
+// write the memory in place; opencl writes it in place on a device that
+// shares host memory (PoCL on the CPU) and otherwise copies into it before
+// returning; mpi gathers every rank's share into rank 0's memory before
+// returning (the other ranks serve rank 0 and never return to the caller).
+// Input channels are read during the run only.  A table on memory
+// (texture.memory(mem)) is read in place by interp and cpu, and copied by
+// opencl and mpi, which keep the copy until the memory's dirty() (or
+// texture.memory(mem) again): after writing the memory, call dirty().
+// Only SH_FLOAT, SH_DOUBLE and SH_INT memory exists: values are never
+// converted between a memory's type and a channel's.  docs/sh-compat.md.
+using ShMemory = sh::HostMemory;
+using ShHostMemory = sh::HostMemory;
+using ShHostStorage = sh::HostMemory;
+using ShMemoryPtr = sh::MemoryPtr;
+using ShHostMemoryPtr = sh::MemoryPtr;
+using ShHostStoragePtr = sh::MemoryPtr;
+using ShValueType = sh::ir::Scalar;
+inline constexpr ShValueType SH_FLOAT = sh::ir::Scalar::F32;
+inline constexpr ShValueType SH_DOUBLE = sh::ir::Scalar::F64;
+inline constexpr ShValueType SH_INT = sh::ir::Scalar::I32;
+
+// Sh's shref_dynamic_cast<ShHostStorage>(memory->findStorage("host")): host
+// memory is the only storage here, so the cast is the memory itself.
+template <class T>
+sh::MemoryPtr shref_dynamic_cast(const sh::MemoryPtr& memory) {
+  static_assert(std::is_same_v<T, sh::HostMemory>, "only host storage exists: shref_dynamic_cast<ShHostStorage>");
+  return memory;
+}

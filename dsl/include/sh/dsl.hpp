@@ -11,6 +11,7 @@
 #include "sh/library_more.hpp"
 #include "sh/matrix.hpp"
 #include "sh/matrix_algebra.hpp"
+#include "sh/memory.hpp"
 #include "sh/operators.hpp"
 #include "sh/analysis.hpp"
 #include "sh/passes.hpp"

@@ -68,12 +68,27 @@ class Table {
     return read(ir::Op::Sample, coords);
   }
 
+  // From now on the table's elements are the first size() elements of
+  // `memory` (Sh's texture.memory(m)), read in place where the backend can.
+  // After writing the memory, call memory->dirty() (or this again): a
+  // backend that keeps a copy of the table (opencl, mpi) sends it again only then.
+  void memory(MemoryPtr memory) {
+    storage_->buffer.view(std::move(memory), size(), describe());
+    storage_->touch();
+  }
+  // The memory the elements lie in (for a table that allocated its own,
+  // that storage, handed out without a copy: write it, then dirty()).
+  MemoryPtr memory() const { return storage_->buffer.memory(); }
+
   const std::shared_ptr<detail::TableStorage>& storage() const { return storage_; }
 
  private:
-  void touch() {
-    storage_->filled = true;
-    ++storage_->version;
+  void touch() { storage_->touch(); }
+  std::string describe() const {
+    std::string d = "table" + (storage_->decl.name.empty() ? "" : " '" + storage_->decl.name + "'") + " of " +
+                    ir::type_name(E::ir_type()) + " (" + std::to_string(dims()[0]);
+    for (int i = 1; i < Rank; ++i) d += " x " + std::to_string(dims()[i]);
+    return d + ")";
   }
 
   template <class I>

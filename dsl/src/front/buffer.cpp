@@ -1,17 +1,71 @@
 #include "sh/detail/buffer.hpp"
 
 #include <atomic>
+#include <cstdint>
+#include <utility>
+
+#include "sh/error.hpp"
 
 namespace sh::detail {
+namespace {
+
+// Bools are stored as int32, so memory of either serves channels of either.
+ir::Scalar stored_as(ir::Scalar s) { return s == ir::Scalar::Bool ? ir::Scalar::I32 : s; }
+
+}  // namespace
 
 TableStorage::TableStorage() {
   static std::atomic<std::uint64_t> next{1};
   id = next++;
 }
 
+void TableStorage::touch() {
+  filled = true;
+  version = next_version();
+}
+
 void Buffer::resize(std::size_t count) {
+  if (memory_) {
+    check_fits(count, "a channel of " + ir::type_name(type_));
+    count_ = count;
+    return;
+  }
   count_ = count;
   words_.assign((bytes() + 7) / 8, 0);
+}
+
+void Buffer::check_fits(std::size_t count, const std::string& what) const {
+  if (bytes_for(count) > memory_->bytes())
+    throw Error(what + " on host memory: " + std::to_string(count) + " elements need " + std::to_string(bytes_for(count)) +
+                " bytes; the memory holds " + std::to_string(memory_->bytes()));
+}
+
+void Buffer::view(MemoryPtr memory, std::size_t count, const std::string& what) {
+  if (!memory) throw Error(what + " on host memory: the memory pointer is null");
+  if (stored_as(memory->value_type()) != stored_as(type_.scalar))
+    throw Error(what + " on host memory: the memory holds " + ir::scalar_name(memory->value_type()) +
+                " values; the elements are " + ir::type_name(type_) + " (no conversion is made)");
+  auto address = reinterpret_cast<std::uintptr_t>(memory->data());
+  int align = ir::storage_bytes(type_.scalar);
+  if (address % align != 0)
+    throw Error(what + " on host memory: the data at byte address " + std::to_string(address) + " are not aligned to " +
+                std::to_string(align) + " bytes, as " + ir::scalar_name(type_.scalar) + " values must be");
+  std::shared_ptr<HostMemory> previous = std::exchange(memory_, memory.shared());
+  try {
+    check_fits(count, what);
+  } catch (...) {
+    memory_ = std::move(previous);
+    throw;
+  }
+  words_.clear();
+  words_.shrink_to_fit();
+  count_ = count;
+}
+
+MemoryPtr Buffer::memory() {
+  if (!memory_) memory_ = HostMemory::adopt(std::move(words_), bytes(), type_.scalar);
+  words_.clear();
+  return memory_;
 }
 
 double Buffer::get(std::size_t i, int c) const {

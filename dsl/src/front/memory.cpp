@@ -1,0 +1,45 @@
+#include "sh/memory.hpp"
+
+#include <atomic>
+
+#include "sh/error.hpp"
+
+namespace sh {
+
+namespace detail {
+std::uint64_t next_version() {
+  static std::atomic<std::uint64_t> next{1};
+  return next++;
+}
+}  // namespace detail
+
+HostMemory::HostMemory(std::size_t bytes, ir::Scalar type)
+    : HostMemory(std::vector<std::uint64_t>((bytes + 7) / 8, 0), bytes, type) {}
+
+HostMemory::HostMemory(std::size_t bytes, void* data, ir::Scalar type) : data_(data), bytes_(bytes), type_(type) {
+  if (!data && bytes > 0)
+    throw Error("host memory of " + std::to_string(bytes) + " bytes wraps a null pointer");
+}
+
+HostMemory::HostMemory(std::vector<std::uint64_t>&& words, std::size_t bytes, ir::Scalar type)
+    : own_(std::move(words)), data_(own_.data()), bytes_(bytes), type_(type) {}
+
+std::shared_ptr<HostMemory> HostMemory::adopt(std::vector<std::uint64_t>&& words, std::size_t bytes, ir::Scalar type) {
+  return std::shared_ptr<HostMemory>(new HostMemory(std::move(words), bytes, type));
+}
+
+void HostMemory::dirty() { version_ = detail::next_version(); }
+
+HostMemory* HostMemory::findStorage(const std::string& id) {
+  if (id != "host")
+    throw Error("host memory has only the storage \"host\"; \"" + id + "\" was asked for (no device storage is kept here)");
+  return this;
+}
+
+MemoryPtr::MemoryPtr(HostMemory* memory) {
+  if (!memory) return;
+  memory_ = memory->weak_from_this().lock();
+  if (!memory_) memory_.reset(memory);
+}
+
+}  // namespace sh
