@@ -94,6 +94,20 @@ TEST(HostMemory, OutputOnMemoryTooSmallForTheStream) {
   EXPECT_NE(e.find("output channel 0 holds 3 elements but the stream has 5"), std::string::npos) << e;
 }
 
+TEST(HostMemory, AnEmptyChannelHasNoMemoryAndStillTakesTheStreamsLength) {
+  ShProgram p = SH_BEGIN_PROGRAM("copy") {
+    ShInputAttrib1f x;
+    ShOutputAttrib1f y;
+    y = x;
+  } SH_END;
+  ShChannel<ShAttrib1f> in(std::vector<float>{1, 2, 3}), out;
+  EXPECT_FALSE(out.memory());
+  sh::run(p, {in}, {out}, sh::backend("interp"));
+  ASSERT_EQ(out.count(), 3u);
+  ASSERT_TRUE(out.memory());
+  EXPECT_EQ(static_cast<const float*>(out.memory()->data())[2], 3.f);
+}
+
 TEST(HostMemory, PointersFromOneRawPointerShareOneCount) {
   ShHostMemory* raw = new ShHostMemory(16, SH_FLOAT);
   ShMemoryPtr a = raw;

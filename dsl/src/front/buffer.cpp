@@ -63,6 +63,9 @@ void Buffer::view(MemoryPtr memory, std::size_t count, const std::string& what) 
 }
 
 MemoryPtr Buffer::memory() {
+  // An empty owned buffer has no memory yet (as an empty channel had none
+  // in Sh): adopting nothing would pin an output channel at 0 elements.
+  if (!memory_ && count_ == 0) return {};
   if (!memory_) memory_ = HostMemory::adopt(std::move(words_), bytes(), type_.scalar);
   words_.clear();
   return memory_;
