@@ -1,6 +1,7 @@
 // shtrace: render a scene on any backend, compare backends, list devices.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 #endif
 
 #include "accel_compare.hpp"
+#include "backend_compare.hpp"
 #include "embree_anchor.hpp"
 #include "output_file.hpp"
 #include "tradeoff.hpp"
@@ -239,18 +241,6 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   return 0;
 }
 
-// Primary rays of the scene's camera, made by the raygen kernel, in the
-// renderer's 4x4-tile order (the same rays for every backend and Embree).
-std::pair<std::vector<float>, std::vector<float>> primary_rays(sh::rt::Renderer& r, int w, int h) {
-  Program raygen = raygen_program(r.tables());
-  Channel<Attrib2f> pixels(pixel_centres_in_tiles(w, h));
-  Channel<Point3f> o;
-  Channel<Vector3f> d;
-  Channel<Attrib2f> pixel;
-  run(raygen, {pixels}, {o, d, pixel}, backend("cpu"));
-  return {o.values(), d.values()};
-}
-
 // Mrays/s of the intersector kernel alone on the given rays (warm).
 double intersect_rate(sh::rt::Renderer& r, const BackendChoice& b, const std::vector<float>& origins,
                       const std::vector<float>& directions, int repeats) {
@@ -274,7 +264,7 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
   std::printf("scene %s, %s, %zu triangles, %s; reference: interp f64\n", scene.name.c_str(), c.size.c_str(),
               scene.mesh.triangles(), reference.describe_accelerator().c_str());
   Image ref = reference.render();
-  auto [origins, directions] = primary_rays(reference, w, h);
+  auto [origins, directions] = shtrace::primary_rays(reference, w, h);
   std::printf("%-11s %11s %11s %13s %15s %11s %9s\n", "backend", "compile ms", "render ms", "render Mrays/s",
               "intersect Mrays/s", "max error", "PSNR dB");
   // Each backend in each of its variants (cpu: scalar and every SPMD width).
@@ -361,6 +351,17 @@ int main(int argc, char** argv) {
   add_common(bench, common);
   bench->add_option("--backends", bench_backends, "backends to run, comma-separated (default: all built)")->delimiter(',');
 
+  shtrace::CompareRequest compare_request;
+  std::vector<std::string> compare_backend_names;
+  CLI::App* compare = app.add_subcommand("compare", "one kernel of the scene on every backend, variant and math mode: "
+                                         "compile and run time, largest difference from interp in f64 (sh::compare)");
+  add_common(compare, common);
+  compare->add_option("--backends", compare_backend_names, "backends to run, comma-separated (default: all built)")->delimiter(',');
+  compare->add_option("--kernel", compare_request.kernel, "render (the whole kernel over every pixel) or intersect "
+                      "(the intersector on the primary rays)")->check(CLI::IsMember({"render", "intersect"}))->capture_default_str();
+  compare->add_option("--runs", compare_request.runs, "runs per row; the fastest counts")->capture_default_str()
+      ->check(CLI::Range(1, 100));
+
   shtrace::TradeoffOptions tradeoff_options;
   std::string tradeoff_size = "200x150";
   CLI::App* trade = app.add_subcommand("tradeoff", "a grid of settings against a converged reference: CSV and plot");
@@ -389,13 +390,22 @@ int main(int argc, char** argv) {
     if (common.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(common.threads));
 #ifdef SHTRACE_WITH_MPI
     // Under mpirun, serving ranks wait for rank 0 from here on.
-    if (backend_name == "mpi") sh::mpi::start();
+    bool compares_mpi = compare->parsed() && (compare_backend_names.empty() ||
+                                              std::count(compare_backend_names.begin(), compare_backend_names.end(), "mpi") > 0);
+    if (backend_name == "mpi" || compares_mpi) sh::mpi::start();
 #endif
     if (render->parsed())
       return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
                             analyze, frames);
     if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
     if (bench->parsed()) return bench_command(common, bench_backends);
+    if (compare->parsed()) {
+      if (compare->get_option("--size")->count() == 0) common.size = "160x120";  // the interpreter runs every pixel, thrice
+      compare_request.scene = scene_for(common);
+      compare_request.settings = settings_for(common, "");
+      compare_request.backends = compare_backend_names;
+      return shtrace::compare_backends(compare_request);
+    }
     if (accel->parsed()) return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
     if (trade->parsed()) {
       std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);
