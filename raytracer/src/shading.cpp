@@ -18,7 +18,7 @@ Surface surface_at(const SceneTables& s, const Vector3f& d, const Attrib1i& tri,
   out.ng = normalize(cross(v1 - v0, v2 - v0));
   out.clearance = dot(abs(out.ng), error) + max_component(abs(out.p)) * 0x1p-22f;
   Attrib3f n = w * s.normals[3 * tri] + uv(0) * s.normals[3 * tri + 1] + uv(1) * s.normals[3 * tri + 2];
-  out.n = faceforward(normalize(n), -d);
+  out.n = faceforward(-d, normalize(n));
   Attrib1f entering = dot(n, d) < 0.0f;
   Attrib1i m = 2 * s.material[tri];
   Attrib4f a = s.materials[m], b = s.materials[m + 1];
@@ -31,7 +31,7 @@ Surface surface_at(const SceneTables& s, const Vector3f& d, const Attrib1i& tri,
   out.shininess = b(0);
   out.reflectivity = b(1);
   out.transparency = b(2);
-  out.eta = cond(entering, 1.0f / b(3), b(3));
+  out.eta = cond(entering, b(3), 1.0f / b(3));
   return out;
 }
 
@@ -41,7 +41,7 @@ Point3f leave(const Surface& x, const Vector3f& dir) {
 }
 
 Vector3f refract_or_mirror(const Vector3f& d, const Normal3f& n, const Attrib1f& eta, Attrib1f& mirrored) {
-  Vector3f through = refract(d, n, eta);
+  Vector3f through = refract(-d, n, eta);
   mirrored = dot(through, through) == 0.0f;
   return cond(mirrored, reflect(-d, n), normalize(through));
 }

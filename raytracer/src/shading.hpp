@@ -14,7 +14,7 @@ struct Surface {
   Attrib1f clearance;  // along ng, beyond the rounding error of p
   Color3f diffuse;   // material times vertex colour
   Attrib1f specular, shininess, reflectivity, transparency;
-  Attrib1f eta;      // index of refraction it is entered with: 1/ior on the way in, ior on the way out
+  Attrib1f eta;      // index entered over index left (Sh's refract): ior on the way in, 1/ior on the way out
   // The share of arriving light that is shaded (neither mirrored nor
   // transmitted).
   Attrib1f shaded() const { return 1.0f - reflectivity - transparency; }

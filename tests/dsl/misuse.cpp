@@ -16,7 +16,7 @@ void misuse(Attrib1f f, Attrib1i i, Attrib3f v, Attrib2f w, Matrix4x4f m) {
 #elif defined(SH_MISUSE_widths)
   (void)(v + w);
 #elif defined(SH_MISUSE_assign)
-  f = i;
+  v = w;
 #elif defined(SH_MISUSE_clamp)
   (void)clamp(f, i, 1);
 #elif defined(SH_MISUSE_lerp)
@@ -32,7 +32,8 @@ void misuse(Attrib1f f, Attrib1i i, Attrib3f v, Attrib2f w, Matrix4x4f m) {
   (void)(f % i.cast<float>());
   i %= f.cast<std::int32_t>();
   (void)(v + w(0));
-  f = i.cast<float>();
+  f = i;  // converts, as in Sh
+  v = w(0);
   (void)clamp(f, 0, 1);
   (void)lerp(f, v, v);
   (void)cond(i, f, 2.0f);

@@ -46,17 +46,6 @@ TEST(RecordingErrors, BreakOutsideLoop) {
   expect_error([] { SH_BEGIN_PROGRAM("cnt") { SH_CONTINUE(Attrib1f(1.0f)); } SH_END; }, {"cnt", "SH_CONTINUE"});
 }
 
-TEST(RecordingErrors, WritingAnInput) {
-  expect_error(
-      [] {
-        SH_BEGIN_PROGRAM("write_input") {
-          Input<Attrib1f> x;
-          x = 2.0f;
-        } SH_END;
-      },
-      {"write_input", "writes input", "read-only"});
-}
-
 TEST(RecordingErrors, ReadingAnOutputNeverWritten) {
   expect_error(
       [] {

@@ -157,9 +157,10 @@ TEST(LightPass, AMirrorSendsLightWhereGeometrySays) {
 
 class Refraction : public testing::TestWithParam<std::string> {};
 
-// Into glass (eta 1/1.5) at 0 and 30 degrees, and out of it (eta 1.5) at
-// 30 degrees (refracted) and 60 degrees (past the critical angle of
-// 41.8 degrees: mirrored).
+// Into glass (eta 1.5, the index entered over the index left, as in Sh's
+// refract) at 0 and 30 degrees, and out of it (eta 1/1.5) at 30 degrees
+// (refracted) and 60 degrees (past the critical angle of 41.8 degrees:
+// mirrored).
 TEST_P(Refraction, SnellsLawAndTotalInternalReflection) {
   sh::Program p = SH_BEGIN_PROGRAM("refraction") {
     sh::InputVector3f d;
@@ -171,7 +172,7 @@ TEST_P(Refraction, SnellsLawAndTotalInternalReflection) {
     mirrored = m;
   } SH_END;
   const double deg = std::numbers::pi / 180;
-  std::vector<double> angles{0, 30, 30, 60}, etas{1 / 1.5, 1 / 1.5, 1.5, 1.5};
+  std::vector<double> angles{0, 30, 30, 60}, etas{1.5, 1.5, 1 / 1.5, 1 / 1.5};
   std::vector<float> ds, es;
   for (std::size_t i = 0; i < angles.size(); ++i) {
     ds.insert(ds.end(), {float(std::sin(angles[i] * deg)), float(-std::cos(angles[i] * deg)), 0.f});
@@ -184,7 +185,7 @@ TEST_P(Refraction, SnellsLawAndTotalInternalReflection) {
   EXPECT_NEAR(out[1], -1.0f, 1e-7) << "normal incidence goes straight on";
   EXPECT_EQ(mirrored[0], 0.0f);
   for (std::size_t i = 1; i < 3; ++i) {
-    double sin_t = etas[i] * std::sin(angles[i] * deg);
+    double sin_t = std::sin(angles[i] * deg) / etas[i];
     EXPECT_NEAR(out[3 * i], sin_t, 1e-6) << "Snell's law at " << angles[i] << " degrees, eta " << etas[i];
     EXPECT_NEAR(out[3 * i + 1], -std::sqrt(1 - sin_t * sin_t), 1e-6);
     EXPECT_EQ(mirrored[i], 0.0f);

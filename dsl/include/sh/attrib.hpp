@@ -67,11 +67,17 @@ class SwizzleRef;
 
 // What an operation whose result has N components of T takes beside that
 // result: a C++ number (it becomes a constant of T), or an Attrib of T with
-// N components or one (broadcast).  Assignment and compound assignment take
-// exactly these; ints and floats never mix without an explicit cast<T>().
+// N components or one (broadcast).  Compound assignment takes exactly these:
+// ints and floats never mix in an operation without an explicit cast<T>().
 template <class X, int N, class T>
 concept OperandFor = Number<X> || (AttribLike<X> && std::same_as<typename X::scalar_type, T> &&
                                    (X::width == N || X::width == 1));
+
+// What assignment to N components takes: an Attrib of any scalar type with
+// N components or one.  Another scalar type is converted, as in Sh (a cast
+// in the IR, with the defined float-to-int results of docs/operations.md).
+template <class X, int N>
+concept AssignableTo = AttribLike<X> && (X::width == N || X::width == 1);
 
 // Compound assignment, and an overload for every other right-hand side
 // that exists to say why, naming the operator, where the compiler would
@@ -115,8 +121,9 @@ class Attrib : public detail::ValueHolder {
       detail::assign(value_, other.value());
     }
   }
-  template <Semantic S2>
-  Attrib(const Attrib<N, T, S2>& other) : Attrib() {
+  // Another semantic, or another scalar type (converted, as in Sh).
+  template <class T2, Semantic S2>
+  Attrib(const Attrib<N, T2, S2>& other) : Attrib() {
     detail::assign(value_, other.value());
   }
   template <Number... U>
@@ -129,18 +136,19 @@ class Attrib : public detail::ValueHolder {
     detail::assign(value_, other.value());
     return *this;
   }
+  // Another scalar type is converted (detail::assign records the cast).
   template <AttribLike A>
-    requires OperandFor<A, N, T>
+    requires AssignableTo<A, N>
   Attrib& operator=(const A& other) {
     detail::assign(value_, other.value());
     return *this;
   }
   template <AttribLike A>
-    requires(!OperandFor<A, N, T>)
+    requires(!AssignableTo<A, N>)
   Attrib& operator=(const A&) {
-    static_assert(OperandFor<A, N, T>,
-                  "sh: Attrib = takes an Attrib of the same scalar type with the same width or width 1 "
-                  "(ints and floats do not mix: convert with .cast<T>())");
+    static_assert(AssignableTo<A, N>,
+                  "sh: Attrib = takes an Attrib with the same width or width 1: pick components with a "
+                  "swizzle, or widen with fillcast<N>()");
     return *this;
   }
   template <Number U>

@@ -1,11 +1,15 @@
 #pragma once
 // The library of functions kernels call.  Compound functions are expanded
 // into the IR's component-wise operations here, once, so every backend
-// evaluates them identically.  Conventions follow Sh where Sh had them:
+// evaluates them identically.  Conventions are Sh 0.8's (docs/operations.md,
+// docs/sh-differences.md):
 //   lerp(f, a, b) = f*a + (1-f)*b
-//   reflect(a, n) = 2(a·n)n - a      (mirrors a about n; a points away)
-//   refract(i, n, eta)               (i the incident direction, as in GLSL)
-//   faceforward(n, v) = n where n·v >= 0, else -n
+//   reflect(a, n) = 2(a·n̂)n̂ - a, n̂ = normalize(n)   (a points away; keeps a's length)
+//   refract(v, n, eta): v the view vector pointing away from the surface, n
+//     the normal, eta the index of the side entered over the side left; v and
+//     n normalised; the zero vector on total internal reflection
+//   faceforward(a, b) = b where a·b > 0, else -b
+//   any(a), all(a): the largest and the smallest component (Sh's || and &&)
 // normalize of a zero vector gives zero; length and normalize scale by the
 // largest component first, so huge and tiny vectors do not over/underflow.
 #include <algorithm>
@@ -18,8 +22,8 @@ Value lerp(const Value& f, const Value& a, const Value& b);
 Value length(const Value& v);
 Value normalize(const Value& v);
 Value reflect(const Value& a, const Value& n);
-Value refract(const Value& i, const Value& n, const Value& eta);
-Value faceforward(const Value& n, const Value& v);
+Value refract(const Value& v, const Value& n, const Value& eta);
+Value faceforward(const Value& a, const Value& b);
 Value cond(const Value& c, const Value& a, const Value& b);
 Value fold(ir::Op op, const Value& v);  // v.x op v.y op ...
 Value frac(const Value& v);
@@ -221,17 +225,18 @@ Plain<A> reflect(const A& a, const B& n) {
 
 template <AttribLike A, AttribLike B, class E>
   requires Compatible<A, B> && (A::width == B::width) && OperandFor<E, A::width, typename A::scalar_type>
-Plain<A> refract(const A& i, const B& n, const E& eta) {
+Plain<A> refract(const A& v, const B& n, const E& eta) {
   detail::Value e;
   if constexpr (Number<E>) e = constant_like<A>(eta);
   else e = eta.value();
-  return wrap<Plain<A>>(detail::refract(i.value(), n.value(), e));
+  return wrap<Plain<A>>(detail::refract(v.value(), n.value(), e));
 }
 
+// b, or -b where it does not face the way a does (Sh's argument order).
 template <AttribLike A, AttribLike B>
   requires Compatible<A, B> && (A::width == B::width)
-Plain<A> faceforward(const A& n, const B& v) {
-  return wrap<Plain<A>>(detail::faceforward(n.value(), v.value()));
+Plain<B> faceforward(const A& a, const B& b) {
+  return wrap<Plain<B>>(detail::faceforward(a.value(), b.value()));
 }
 
 template <class X>
@@ -276,13 +281,15 @@ Plain<Branch<A, B>> cond(const C&, const A&, const B&) {
   return {};
 }
 
+// Sh's any and all: v.x || v.y || ... and v.x && v.y && ..., that is the
+// largest and the smallest component (1 and 0 on masks).
 template <AttribLike A>
 Attrib<1, typename A::scalar_type> any(const A& v) {
-  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::Or, (v > 0).value()));
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(recorded_op<A>(ir::Op::Or), v.value()));
 }
 template <AttribLike A>
 Attrib<1, typename A::scalar_type> all(const A& v) {
-  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(ir::Op::And, (v > 0).value()));
+  return wrap<Attrib<1, typename A::scalar_type>>(detail::fold(recorded_op<A>(ir::Op::And), v.value()));
 }
 template <AttribLike A>
 Attrib<1, typename A::scalar_type> min_component(const A& v) {

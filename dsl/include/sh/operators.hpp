@@ -1,7 +1,8 @@
 #pragma once
 // Operators on Attribs: component-wise arithmetic and comparisons with
 // scalar broadcast (C++ numbers convert to constants of the Attrib's type),
-// masks (&&, ||, !), `|` the dot product and `^` the cross product.
+// masks (&&, ||, !, as Sh defined them), `|` the dot product and `^` the
+// cross product.
 #include "sh/attrib.hpp"
 
 namespace sh {
@@ -48,11 +49,22 @@ R wrap(detail::Value v) {
                                    "pick components with a swizzle, or fillcast<N>()");           \
   return {}
 
+// Sh's && and || are min and max: "and" and "or" on masks of 0 and 1, and
+// Sh's results on other values (2 && 0.5 is 0.5, -1 || -2 is -1).  Bools,
+// which min and max do not take, keep the table's and/or.
+template <AttribLike A>
+constexpr ir::Op recorded_op(ir::Op op) {
+  if (std::same_as<typename A::scalar_type, bool>) return op;
+  if (op == ir::Op::And) return ir::Op::Min;
+  if (op == ir::Op::Or) return ir::Op::Max;
+  return op;
+}
+
 #define SH_BINARY_OPERATOR(sym, OP)                                                        \
   template <AttribLike A, AttribLike B>                                                    \
     requires Compatible<A, B>                                                              \
   typename Result<A, B>::type operator sym(const A& a, const B& b) {                       \
-    return wrap<typename Result<A, B>::type>(detail::apply(ir::Op::OP, {a.value(), b.value()})); \
+    return wrap<typename Result<A, B>::type>(detail::apply(recorded_op<A>(ir::Op::OP), {a.value(), b.value()})); \
   }                                                                                        \
   template <AttribLike A, AttribLike B>                                                    \
     requires(!Compatible<A, B>)                                                            \
@@ -61,11 +73,11 @@ R wrap(detail::Value v) {
   }                                                                                        \
   template <AttribLike A, Number U>                                                        \
   Plain<A> operator sym(const A& a, U b) {                                                 \
-    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {a.value(), constant_like<A>(b)}));   \
+    return wrap<Plain<A>>(detail::apply(recorded_op<A>(ir::Op::OP), {a.value(), constant_like<A>(b)})); \
   }                                                                                        \
   template <AttribLike A, Number U>                                                        \
   Plain<A> operator sym(U a, const A& b) {                                                 \
-    return wrap<Plain<A>>(detail::apply(ir::Op::OP, {constant_like<A>(a), b.value()}));   \
+    return wrap<Plain<A>>(detail::apply(recorded_op<A>(ir::Op::OP), {constant_like<A>(a), b.value()})); \
   }
 
 SH_BINARY_OPERATOR(+, Add)

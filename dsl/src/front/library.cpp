@@ -58,24 +58,32 @@ Value normalize(const Value& v) {
   return cond(apply(ir::Op::Gt, {m, k(m, 0)}), unit, k(v, 0));
 }
 
+// Sh 0.8's definitions (docs/sh-differences.md): reflect normalises the
+// normal only, so the result keeps a's length.
 Value reflect(const Value& a, const Value& n) {
-  Value twice = apply(ir::Op::Mul, {k(a, 2), dot(a, n)});
-  return apply(ir::Op::Sub, {apply(ir::Op::Mul, {twice, n}), a});
+  Value unit_n = normalize(n);
+  Value twice = apply(ir::Op::Mul, {k(a, 2), dot(a, unit_n)});
+  return apply(ir::Op::Sub, {apply(ir::Op::Mul, {twice, unit_n}), a});
 }
 
-Value refract(const Value& i, const Value& n, const Value& eta) {
-  Value ni = dot(n, i);
-  Value one = k(ni, 1);
-  Value sin2 = apply(ir::Op::Sub, {one, apply(ir::Op::Mul, {ni, ni})});
-  Value kk = apply(ir::Op::Sub, {one, apply(ir::Op::Mul, {apply(ir::Op::Mul, {eta, eta}), sin2})});
-  Value along_n = apply(ir::Op::Add, {apply(ir::Op::Mul, {eta, ni}), apply(ir::Op::Sqrt, {apply(ir::Op::Max, {kk, k(kk, 0)})})});
-  Value t = apply(ir::Op::Sub, {apply(ir::Op::Mul, {eta, i}), apply(ir::Op::Mul, {along_n, n})});
-  // Total internal reflection gives the zero vector.
-  return cond(apply(ir::Op::Ge, {kk, k(kk, 0)}), t, k(i, 0));
+// With c = v̂·n̂ and r = 1 / eta the ratio of the index left over the index
+// entered: k = 1 + r²(c² - 1) and the result (r c - sqrt(k)) n̂ - r v̂, or
+// zero where k < 0 (total internal reflection).  Sh clamps k to [0, 1].
+Value refract(const Value& v, const Value& n, const Value& eta) {
+  Value unit_v = normalize(v), unit_n = normalize(n);
+  Value c = dot(unit_v, unit_n);
+  Value r = apply(ir::Op::Rcp, {eta});
+  Value one = k(c, 1);
+  Value below_one = apply(ir::Op::Sub, {apply(ir::Op::Mul, {c, c}), one});
+  Value kk = apply(ir::Op::Add, {one, apply(ir::Op::Mul, {apply(ir::Op::Mul, {r, r}), below_one})});
+  Value root = apply(ir::Op::Sqrt, {apply(ir::Op::Min, {apply(ir::Op::Max, {kk, k(kk, 0)}), one})});
+  Value along_n = apply(ir::Op::Sub, {apply(ir::Op::Mul, {r, c}), root});
+  Value t = apply(ir::Op::Sub, {apply(ir::Op::Mul, {along_n, unit_n}), apply(ir::Op::Mul, {r, unit_v})});
+  return cond(apply(ir::Op::Lt, {kk, k(kk, 0)}), k(v, 0), t);
 }
 
-Value faceforward(const Value& n, const Value& v) {
-  return cond(apply(ir::Op::Ge, {dot(n, v), k(n, 0)}), n, apply(ir::Op::Neg, {n}));
+Value faceforward(const Value& a, const Value& b) {
+  return cond(apply(ir::Op::Gt, {dot(a, b), k(b, 0)}), b, apply(ir::Op::Neg, {b}));
 }
 
 Value fillcast(const Value& v, int width) { return copy(widened(v, width)); }

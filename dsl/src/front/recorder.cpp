@@ -63,11 +63,31 @@ ir::Operand Recorder::read(const Value& v) {
   return ir::Operand{id, v.swizzle};
 }
 
+// As in Sh, a program may write its inputs: the first write gives the input
+// a local copy (a fresh register, copied from the input at the start of the
+// program), and from then on the program reads and writes the copy.  The
+// input stream itself is never written.
+ir::VarId Recorder::local_copy(const VarNode* input, ir::VarId id) {
+  ir::Var copy;
+  copy.type = prog_.var(id).type;
+  if (!prog_.var(id).name.empty()) copy.name = prog_.var(id).name + "_local";
+  ir::Swizzle whole = ir::Swizzle::identity(copy.type.width);
+  ir::VarId local = prog_.add_var(std::move(copy));
+  local_copies_.push_back(ir::Assign{local, whole, ir::Op::Mov, {ir::Operand{id, whole}}, -1});
+  ids_[input] = local;
+  return local;
+}
+
 ir::VarId Recorder::write_target(const Value& v) {
   ir::VarId id = id_of(v.node);
   switch (v.node->kind) {
-    case ir::VarKind::Input: fail("writes " + describe(prog_, id) + "; inputs are read-only (use an InOut)");
-    case ir::VarKind::Uniform: fail("writes " + describe(prog_, id) + "; uniforms are set on the host between runs");
+    case ir::VarKind::Input:
+      if (prog_.var(id).kind == ir::VarKind::Input) id = local_copy(v.node.get(), id);
+      break;
+    case ir::VarKind::Uniform:
+      fail("writes " + describe(prog_, id) +
+           "; uniforms are set on the host between runs (Sh wrote a copy local to the program: write to a "
+           "variable initialised from the uniform instead)");
     case ir::VarKind::Const: fail("writes a constant");
     default: break;
   }
@@ -231,6 +251,9 @@ void Recorder::emit_continue() { jump_statement(ir::Stmt{ir::Continue{}}, "SH_CO
 
 Program Recorder::finish() {
   if (!open_.empty()) fail(std::string("ends with ") + frame_name(open_.back().frame) + " left open");
+  // Before everything, so that the copy holds the input on every path.
+  for (auto it = local_copies_.rbegin(); it != local_copies_.rend(); ++it)
+    prog_.body.insert(prog_.body.begin(), ir::Stmt{*it});
   return Program(std::move(prog_), std::move(uniforms_), std::move(tables_));
 }
 

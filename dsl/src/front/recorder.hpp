@@ -59,6 +59,7 @@ class Recorder {
   };
 
   ir::VarId id_of(const std::shared_ptr<VarNode>& node);
+  ir::VarId local_copy(const VarNode* input, ir::VarId id);
   ir::Operand condition(const Value& cond, const char* construct);
   ir::Loop& open_loop(Frame first, bool test_at_top);
   Open& expect(std::initializer_list<Frame> frames, const char* what);
@@ -72,6 +73,7 @@ class Recorder {
   std::unordered_map<const VarNode*, ir::VarId> ids_;
   std::vector<std::shared_ptr<VarNode>> alive_;  // keeps map keys from being reused
   std::unordered_set<ir::VarId> written_outputs_;
+  std::vector<ir::Assign> local_copies_;  // inputs written by the program, copied first
   std::vector<Open> open_;
   ir::Block* current_;
 };

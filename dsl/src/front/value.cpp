@@ -67,8 +67,8 @@ Value constant(ir::Scalar scalar, double v) { return constant({scalar, 1}, {v, v
 void assign(const Value& dest, const Value& src) {
   if (src.width() != 1 && src.width() != dest.width())
     throw Error("assignment of " + std::to_string(src.width()) + " components to " + std::to_string(dest.width()));
-  Value from = src;
-  if (src.scalar() != dest.scalar()) type_mismatch(ir::Op::Mov, dest, src);
+  // Another scalar type converts, as in Sh: a cast, then the copy.
+  Value from = as_scalar(src, dest.scalar());
   if (Recorder* r = current_recorder()) {
     ir::Operand operand = r->read(from);
     ir::VarId target = r->write_target(dest);
