@@ -18,13 +18,15 @@ Attrib3f to_ray_space(const Ray& r, const Attrib3f& vertex) {
   return join(p(0, 1) + r.shear(0, 1) * p(2), r.shear(2) * p(2));
 }
 
-// Twice the signed area of (origin, p, q) in the ray's xy plane.  Two
-// products and a difference: rounding may take it to zero but never to the
-// wrong sign, and the edge's other triangle computes exactly its negation.
-Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) { return p(0) * q(1) - p(1) * q(0); }
-
-// The same in double: products of floats are exact there, so the sign is.
-Attrib1f exact_edge_function(const Attrib3f& p, const Attrib3f& q) {
+// Twice the signed area of (origin, p, q) in the ray's xy plane, in
+// double: products of floats are exact there, so the difference is the one
+// rounding, its sign is exact and the edge's other triangle gets exactly
+// its negation.  Not in float: fast math contracts p0 q1 - p1 q0 into an
+// FMA, one product exact and the other rounded, which is neither (a ray
+// along the diagonal of cornell's back wall gets +6e-10 for that edge in
+// both triangles, "outside" each, and slips between them).  Contraction
+// cannot change the double: the product it keeps exact already is.
+Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) {
   Attrib2d a = p(0, 1).cast<double>(), b = q(0, 1).cast<double>();
   return (a(0) * b(1) - a(1) * b(0)).cast<float>();
 }
@@ -75,11 +77,6 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
                    Attrib2f& best_uv) {
   Attrib3f a = to_ray_space(r, s.v0[tri]), b = to_ray_space(r, s.v1[tri]), c = to_ray_space(r, s.v2[tri]);
   Attrib1f u = edge_function(b, c), v = edge_function(c, a), w = edge_function(a, b);
-  SH_IF(u == 0.0f || v == 0.0f || w == 0.0f) {
-    u = exact_edge_function(b, c);
-    v = exact_edge_function(c, a);
-    w = exact_edge_function(a, b);
-  } SH_ENDIF;
   Attrib1f outside = (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f);
   Attrib1f det = u + v + w;
   Attrib1f usable = det != 0.0f;
