@@ -1,6 +1,7 @@
-// int32 arithmetic wraps in two's complement; division and remainder by
-// zero give 0; comparisons give 0/1 in the operand's type, && and || are
-// Sh's min and max.
+// int32 arithmetic wraps in two's complement; the remainder takes the sign
+// of the divisor (Sh's); division and remainder by zero give 0;
+// comparisons give 0/1 in the operand's type, && and || are Sh's min and
+// max.
 #include "harness.hpp"
 
 namespace conformance {
@@ -14,6 +15,12 @@ std::vector<I> int_values() {
 }
 
 I wrap(std::int64_t v) { return static_cast<I>(static_cast<std::uint32_t>(static_cast<std::uint64_t>(v))); }
+
+// Sh's remainder, with the sign of b (b != 0).
+I floor_remainder(std::int64_t a, std::int64_t b) {
+  std::int64_t r = a % b;
+  return static_cast<I>(r != 0 && (r < 0) != (b < 0) ? r + b : r);
+}
 
 template <int N>
 void check_int_ops(const Conformance& t) {
@@ -51,7 +58,7 @@ void check_int_ops(const Conformance& t) {
   sh::run(p, {cx, cy}, out_buffers, t.choice());
   for (std::size_t k = 0; k < xs.size(); ++k) {
     std::int64_t a = xs[k], b = ys[k];
-    I want[] = {wrap(a + b), wrap(a - b), wrap(a * b), b == 0 ? 0 : wrap(a / b), b == 0 ? 0 : wrap(a % b),
+    I want[] = {wrap(a + b), wrap(a - b), wrap(a * b), b == 0 ? 0 : wrap(a / b), b == 0 ? 0 : floor_remainder(a, b),
                 wrap(-a), wrap(a < 0 ? -a : a), static_cast<I>(std::min(a, b)), static_cast<I>(std::max(a, b)),
                 a > 0 ? 1 : a < 0 ? -1 : 0, a < b, a == b, static_cast<I>(std::min(a, b))};  // && is Sh's min
     for (int o = 0; o < 13; ++o)

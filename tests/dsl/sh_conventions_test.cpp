@@ -134,6 +134,29 @@ TEST(LogicOperators, AreMinAndMaxOnNumbersAndAndOrOnBools) {
   EXPECT_NE(text.find("and %2, %3"), std::string::npos) << text;
 }
 
+// Sh's % (the sign of the divisor) and round (halves toward +Inf), on the
+// host and where the constant folder evaluates them.
+TEST(ModAndRound, AreShsOnTheHostAndWhenFolded) {
+  Attrib1f a = -5.5f, b = 2.0f;
+  EXPECT_EQ((a % b).get(), 0.5f);
+  EXPECT_EQ(mod(-a, -b).get(), -0.5f);
+  Attrib1i i = -7, j = 3;
+  EXPECT_EQ((i % j).get(), 2);
+  EXPECT_EQ((-i % -j).get(), -2);
+  EXPECT_EQ(round(Attrib1f(-2.5f)).get(), -2.0f);
+  EXPECT_EQ(round(Attrib1f(0.49999997f)).get(), 0.0f);
+  EXPECT_EQ(round(Attrib1f(2.5f)).get(), 3.0f);
+
+  Program p = SH_BEGIN_PROGRAM("folded") {
+    Output<Attrib3f> r;
+    r = join(join(ConstAttrib1f(-5.5f) % 2.0f, round(ConstAttrib1f(-2.5f))), round(ConstAttrib1f(0.49999997f)));
+  } SH_END;
+  std::string text = print(optimize(p));
+  EXPECT_EQ(text.find("mod"), std::string::npos) << text;
+  EXPECT_EQ(text.find("round"), std::string::npos) << text;
+  for (const char* folded : {"mov 0.5\n", "mov -2\n", "mov 0\n"}) EXPECT_NE(text.find(folded), std::string::npos) << text;
+}
+
 // About a normal of length 5: unnormalised, 2 (a·n) n - a would give z = 245.
 TEST(Geometry, ReflectNormalisesTheNormalOnly) {
   Attrib3f a(3.0f, 4.0f, 5.0f), n(0.0f, 0.0f, 5.0f);

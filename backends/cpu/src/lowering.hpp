@@ -89,6 +89,8 @@ class Lowering {
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
   Value* sign(Value* a, bool fp);
+  Value* floor_remainder(Value* a, Value* b, bool fp);
+  Value* round_half_up(Value* a);
   void table_read(const ir::Assign& a, std::array<Value*, 4>& result);
   Value* flat_index(int table, const ir::Operand& coord, bool gather);
   Value* access_field(int table, unsigned k);

@@ -91,7 +91,7 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Mul: return fp ? b_.CreateFMul(a, b) : b_.CreateMul(a, b);
     // Legal IR divides integers only by divisors that cannot trap.
     case Op::Div: return fp ? b_.CreateFDiv(a, b) : b_.CreateSDiv(a, b);
-    case Op::Mod: return fp ? b_.CreateFRem(a, b) : b_.CreateSRem(a, b);
+    case Op::Mod: return floor_remainder(a, b, fp);
     case Op::Neg: return fp ? b_.CreateFNeg(a) : b_.CreateNeg(a);
     case Op::Min: return intrinsic(fp ? I::minnum : I::smin, {a, b});
     case Op::Max: return intrinsic(fp ? I::maxnum : I::smax, {a, b});
@@ -101,7 +101,7 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Sign: return sign(a, fp);
     case Op::Floor: return intrinsic(I::floor, {a});
     case Op::Ceil: return intrinsic(I::ceil, {a});
-    case Op::Round: return intrinsic(I::round, {a});
+    case Op::Round: return round_half_up(a);
     case Op::Sqrt: return intrinsic(I::sqrt, {a});
     case Op::Rsqrt: return b_.CreateFDiv(one, intrinsic(I::sqrt, {a}));
     case Op::Rcp: return b_.CreateFDiv(one, a);
@@ -174,6 +174,32 @@ Value* Lowering::sign(Value* a, bool fp) {
   Value* zero = llvm::ConstantInt::get(t, 0);
   Value* neg = b_.CreateSelect(b_.CreateICmpSLT(a, zero), llvm::ConstantInt::getSigned(t, -1), zero);
   return b_.CreateSelect(b_.CreateICmpSGT(a, zero), llvm::ConstantInt::get(t, 1), neg);
+}
+
+// The remainder with the sign of b (Sh's and GLSL's mod): C's, whose sign
+// is a's, plus b where the signs differ and it is not 0.  For floats frem is
+// exact and the one addition rounds (ir/eval.cpp says why that is the
+// reference's result).  Legal IR never divides an integer by 0 or -1.
+Value* Lowering::floor_remainder(Value* a, Value* b, bool fp) {
+  if (fp) {
+    Value* zero = llvm::ConstantFP::get(a->getType(), 0.0);
+    Value* r = b_.CreateFRem(a, b);
+    Value* signs_differ = b_.CreateXor(b_.CreateFCmpOLT(r, zero), b_.CreateFCmpOLT(b, zero));
+    return b_.CreateSelect(b_.CreateAnd(b_.CreateFCmpONE(r, zero), signs_differ), b_.CreateFAdd(r, b), r);
+  }
+  Value* zero = llvm::ConstantInt::get(a->getType(), 0);
+  Value* r = b_.CreateSRem(a, b);
+  Value* signs_differ = b_.CreateICmpSLT(b_.CreateXor(r, b), zero);
+  return b_.CreateSelect(b_.CreateAnd(b_.CreateICmpNE(r, zero), signs_differ), b_.CreateAdd(r, b), r);
+}
+
+// Halves toward +Inf (Sh's floor(a + 0.5)), exactly: a - floor(a) is exact
+// wherever it lies near 0.5, where a + 0.5 itself may round.
+Value* Lowering::round_half_up(Value* a) {
+  llvm::Type* t = a->getType();
+  Value* f = intrinsic(llvm::Intrinsic::floor, {a});
+  Value* up = b_.CreateFCmpOGE(b_.CreateFSub(a, f), llvm::ConstantFP::get(t, 0.5));
+  return b_.CreateSelect(up, b_.CreateFAdd(f, llvm::ConstantFP::get(t, 1.0)), f);
 }
 
 // A table's extent, or its element at coordinates in range (legal IR).  A

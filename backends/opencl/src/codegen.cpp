@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "sh/ir/printer.hpp"
@@ -21,6 +22,22 @@ const char kAtomicAddFloat[] =
     "  } while (atomic_cmpxchg((volatile __global unsigned int*)p, old.u, sum.u) != old.u);\n"
     "}\n";
 
+// Sh's mod and round, as ir/eval.cpp defines them (the reference says why
+// they are exact), in the scalar type t: the remainder with the sign of b
+// (C's, plus b where the signs differ), and halves toward +Inf.
+std::string floor_remainder_function(const std::string& t) {
+  bool fp = t != "int";
+  return "\n" + t + " sh_mod_" + t + "(" + t + " a, " + t + " b) {\n  " + t + " r = " +
+         (fp ? "fmod(a, b)" : "a % b") + ";\n  return r != 0 && " + (fp ? "(r < 0) != (b < 0)" : "(r ^ b) < 0") +
+         " ? r + b : r;\n}\n";
+}
+
+std::string round_half_up_function(const std::string& t) {
+  std::string half = t == "float" ? "0.5f" : "0.5";
+  return "\n" + t + " sh_round_" + t + "(" + t + " a) {\n  " + t + " f = floor(a);\n  return a - f >= " + half +
+         " ? f + 1 : f;\n}\n";
+}
+
 class Generator {
  public:
   Generator(const ir::Program& p, const sh::Options& o) : p_(p), o_(o) {}
@@ -34,15 +51,16 @@ class Generator {
     if (needs_fp64_) head << "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n";
     if (o_.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
     if (adds_floats()) head << kAtomicAddFloat;
-    head << "\n__kernel void " << kKernelName << "(\n    const long count";
-    signature(head);
-    head << ")\n{\n  const long e = get_global_id(0);\n  if (e >= count) return;\n";
+    std::ostringstream kernel;
+    kernel << "\n__kernel void " << kKernelName << "(\n    const long count";
+    signature(kernel);
+    kernel << ")\n{\n  const long e = get_global_id(0);\n  if (e >= count) return;\n";
     registers();
     load_inputs();
     block(p_.body, 1);
     store_outputs();
     body_ << "}\n";
-    return Source{head.str() + nan_constants() + body_.str(), needs_fp64_};
+    return Source{head.str() + helpers_ + kernel.str() + nan_constants() + body_.str(), needs_fp64_};
   }
 
  private:
@@ -54,6 +72,14 @@ class Generator {
     if (uses_nan_float_) decls += "  volatile float sh_nan_f = NAN;\n";
     if (uses_nan_double_) decls += "  volatile double sh_nan_d = (double)NAN;\n";
     return decls;
+  }
+
+  // The name of a helper function of the kernel's source, written once,
+  // before the kernel, the first time an operation needs it.
+  std::string helper(const char* op, const std::string& t, std::string (*define)(const std::string&)) const {
+    std::string name = std::string("sh_") + op + "_" + t;
+    if (helper_names_.insert(name).second) helpers_ += define(t);
+    return name;
   }
 
   bool adds_floats() const {
@@ -277,7 +303,7 @@ class Generator {
       case Op::Mul: return fp ? a + " * " + b : wrap("*");
       // Legal IR divides integers only by divisors that cannot trap.
       case Op::Div: return a + " / " + b;
-      case Op::Mod: return fp ? call2("fmod", a, b) : a + " % " + b;
+      case Op::Mod: return helper("mod", t, floor_remainder_function) + "(" + a + ", " + b + ")";
       case Op::Neg: return fp ? "-" + a : "(int)(0u - (uint)" + a + ")";
       case Op::Min: return call2(fp ? "fmin" : "min", a, b);
       case Op::Max: return call2(fp ? "fmax" : "max", a, b);
@@ -289,7 +315,7 @@ class Generator {
         return "(" + a + " > 0 ? 1 : (" + a + " < 0 ? -1 : 0))";
       case Op::Floor: return call("floor", a);
       case Op::Ceil: return call("ceil", a);
-      case Op::Round: return call("round", a);
+      case Op::Round: return helper("round", t, round_half_up_function) + "(" + a + ")";
       case Op::Sqrt: return call("sqrt", a);
       case Op::Rsqrt: return one(from) + " / sqrt(" + a + ")";
       case Op::Rcp: return one(from) + " / " + a;
@@ -403,6 +429,8 @@ class Generator {
   std::ostringstream body_;
   bool needs_fp64_ = false;
   mutable bool uses_nan_float_ = false, uses_nan_double_ = false;
+  mutable std::set<std::string> helper_names_;
+  mutable std::string helpers_;
   int loops_ = 0;
   std::vector<Jump> jumps_;
 };

@@ -21,7 +21,36 @@ double wrapped_product(double a, double b) {
 // Division and remainder by zero give 0; INT_MIN / -1 wraps to INT_MIN and
 // INT_MIN % -1 is 0.
 double int_divide(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) / whole(b)); }
-double int_remainder(double a, double b) { return whole(b) == 0 ? 0 : wrap(whole(a) % whole(b)); }
+
+// The remainder takes the sign of the divisor, as Sh's and GLSL's mod
+// (a - b floor(a / b)): C's remainder (the sign of a), moved by one b where
+// the signs differ.
+double int_remainder(double a, double b) {
+  if (whole(b) == 0) return 0;
+  std::int64_t r = whole(a) % whole(b);
+  return static_cast<double>(r != 0 && (r < 0) != (whole(b) < 0) ? r + whole(b) : r);
+}
+
+// The float remainder with the divisor's sign: the exact a - b floor(a / b),
+// rounded once.  fmod is exact, and so is r + b but for that one rounding (a
+// tiny r of the other sign rounds to b itself: mod(-1e-30, 1) is 1); Sh's
+// a - b * floor(a / b) rounds three times.  A zero keeps a's sign, as fmod
+// gives it.  For f32 operands r + b in double is then rounded to f32, which
+// gives f32's own r + b: where r + b is inexact in double, |r| < 2^-28 |b|,
+// too close to b for the sum to lie near a midpoint of f32.
+double float_remainder(double a, double b) {
+  double r = std::fmod(a, b);
+  return r != 0 && (r < 0) != (b < 0) ? r + b : r;
+}
+
+// Halves toward +Inf, as Sh's floor(a + 0.5), but exact for every float:
+// a - floor(a) is exact wherever it lies near 0.5 (it rounds only for tiny
+// negative a, to near 1), where a + 0.5 rounds (0.49999997f + 0.5f is 1,
+// and 8388609.0f + 0.5f is 8388610).
+double round_half_up(double a) {
+  double f = std::floor(a);
+  return a - f >= 0.5 ? f + 1 : f;
+}
 
 // min and max of a NaN (quiet or signaling) and a number give the number,
 // as LLVM's minnum and OpenCL's fmin do; C's fmin quiets a signaling one.
@@ -72,7 +101,7 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Sub: return integer ? wrap(whole(a) - whole(b)) : f(a - b);
     case Op::Mul: return integer ? wrapped_product(a, b) : f(a * b);
     case Op::Div: return integer ? int_divide(a, b) : f(a / b);
-    case Op::Mod: return integer ? int_remainder(a, b) : f(std::fmod(a, b));
+    case Op::Mod: return integer ? int_remainder(a, b) : f(float_remainder(a, b));
     case Op::Neg: return integer ? wrap(-whole(a)) : -a;
     case Op::Min: return integer ? std::min(a, b) : either_not_nan(a, b, std::fmin);
     case Op::Max: return integer ? std::max(a, b) : either_not_nan(a, b, std::fmax);
@@ -80,7 +109,7 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Sign: return a > 0 ? 1.0 : a < 0 ? -1.0 : a;  // keeps ±0 and NaN
     case Op::Floor: return std::floor(a);
     case Op::Ceil: return std::ceil(a);
-    case Op::Round: return std::round(a);
+    case Op::Round: return round_half_up(a);
     case Op::Sqrt: return f(std::sqrt(a));
     // Two roundings, as every backend computes it: the root, then its
     // reciprocal (so that normalize gives the same bits everywhere).
