@@ -84,7 +84,9 @@ Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface&
 Attrib2f pixel_turn(const Attrib2f& pixel) {
   Attrib2i p = floor(pixel).cast<std::int32_t>();
   Attrib1i h = p(0) * 1103515245 + p(1) * 12345 + 7;
-  Attrib1f angle = abs((h % 4096).cast<float>()) * (6.2831853f / 4096.0f);
+  // |h| mod 4096 is |C's h % 4096| (the angles the images were made with);
+  // abs(INT_MIN) wraps to INT_MIN, whose remainder is 0 either way.
+  Attrib1f angle = (abs(h) % 4096).cast<float>() * (6.2831853f / 4096.0f);
   return join(cos(angle), sin(angle));
 }
 
