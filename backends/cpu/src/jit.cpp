@@ -4,6 +4,7 @@
 
 #include <llvm/Analysis/CGSCCPassManager.h>
 #include <llvm/Analysis/LoopAnalysisManager.h>
+#include <llvm/Analysis/TargetLibraryInfo.h>
 #include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
@@ -40,12 +41,25 @@ void check(llvm::Error err, const ir::Program& p, const char* stage) {
   if (err) throw Error("program '" + p.name + "': cpu backend: " + stage + ": " + llvm::toString(std::move(err)));
 }
 
+// What the optimiser may assume of the C library.  LLVM 15 rewrites
+// exp2(int-to-float x) as ldexp(1, x), and for vectors it writes invalid IR
+// (a vector compare zero-extended to a scalar, a call of ldexpl on vectors)
+// that instruction selection aborts on: so ldexp is not offered.
+llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
+  llvm::TargetLibraryInfoImpl info(llvm::Triple(m.getTargetTriple()));
+  info.setUnavailable(llvm::LibFunc_ldexp);
+  info.setUnavailable(llvm::LibFunc_ldexpf);
+  info.setUnavailable(llvm::LibFunc_ldexpl);
+  return info;
+}
+
 void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
   llvm::LoopAnalysisManager lam;
   llvm::FunctionAnalysisManager fam;
   llvm::CGSCCAnalysisManager cgam;
   llvm::ModuleAnalysisManager mam;
   llvm::PassBuilder pb(&tm);
+  fam.registerPass([&] { return llvm::TargetLibraryAnalysis(library_info(m)); });
   pb.registerModuleAnalyses(mam);
   pb.registerCGSCCAnalyses(cgam);
   pb.registerFunctionAnalyses(fam);
@@ -103,6 +117,10 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
     llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
   } else {
     optimise(m, *machine);
+    // Invalid IR from the optimiser would abort the process in code
+    // generation; an error names the program instead.
+    if (llvm::verifyModule(m, &os))
+      throw Error("program '" + program.name + "': cpu backend: LLVM's optimiser produced invalid IR: " + os.str());
     llvm::raw_string_ostream ir(llvm_ir_);
     m.print(ir, nullptr);
     if (cache_) cache_->store_listing(llvm_ir_);
