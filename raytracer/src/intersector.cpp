@@ -18,15 +18,24 @@ Attrib3f to_ray_space(const Ray& r, const Attrib3f& vertex) {
   return join(p(0, 1) + r.shear(0, 1) * p(2), r.shear(2) * p(2));
 }
 
-// Twice the signed area of (origin, p, q) in the ray's xy plane, in
-// double: products of floats are exact there, so the difference is the one
-// rounding, its sign is exact and the edge's other triangle gets exactly
-// its negation.  Not in float: fast math contracts p0 q1 - p1 q0 into an
-// FMA, one product exact and the other rounded, which is neither (a ray
-// along the diagonal of cornell's back wall gets +6e-10 for that edge in
-// both triangles, "outside" each, and slips between them).  Contraction
-// cannot change the double: the product it keeps exact already is.
-Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) {
+// Twice the signed area of (origin, p, q) in the ray's xy plane: two
+// products and a difference in float.  Its sign is right wherever |e|
+// exceeds the rounding of those operations, which edge_rounding() bounds
+// whether or not fast math contracted them into an FMA (one product exact,
+// the other rounded: then the edge's other triangle does not get exactly
+// the negation, and a ray along the edge could slip between them).
+Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) { return p(0) * q(1) - p(1) * q(0); }
+
+// At most two roundings of 2^-24 relative to the products and one of the
+// difference, with room for the rounding of this bound itself: 2^-21.
+Attrib1f edge_rounding(const Attrib3f& p, const Attrib3f& q) {
+  return (abs(p(0) * q(1)) + abs(p(1) * q(0))) * 0x1p-21f;
+}
+
+// The same in double: products of floats are exact there, so the
+// difference is the one rounding, its sign is exact, and the edge's other
+// triangle gets exactly its negation, contracted or not.
+Attrib1f exact_edge_function(const Attrib3f& p, const Attrib3f& q) {
   Attrib2d a = p(0, 1).cast<double>(), b = q(0, 1).cast<double>();
   return (a(0) * b(1) - a(1) * b(0)).cast<float>();
 }
@@ -77,6 +86,12 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
                    Attrib2f& best_uv) {
   Attrib3f a = to_ray_space(r, s.v0[tri]), b = to_ray_space(r, s.v1[tri]), c = to_ray_space(r, s.v2[tri]);
   Attrib1f u = edge_function(b, c), v = edge_function(c, a), w = edge_function(a, b);
+  // Near an edge (rare) the float sign may be wrong: all three again in double.
+  SH_IF(abs(u) <= edge_rounding(b, c) || abs(v) <= edge_rounding(c, a) || abs(w) <= edge_rounding(a, b)) {
+    u = exact_edge_function(b, c);
+    v = exact_edge_function(c, a);
+    w = exact_edge_function(a, b);
+  } SH_ENDIF;
   Attrib1f outside = (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f);
   Attrib1f det = u + v + w;
   Attrib1f usable = det != 0.0f;
