@@ -18,6 +18,14 @@ std::string error_of(F&& f) {
   return "(no error)";
 }
 
+ShProgram copy_program() {
+  return SH_BEGIN_PROGRAM("copy") {
+    ShInputAttrib1f x;
+    ShOutputAttrib1f y;
+    y = x;
+  } SH_END;
+}
+
 TEST(HostMemory, ChannelTooSmallNamesTheBytes) {
   std::vector<float> data(5);
   ShHostMemoryPtr memory = new ShHostMemory(data.size() * sizeof(float), data.data(), SH_FLOAT);
@@ -79,11 +87,7 @@ TEST(HostMemory, FailedRebindLeavesTheChannelAsItWas) {
 }
 
 TEST(HostMemory, OutputOnMemoryTooSmallForTheStream) {
-  ShProgram p = SH_BEGIN_PROGRAM("copy") {
-    ShInputAttrib1f x;
-    ShOutputAttrib1f y;
-    y = x;
-  } SH_END;
+  ShProgram p = copy_program();
   std::vector<float> out(3);
   ShChannel<ShAttrib1f> in(std::vector<float>{1, 2, 3, 4, 5});
   ShChannel<ShAttrib1f> empty(new ShHostMemory(12, out.data(), SH_FLOAT), 0);
@@ -95,11 +99,7 @@ TEST(HostMemory, OutputOnMemoryTooSmallForTheStream) {
 }
 
 TEST(HostMemory, AnEmptyChannelHasNoMemoryAndStillTakesTheStreamsLength) {
-  ShProgram p = SH_BEGIN_PROGRAM("copy") {
-    ShInputAttrib1f x;
-    ShOutputAttrib1f y;
-    y = x;
-  } SH_END;
+  ShProgram p = copy_program();
   ShChannel<ShAttrib1f> in(std::vector<float>{1, 2, 3}), out;
   EXPECT_FALSE(out.memory());
   sh::run(p, {in}, {out}, sh::backend("interp"));

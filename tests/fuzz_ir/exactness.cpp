@@ -13,7 +13,6 @@ using namespace sh::ir;
 // Component i of the result reads this component of operand o.
 int component_read(const Operand& o, int i) { return o.swizzle[o.width() == 1 ? 0 : i]; }
 
-
 // One pass over the assignments: raises each written component to the
 // bound its operation adds or its operands carry.  Returns whether
 // anything rose.
