@@ -57,7 +57,7 @@ int compare_accelerators(AccelOptions o) {
               o.settings.octree.leaf_size);
   std::printf("%-12s %10s %10s %11s %11s %12s %12s %9s %10s\n", "accelerator", "nodes", "MiB", "build ms", "first ms",
               "warm ms", "2nd builds", "waves", "visible");
-  for (Accel a : {Accel::Grid, Accel::Octree, Accel::LazyOctree}) {
+  for (Accel a : {Accel::Grid, Accel::Octree, Accel::LazyOctree, Accel::Bvh}) {
     RenderSettings s = o.settings;
     s.accel = a;
     auto t0 = std::chrono::steady_clock::now();
@@ -68,7 +68,7 @@ int compare_accelerators(AccelOptions o) {
     std::size_t built = r.octree() ? r.octree()->built_count() : 0;
     r.render(&warm);
     std::size_t second = r.octree() ? r.octree()->built_count() - built : 0;
-    std::size_t nodes = r.grid() ? r.grid()->cells() : r.octree()->nodes().size();
+    std::size_t nodes = r.grid() ? r.grid()->cells() : r.bvh() ? r.bvh()->nodes() : r.octree()->nodes().size();
     double build_ms = r.accelerator_build_ms();
     std::printf("%-12s %10zu %10.2f %11.1f %11.1f %12.1f %12zu %9zu %9.1f%%\n", accel_name(a), nodes,
                 r.accelerator_bytes() / 1048576.0, build_ms, first_ms, warm.render_ms, second, first.waves,

@@ -37,6 +37,7 @@ struct Common {
   double grid_density = 2.0;
   std::string accel = "grid";
   OctreeLimits octree;
+  BvhLimits bvh;
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;
@@ -64,12 +65,15 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--pattern", c.pattern, "disk sample pattern: random or pseudo")
       ->check(CLI::IsMember({"random", "pseudo"}))->capture_default_str();
   app->add_option("--grid-density", c.grid_density, "grid cells per triangle")->capture_default_str()->check(CLI::Range(0.01, 64.0));
-  app->add_option("--accel", c.accel, "accelerator: grid, octree (built before tracing) or lazy-octree (built where rays go)")
-      ->check(CLI::IsMember({"grid", "octree", "lazy-octree"}))->capture_default_str();
+  app->add_option("--accel", c.accel,
+                  "accelerator: grid, octree (built before tracing), lazy-octree (built where rays go) or bvh")
+      ->check(CLI::IsMember({"grid", "octree", "lazy-octree", "bvh"}))->capture_default_str();
   app->add_option("--octree-depth", c.octree.max_depth, "octree depth limit")
       ->capture_default_str()->check(CLI::Range(0, kMaxOctreeDepth));
   app->add_option("--leaf-size", c.octree.leaf_size, "octree: most triangles in a leaf above the depth limit")
       ->capture_default_str()->check(CLI::Range(1, 1 << 20));
+  app->add_option("--bvh-leaf", c.bvh.max_leaf, "bvh: most triangles in a leaf")
+      ->capture_default_str()->check(CLI::Range(1, kBvhMaxLeaf));
   app->add_flag("--bidirectional", c.bidirectional,
                 "a light pass first (rays from the point lights to every element, through mirrors and glass), whose "
                 "luminance gives the diffuse light");
@@ -126,6 +130,7 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.grid_density = c.grid_density;
   s.accel = parse_accel(c.accel);
   s.octree = c.octree;
+  s.bvh = c.bvh;
   s.bidirectional = c.bidirectional;
   s.light_pass = c.light_pass;
   s.light_pass.depth = c.reflections;
@@ -371,7 +376,7 @@ int main(int argc, char** argv) {
   trade->add_option("--out", tradeoff_options.out, "writes OUT.csv, OUT.gp and OUT.png")->capture_default_str();
 
   std::string view = "full";
-  CLI::App* accel = app.add_subcommand("accel", "grid, octree and lazy octree on one scene: memory, build, trace, first image");
+  CLI::App* accel = app.add_subcommand("accel", "grid, octree, lazy octree and BVH on one scene: memory, build, trace, first image");
   add_common(accel, common);
   accel->add_option("--backend", backend_name, "backend to trace on (default: SH_BACKEND, else cpu)");
   accel->add_option("--view", view, "full, or half (turned to one side, narrower)")->check(CLI::IsMember({"full", "half"}))

@@ -27,7 +27,8 @@ Accel parse_accel(const std::string& name) {
   if (name == "grid") return Accel::Grid;
   if (name == "octree") return Accel::Octree;
   if (name == "lazy-octree") return Accel::LazyOctree;
-  throw Error("unknown accelerator '" + name + "' (grid, octree or lazy-octree)");
+  if (name == "bvh") return Accel::Bvh;
+  throw Error("unknown accelerator '" + name + "' (grid, octree, lazy-octree or bvh)");
 }
 
 const char* accel_name(Accel a) {
@@ -35,6 +36,7 @@ const char* accel_name(Accel a) {
     case Accel::Grid: return "grid";
     case Accel::Octree: return "octree";
     case Accel::LazyOctree: return "lazy-octree";
+    case Accel::Bvh: return "bvh";
   }
   return "?";
 }

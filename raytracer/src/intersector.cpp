@@ -138,19 +138,28 @@ Attrib1f Intersector::operator()(const Point3f& o, const Vector3f& d, const Attr
   return w.best < t_limit;
 }
 
+Attrib1f Intersector::occluded(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit) {
+  WalkState w = WalkState::fresh();
+  w.best = t_limit;
+  walk(o, d, t_limit, w, !may_stop());
+  return w.best < t_limit;
+}
+
 Attrib1f Intersector::resume(const Point3f& o, const Vector3f& d, WalkState& state) {
   walk(o, d, ConstAttrib1f(kFar), state);
   return state.best < kFar;
 }
 
 // Over a lazy octree a stopped element walks no more.
-void Intersector::walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& w) {
+void Intersector::walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& w, bool any_hit) {
   if (s_.grid) {
-    walk::grid(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv);
+    walk::grid(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv, any_hit);
+  } else if (s_.bvh) {
+    walk::bvh(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv, any_hit);
   } else if (may_stop()) {
-    SH_IF(!stopped()) { walk::octree(s_, walk::Ray(o, d), t_limit, w, &request_); } SH_ENDIF;
+    SH_IF(!stopped()) { walk::octree(s_, walk::Ray(o, d), t_limit, w, &request_, false); } SH_ENDIF;
   } else {
-    walk::octree(s_, walk::Ray(o, d), t_limit, w, nullptr);
+    walk::octree(s_, walk::Ray(o, d), t_limit, w, nullptr, any_hit);
   }
 }
 

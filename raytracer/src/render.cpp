@@ -54,6 +54,10 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
                                                    tables_->octree->triangles.storage()->id);
       break;
     }
+    case Accel::Bvh:
+      bvh_ = build_bvh(scene_, settings_.bvh);
+      tables_ = std::make_unique<SceneTables>(scene_, *bvh_);
+      break;
   }
   tables_->set_samples(settings_.pattern, settings_.shadow_samples, settings_.seed);
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
@@ -181,6 +185,9 @@ std::string Renderer::describe_accelerator() const {
   if (grid_) {
     std::snprintf(line, sizeof line, "grid %dx%dx%d (%.1f ms, %.2f MiB)", grid_->dims[0], grid_->dims[1], grid_->dims[2],
                   grid_->build_ms, grid_->bytes() / 1048576.0);
+  } else if (bvh_) {
+    std::snprintf(line, sizeof line, "bvh depth %d, leaves of at most %d: %zu nodes (%.1f ms, %.2f MiB)", bvh_->depth,
+                  settings_.bvh.max_leaf, bvh_->nodes(), bvh_->build_ms, bvh_->bytes() / 1048576.0);
   } else {
     std::snprintf(line, sizeof line, "%s depth %d, leaves of %d: %zu nodes (%.1f ms, %.2f MiB%s)", accel_name(settings_.accel),
                   octree_->limits().max_depth, octree_->limits().leaf_size, octree_->nodes().size(), octree_->build_ms(),
@@ -190,11 +197,18 @@ std::string Renderer::describe_accelerator() const {
   return warning.empty() ? line : std::string(line) + "; warning: " + warning;
 }
 
-std::string Renderer::accelerator_warning() const { return grid_ ? grid_->warning : octree_->warning(); }
+// A BVH's build is bounded without changing what it holds: no warning.
+std::string Renderer::accelerator_warning() const {
+  return grid_ ? grid_->warning : octree_ ? octree_->warning() : std::string();
+}
 
-double Renderer::accelerator_build_ms() const { return grid_ ? grid_->build_ms : octree_->build_ms(); }
+double Renderer::accelerator_build_ms() const {
+  return grid_ ? grid_->build_ms : bvh_ ? bvh_->build_ms : octree_->build_ms();
+}
 
-std::size_t Renderer::accelerator_bytes() const { return grid_ ? grid_->bytes() : octree_->bytes() + octree_->pending_bytes(); }
+std::size_t Renderer::accelerator_bytes() const {
+  return grid_ ? grid_->bytes() : bvh_ ? bvh_->bytes() : octree_->bytes() + octree_->pending_bytes();
+}
 
 double share_within(const Image& a, const Image& b, float tolerance) {
   if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");

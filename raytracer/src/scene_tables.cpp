@@ -67,6 +67,20 @@ OctreeTables::OctreeTables(const Octree& tree, bool is_lazy)
   resolution = static_cast<float>(tree.resolution());
 }
 
+BvhTables::BvhTables(const Bvh& b)
+    : lo(at_least_one(b.nodes())),
+      hi(at_least_one(b.nodes())),
+      links(at_least_one(b.links.size() / 2)),
+      triangles(at_least_one(b.triangles.size())),
+      nodes(static_cast<std::int32_t>(b.nodes())) {
+  lo.name("bvh_lo").assign(b.lo);
+  hi.name("bvh_hi").assign(b.hi);
+  links.name("bvh_links").assign(b.links);
+  triangles.name("bvh_triangles").assign(b.triangles);
+}
+
+SceneTables::SceneTables(const Scene& scene, const Bvh& b) : SceneTables(scene) { bvh = std::make_unique<BvhTables>(b); }
+
 SceneTables::SceneTables(const Scene& scene, const Grid& g) : SceneTables(scene) {
   grid = std::make_unique<GridTables>(g);
 }

@@ -38,10 +38,7 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
     Vector3f dir = to_light / dist;
     Attrib1f facing = dot(x.n, dir);
     SH_IF(facing > 0.0f) {
-      Attrib1f t;
-      Attrib1i blocker;
-      Attrib2f uv;
-      Attrib1f shadowed = intersect(leave(x, dir), dir, dist, t, blocker, uv);
+      Attrib1f shadowed = intersect.occluded(leave(x, dir), dir, dist);
       sum += (1.0f - shadowed) * phong(x, view, dir, facing, diffuse) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;
@@ -68,10 +65,7 @@ Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface&
         Vector3f to_sample = centre + a * du + b * dv - x.p;
         Attrib1f dist = length(to_sample);
         Vector3f towards = to_sample / dist;
-        Attrib1f t;
-        Attrib1i blocker;
-        Attrib2f uv;
-        reached += 1.0f - intersect(leave(x, towards), towards, dist, t, blocker, uv);
+        reached += 1.0f - intersect.occluded(leave(x, towards), towards, dist);
       } SH_ENDFOR;
       sum += reached / s.sample_count.cast<float>() * phong(x, view, dir, facing) * color;
     } SH_ENDIF;

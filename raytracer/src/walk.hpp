@@ -38,9 +38,15 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
 // 1 along the axis of the nearest of the three exit distances, 0 elsewhere.
 Attrib3f nearest_axis(const Attrib3f& t_exits);
 
-void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv);
+// Each walk keeps the nearest hit in (0, best), best at most t_limit; with
+// any_hit it may stop at the first hit nearer than t_limit instead.
+void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv,
+          bool any_hit);
 // Stops at an unbuilt node, leaving it and the cell in *request (a lazy
 // octree only).
-void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib4i* request);
+void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib4i* request,
+            bool any_hit);
+void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv,
+         bool any_hit);
 
 }  // namespace sh::rt::walk

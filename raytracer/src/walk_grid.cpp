@@ -4,7 +4,8 @@
 
 namespace sh::rt::walk {
 
-void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv) {
+void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
+          bool any_hit) {
   const GridTables& g = *s.grid;
   Attrib1f t_enter, t_leave;
   clip(r, g.lo, g.lo + g.cell * g.dims, t_limit, t_enter, t_leave);
@@ -24,6 +25,7 @@ void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f&
       } SH_ENDWHILE;
       Attrib1f t_exit = min_component(t_max);
       SH_BREAK(best <= t_exit || t_exit >= t_leave);
+      if (any_hit) SH_BREAK(best < t_limit);
       // Step into the neighbour across the nearest cell face.
       Attrib3f axis = nearest_axis(t_max);
       voxel += r.step * axis;

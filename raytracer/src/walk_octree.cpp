@@ -41,7 +41,8 @@ void test_leaf(const SceneTables& s, const OctreeTables& q, const Ray& r, const 
 
 }  // namespace
 
-void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& w, Attrib4i* request) {
+void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& w, Attrib4i* request,
+            bool any_hit) {
   const OctreeTables& q = *s.octree;
   Attrib1f t_enter, t_leave;
   clip(r, q.lo, q.lo + q.finest_cell * q.resolution, t_limit, t_enter, t_leave);
@@ -60,6 +61,7 @@ void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkSta
       Attrib3f t_exits = cond(r.nonzero, (cond(r.step > 0.0f, leaf_hi, leaf_lo) - r.o) * r.inv, Attrib3f(kFar));
       Attrib1f t_exit = min_component(t_exits);
       SH_BREAK(w.best <= t_exit || t_exit >= t_leave);
+      if (any_hit) SH_BREAK(w.best < t_limit);
       // Across the exit face: the next cell along the exit axis; along the
       // others, where the ray leaves, kept on this leaf's side of them.
       Attrib3f axis = nearest_axis(t_exits);

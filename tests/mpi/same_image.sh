@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `mpirun -np 2 shtrace render --backend mpi` gives the image `cpu` gives,
-# with the grid and with a lazy octree that each rank builds for itself.
+# with the grid, with a BVH, and with a lazy octree that each rank builds
+# for itself.
 set -eu
 mpirun=$1
 shtrace=$2
@@ -10,6 +11,9 @@ mkdir -p "$dir"
 "$mpirun" -np 2 "$shtrace" render --scene spheres --size 160x120 --backend mpi --output "$dir/mpi.png"
 cmp "$dir/cpu.png" "$dir/mpi.png"
 echo "the mpi image is identical to the cpu image"
+"$mpirun" -np 2 "$shtrace" render --scene spheres --size 160x120 --backend mpi --accel bvh --output "$dir/mpi_bvh.png"
+cmp "$dir/cpu.png" "$dir/mpi_bvh.png"
+echo "the mpi image over a BVH is the cpu image over the grid"
 "$mpirun" -np 2 "$shtrace" render --scene spheres --size 160x120 --backend mpi --accel lazy-octree \
   --output "$dir/mpi_lazy.png" | tee "$dir/mpi_lazy.txt"
 cmp "$dir/cpu.png" "$dir/mpi_lazy.png"

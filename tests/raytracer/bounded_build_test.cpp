@@ -35,7 +35,7 @@ sh::rt::Scene coincident(int copies, float size = 1, Vec3 at = {0, 0, 0}) {
 // What every accelerator returns for random rays agrees with Embree.
 void expect_embree_hits(const sh::rt::Scene& s) {
   rt_test::Rays rays = rt_test::random_rays(s, 400, 3);
-  for (Accel accel : {Accel::Grid, Accel::Octree, Accel::LazyOctree}) {
+  for (Accel accel : {Accel::Grid, Accel::Octree, Accel::LazyOctree, Accel::Bvh}) {
     rt_test::Agreement a = rt_test::compare_with_embree(s, rays, rt_test::trace(s, rays, "cpu", accel));
     EXPECT_EQ(a.unexplained(), 0u) << s.name << ", " << sh::rt::accel_name(accel);
   }

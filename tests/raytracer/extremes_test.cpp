@@ -3,7 +3,8 @@
 // corners of the grid, rays through a closed mesh's edges and vertices,
 // grazing rays, rays leaving a surface, scenes far from the origin and very
 // small or large, degenerate triangles, the camera inside and outside the
-// grid.  Every check runs each accelerator: grid, octree and lazy octree.
+// grid.  Every check runs each accelerator: grid, octree, lazy octree and
+// BVH.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,7 +25,8 @@ sh::rt::Scene closed_box_scene() {
   return s;
 }
 
-constexpr sh::rt::Accel kAccels[] = {sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree};
+constexpr sh::rt::Accel kAccels[] = {sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree,
+                                     sh::rt::Accel::Bvh};
 
 // Returns the agreement of the accelerator that agreed on fewest rays.
 rt_test::Agreement check(const sh::rt::Scene& s, const rt_test::Rays& rays) {

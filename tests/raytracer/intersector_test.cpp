@@ -33,7 +33,8 @@ TEST_P(IntersectorAgainstEmbree, Spheres) { expect_agreement(sh::rt::builtin_sce
 TEST_P(IntersectorAgainstEmbree, Procedural) { expect_agreement(sh::rt::builtin_scene("procedural", 20000), 100000, 3); }
 
 INSTANTIATE_TEST_SUITE_P(Accelerators, IntersectorAgainstEmbree,
-                         testing::Values(sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree),
+                         testing::Values(sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree,
+                                         sh::rt::Accel::Bvh),
                          [](const auto& info) {
                            std::string n = sh::rt::accel_name(info.param);
                            std::replace(n.begin(), n.end(), '-', '_');

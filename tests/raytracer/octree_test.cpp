@@ -1,5 +1,5 @@
-// The octree, static and lazy: the same images as the grid on every
-// backend; a lazy render builds only nodes its rays walk into, nothing
+// The octree, static and lazy, and the BVH: the same images as the grid
+// on every backend; a lazy render builds only nodes its rays walk into, nothing
 // when the view is rendered again, only what is new for a new view; depth
 // limits from 0 to the deepest; the waves end where every ray escapes and
 // where every ray hits; the order nodes are built in does not change them.
@@ -36,13 +36,13 @@ void expect_same_image(const sh::rt::Image& a, const sh::rt::Image& b, const std
   ASSERT_EQ(a.rgb, b.rgb) << what << ": a colour differs";
 }
 
-class OctreeOnEveryBackend : public testing::TestWithParam<std::string> {};
+class AcceleratorsOnEveryBackend : public testing::TestWithParam<std::string> {};
 
-TEST_P(OctreeOnEveryBackend, ImagesAreTheGridsOnEveryBuiltinScene) {
+TEST_P(AcceleratorsOnEveryBackend, ImagesAreTheGridsOnEveryBuiltinScene) {
   for (std::string name : {"cornell", "spheres", "soft"}) {
     sh::rt::Scene scene = sh::rt::builtin_scene(name);
     sh::rt::Image grid = sh::rt::Renderer(scene, small(GetParam(), Accel::Grid)).render();
-    for (Accel accel : {Accel::Octree, Accel::LazyOctree}) {
+    for (Accel accel : {Accel::Octree, Accel::LazyOctree, Accel::Bvh}) {
       sh::rt::Renderer r(scene, small(GetParam(), accel));
       expect_same_image(grid, r.render(), name + " with " + sh::rt::accel_name(accel) + " on " + GetParam());
     }
@@ -56,7 +56,7 @@ std::vector<std::string> backends() {
   return names;
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, OctreeOnEveryBackend, testing::ValuesIn(backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, AcceleratorsOnEveryBackend, testing::ValuesIn(backends()),
                          [](const auto& info) { return info.param; });
 
 // Does the segment o + t d, t in [0, t_end], meet the box (slightly grown)?

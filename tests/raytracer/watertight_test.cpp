@@ -58,7 +58,7 @@ INSTANTIATE_TEST_SUITE_P(Backends, Watertight,
 TEST(WatertightAccelerators, EveryAcceleratorHoldsTheSphere) {
   watertight::ClosedMesh m = watertight::transformed(watertight::uv_sphere(96), 1, 1e3f);
   watertight::AimedRays rays = watertight::aimed_rays(m, 20000, 3);
-  for (sh::rt::Accel accel : {sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree})
+  for (sh::rt::Accel accel : {sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree, sh::rt::Accel::Bvh})
     EXPECT_EQ(watertight::leaks(rays, nearest(m.scene, rays, "cpu", accel)), 0u) << sh::rt::accel_name(accel);
 }
 

@@ -10,8 +10,8 @@
 
 namespace sh::rt {
 
-enum class Accel { Grid, Octree, LazyOctree };
-Accel parse_accel(const std::string& name);  // grid, octree or lazy-octree; throws sh::Error
+enum class Accel { Grid, Octree, LazyOctree, Bvh };
+Accel parse_accel(const std::string& name);  // grid, octree, lazy-octree or bvh; throws sh::Error
 const char* accel_name(Accel a);
 
 struct Box {

@@ -12,6 +12,7 @@
 
 #include <sh/dsl.hpp>
 
+#include "sh/raytracer/bvh.hpp"
 #include "sh/raytracer/grid.hpp"
 #include "sh/raytracer/octree.hpp"
 #include "sh/raytracer/sampling.hpp"
@@ -45,6 +46,16 @@ struct GridTables {
   Attrib3f lo, cell, dims;
 };
 
+// The BVH's tables (bvh.hpp): links holds the six orders one after the
+// other, `nodes` entries each.
+struct BvhTables {
+  explicit BvhTables(const Bvh& bvh);
+  Table1D<Attrib3f> lo, hi;
+  Table1D<Attrib2i> links;
+  Table1D<Attrib1i> triangles;
+  Attrib1i nodes;
+};
+
 // A lazy octree's tables are what was built when they were made; running
 // in waves, its refiner shows the kernels what has been built since.
 struct OctreeTables {
@@ -69,15 +80,17 @@ class SceneTables {
  public:
   SceneTables(const Scene& scene, const Grid& grid);
   SceneTables(const Scene& scene, const Octree& tree, bool lazy);
+  SceneTables(const Scene& scene, const Bvh& bvh);
   void set_camera(const Camera& c, int width, int height);
   void set_reflection_depth(int depth) { max_bounces = static_cast<float>(depth); }
   void set_light_count(int n) { light_count = n; }
   // The disk samples every shading point uses (rotated per pixel).
   void set_samples(SamplePattern pattern, int n, unsigned seed);
 
-  // The accelerator: one of the two.
+  // The accelerator: one of the three.
   std::unique_ptr<GridTables> grid;
   std::unique_ptr<OctreeTables> octree;
+  std::unique_ptr<BvhTables> bvh;
   std::unique_ptr<LuminanceTables> luminance;  // bidirectional tracing only
   // Triangles: the three vertices as the scene has them (the watertight
   // test needs a shared vertex to be the same number in every triangle),
@@ -132,6 +145,10 @@ class Intersector {
   // nearest t, its triangle and barycentrics.
   Attrib1f operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t, Attrib1i& triangle,
                       Attrib2f& uv);
+  // 1 where anything is hit for t in (0, t_limit): the same answer as the
+  // nearest hit's, but the walk ends at the first hit it finds (over a lazy
+  // octree it walks as for the nearest).
+  Attrib1f occluded(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit);
   // The nearest hit along o + t d, t > 0, into `state`: over a lazy octree
   // going on from where the walk stopped, elsewhere from the start.
   Attrib1f resume(const Point3f& o, const Vector3f& d, WalkState& state);
@@ -140,7 +157,7 @@ class Intersector {
   bool may_stop() const;  // over a lazy octree
 
  private:
-  void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state);
+  void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state, bool any_hit = false);
   const SceneTables& s_;
   Attrib4i request_;
 };

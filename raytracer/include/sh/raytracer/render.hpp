@@ -1,6 +1,6 @@
 #pragma once
-// How a scene is traced: the accelerator (grid, octree, or an octree built
-// lazily while tracing) is made on the host, the scene becomes tables and
+// How a scene is traced: the accelerator (grid, octree, an octree built
+// lazily while tracing, or a BVH) is made on the host, the scene becomes tables and
 // uniforms, and one program (the tracer composed with ray generation) runs
 // over the stream of pixel centres on a backend.
 #include <memory>
@@ -11,6 +11,7 @@
 #include <sh/dsl.hpp>
 
 #include "sh/raytracer/bidirectional.hpp"
+#include "sh/raytracer/bvh.hpp"
 #include "sh/raytracer/grid.hpp"
 #include "sh/raytracer/kernels.hpp"
 #include "sh/raytracer/octree_refiner.hpp"
@@ -37,6 +38,7 @@ struct RenderSettings {
   Accel accel = Accel::Grid;
   double grid_density = 2.0;   // grid cells per triangle
   OctreeLimits octree;
+  BvhLimits bvh;
   bool progress = false;       // a progress line on stderr (when it is a terminal)
   // Bidirectional: a light pass first (once per renderer), whose luminance
   // the view pass's diffuse term reads.
@@ -77,6 +79,7 @@ class Renderer {
   Accel accel() const { return settings_.accel; }
   const Grid* grid() const { return grid_ ? &*grid_ : nullptr; }
   const Octree* octree() const { return octree_.get(); }
+  const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }
   std::string describe_accelerator() const;  // kind, size, build time, memory, and the warning below
   // Where a bound on the build's work changed the accelerator (see grid.hpp,
   // octree.hpp); empty otherwise.  A lazy octree's may appear as it grows.
@@ -98,6 +101,7 @@ class Renderer {
   RenderSettings settings_;
   std::optional<Grid> grid_;
   std::shared_ptr<Octree> octree_;
+  std::optional<Bvh> bvh_;
   std::unique_ptr<SceneTables> tables_;
   std::unique_ptr<OctreeRefiner> refiner_;  // a lazy octree's
   Features features_;

@@ -1,0 +1,87 @@
+// The BVH's tree laid out as bvh.hpp says: nodes numbered depth-first,
+// leaves' lists, and the six threaded orders.
+#include "bvh_tree.hpp"
+
+namespace sh::rt::bvh {
+namespace {
+
+struct Numbered {
+  std::vector<const Node*> nodes;                  // depth-first, left child first
+  std::vector<std::array<std::int32_t, 2>> child;  // their numbers; -1 in a leaf
+  std::vector<std::int32_t> leaf_start;            // into the lists; -1 in an inner node
+  int depth = 0;
+};
+
+Numbered number(const Node& root) {
+  struct Visit {
+    const Node* node;
+    std::int32_t parent;
+    int slot, depth;
+  };
+  Numbered out;
+  std::vector<Visit> stack{{&root, -1, 0, 0}};
+  while (!stack.empty()) {
+    Visit v = stack.back();
+    stack.pop_back();
+    auto at = static_cast<std::int32_t>(out.nodes.size());
+    out.nodes.push_back(v.node);
+    out.child.push_back({-1, -1});
+    if (v.parent >= 0) out.child[static_cast<std::size_t>(v.parent)][static_cast<std::size_t>(v.slot)] = at;
+    out.depth = std::max(out.depth, v.depth);
+    if (v.node->leaf()) continue;
+    stack.push_back({v.node->child[1].get(), at, 1, v.depth + 1});
+    stack.push_back({v.node->child[0].get(), at, 0, v.depth + 1});
+  }
+  return out;
+}
+
+// Threads order k: each inner node's nearer child first, for rays going
+// along axis k / 2 upwards (k even) or downwards (k odd).
+void thread(const Numbered& n, int k, Bvh& bvh) {
+  int axis = k / 2;
+  bool downwards = k % 2;
+  std::int32_t* links = &bvh.links[2 * static_cast<std::size_t>(k) * n.nodes.size()];
+  std::vector<std::pair<std::int32_t, std::int32_t>> stack{{0, -1}};  // node, where to go after it
+  while (!stack.empty()) {
+    auto [node, next] = stack.back();
+    stack.pop_back();
+    auto at = static_cast<std::size_t>(node);
+    links[2 * at + 1] = next;
+    if (n.leaf_start[at] >= 0) {
+      links[2 * at] = -n.leaf_start[at] - 2;
+      continue;
+    }
+    std::int32_t near = n.child[at][0], far = n.child[at][1];
+    float c_near = centre(n.nodes[static_cast<std::size_t>(near)]->box)[axis],
+          c_far = centre(n.nodes[static_cast<std::size_t>(far)]->box)[axis];
+    if (downwards ? c_far > c_near : c_far < c_near) std::swap(near, far);
+    links[2 * at] = near;
+    stack.push_back({far, next});
+    stack.push_back({near, far});
+  }
+}
+
+}  // namespace
+
+Bvh lay_out(const Node& root, const Box& bounds) {
+  Numbered n = number(root);
+  Bvh bvh;
+  bvh.depth = n.depth;
+  n.leaf_start.assign(n.nodes.size(), -1);
+  for (std::size_t i = 0; i < n.nodes.size(); ++i) {
+    const Box& b = n.nodes[i]->box;
+    Vec3 hair = overlap_hair(bounds, b.hi - b.lo);
+    Vec3 lo = b.lo - hair, hi = b.hi + hair;
+    bvh.lo.insert(bvh.lo.end(), {lo.x, lo.y, lo.z});
+    bvh.hi.insert(bvh.hi.end(), {hi.x, hi.y, hi.z});
+    if (!n.nodes[i]->leaf()) continue;
+    n.leaf_start[i] = static_cast<std::int32_t>(bvh.triangles.size());
+    bvh.triangles.insert(bvh.triangles.end(), n.nodes[i]->triangles.begin(), n.nodes[i]->triangles.end());
+    bvh.triangles.push_back(-1);
+  }
+  bvh.links.resize(2 * kBvhOrders * n.nodes.size());
+  for (int k = 0; k < kBvhOrders; ++k) thread(n, k, bvh);
+  return bvh;
+}
+
+}  // namespace sh::rt::bvh

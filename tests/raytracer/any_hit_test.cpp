@@ -1,0 +1,68 @@
+// The any-hit query shadow rays use: on every backend and accelerator it
+// answers what the nearest-hit query answers (is anything hit before the
+// limit?) on random rays with random limits, some short of every surface
+// and some beyond.  (A lazy octree answers it with the nearest-hit walk.)
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "helpers.hpp"
+
+namespace {
+
+using sh::rt::Accel;
+
+sh::Program occlusion_program(const sh::rt::SceneTables& s) {
+  return SH_BEGIN_PROGRAM("occlusion") {
+    sh::InputPoint3f o;
+    sh::InputVector3f d;
+    sh::InputAttrib1f limit;
+    sh::OutputAttrib1f nearest, any;
+    sh::rt::Intersector intersect(s);
+    sh::Attrib1f t;
+    sh::Attrib1i triangle;
+    sh::Attrib2f uv;
+    nearest = intersect(o, d, limit, t, triangle, uv);
+    any = intersect.occluded(o, d, limit);
+  } SH_END;
+}
+
+class AnyHit : public testing::TestWithParam<std::string> {};
+
+TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("procedural", 5000);
+  rt_test::Rays rays = rt_test::random_rays(scene, 4000, 11);
+  std::mt19937 rng(5);
+  float size = sh::rt::length(scene.bounds_max() - scene.bounds_min());
+  std::uniform_real_distribution<float> u(0.0f, 1.5f * size);
+  std::vector<float> limits(rays.size());
+  for (float& l : limits) l = u(rng);
+  for (Accel accel : {Accel::Grid, Accel::Octree, Accel::Bvh}) {
+    sh::rt::RenderSettings settings;
+    settings.accel = accel;
+    sh::rt::Renderer r(scene, settings);
+    sh::Channel<sh::Point3f> o(rays.origins);
+    sh::Channel<sh::Vector3f> d(rays.directions);
+    sh::Channel<sh::Attrib1f> limit(limits), nearest, any;
+    sh::run(occlusion_program(r.tables()), {o, d, limit}, {nearest, any}, sh::backend(GetParam()));
+    std::size_t blocked = 0, differ = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      blocked += nearest[i] > 0;
+      differ += nearest[i] != any[i];
+    }
+    EXPECT_EQ(differ, 0u) << sh::rt::accel_name(accel) << " on " << GetParam();
+    EXPECT_GT(blocked, rays.size() / 10) << "too few rays blocked to mean much";
+    EXPECT_LT(blocked, rays.size() * 9 / 10) << "too few rays free to mean much";
+  }
+}
+
+std::vector<std::string> backends() {
+  std::vector<std::string> names;
+  for (const std::string& b : sh::backend_names())
+    if (b != "mpi") names.push_back(b);  // mpi: tests/mpi/same_image.sh renders with shadows under mpirun
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, AnyHit, testing::ValuesIn(backends()), [](const auto& info) { return info.param; });
+
+}  // namespace

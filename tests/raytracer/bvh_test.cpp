@@ -1,0 +1,209 @@
+// The BVH: every triangle in exactly one leaf, inside the leaf's box and
+// every box above it; every threaded order a pre-order of the whole tree
+// with the nearer child first; bounded on degenerate input (coincident,
+// zero-area, huge and tiny coordinates); the same tree on one thread and
+// on two; limits checked.  Its hits against Embree's are in
+// intersector_test, extremes_test and bounded_build_test, its images
+// against the grid's on every backend in octree_test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <tbb/global_control.h>
+
+#include "helpers.hpp"
+
+namespace {
+
+using sh::rt::Bvh;
+using sh::rt::Vec3;
+
+Vec3 corner(const std::vector<float>& v, std::size_t node) { return {v[3 * node], v[3 * node + 1], v[3 * node + 2]}; }
+
+bool inside(Vec3 p, Vec3 lo, Vec3 hi) {
+  return lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y && lo.z <= p.z && p.z <= hi.z;
+}
+
+// Walks order k meeting every box: visits each node once, in the order
+// the links give, and checks what each node holds.
+void expect_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
+  std::size_t n = s.mesh.triangles();
+  ASSERT_GE(bvh.nodes(), 1u);
+  ASSERT_EQ(bvh.links.size(), 2 * sh::rt::kBvhOrders * bvh.nodes());
+  for (int k = 0; k < sh::rt::kBvhOrders; ++k) {
+    std::vector<int> seen_node(bvh.nodes(), 0), seen_triangle(n, 0);
+    std::vector<std::int32_t> path;  // the inner nodes above the current one
+    std::size_t visits = 0;
+    for (std::int32_t node = 0; node >= 0 && visits <= bvh.nodes(); ++visits) {
+      auto at = static_cast<std::size_t>(node);
+      ASSERT_LT(at, bvh.nodes());
+      ++seen_node[at];
+      std::int32_t hit = bvh.hit(k, at);
+      if (hit <= -2) {
+        int count = 0;
+        for (std::size_t i = static_cast<std::size_t>(-hit - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
+          auto t = static_cast<std::size_t>(bvh.triangles[i]);
+          ASSERT_LT(t, n);
+          ++seen_triangle[t];
+          for (int v = 0; v < 3; ++v)
+            EXPECT_TRUE(inside(s.mesh.positions[3 * t + v], corner(bvh.lo, at), corner(bvh.hi, at)))
+                << "triangle " << t << " outside leaf " << at;
+        }
+        EXPECT_GE(count, 1) << "empty leaf " << at;
+        EXPECT_LE(count, max_leaf) << "leaf " << at;
+        node = bvh.miss(k, at);
+      } else {
+        ASSERT_GE(hit, 0) << "node " << at << " order " << k;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_LE(bvh.lo[3 * at + c], bvh.lo[3 * static_cast<std::size_t>(hit) + c]);
+          EXPECT_GE(bvh.hi[3 * at + c], bvh.hi[3 * static_cast<std::size_t>(hit) + c]);
+        }
+        node = hit;
+      }
+    }
+    for (std::size_t i = 0; i < bvh.nodes(); ++i) ASSERT_EQ(seen_node[i], 1) << "node " << i << " in order " << k;
+    for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(seen_triangle[t], 1) << "triangle " << t << " in order " << k;
+    EXPECT_EQ(bvh.miss(k, 0), -1) << "a ray that misses the root is done";
+  }
+}
+
+// Order k visits, of an inner node's two children, first the one whose
+// box's centre lies further back along its axis and direction.
+void expect_nearer_child_first(const Bvh& bvh) {
+  for (int k = 0; k < sh::rt::kBvhOrders; ++k)
+    for (std::size_t node = 0; node < bvh.nodes(); ++node) {
+      std::int32_t first = bvh.hit(k, node);
+      if (first < 0) continue;
+      auto a = static_cast<std::size_t>(first), b = static_cast<std::size_t>(bvh.miss(k, a));
+      int axis = k / 2;
+      float ca = bvh.lo[3 * a + axis] + bvh.hi[3 * a + axis], cb = bvh.lo[3 * b + axis] + bvh.hi[3 * b + axis];
+      float slack = 1e-5f * (std::fabs(ca) + std::fabs(cb));  // the hair the boxes were widened by
+      if (k % 2)
+        EXPECT_GE(ca + slack, cb) << "node " << node << " order " << k;
+      else
+        EXPECT_LE(ca - slack, cb) << "node " << node << " order " << k;
+    }
+}
+
+sh::rt::Scene triangles(const std::vector<Vec3>& positions) {
+  sh::rt::Scene s;
+  s.name = "triangles";
+  s.materials.push_back({});
+  s.mesh.positions = positions;
+  s.mesh.material.assign(s.mesh.triangles(), 0);
+  s.mesh.normals.assign(positions.size(), Vec3{0, 0, 1});
+  return s;
+}
+
+std::size_t ceil_log2(std::size_t n) {
+  std::size_t k = 0;
+  while ((std::size_t{1} << k) < n) ++k;
+  return k;
+}
+
+TEST(Bvh, EveryTriangleIsInOneLeafInsideEveryBoxAboveIt) {
+  for (std::string name : {"cornell", "spheres", "procedural"}) {
+    sh::rt::Scene s = name == "procedural" ? sh::rt::builtin_scene(name, 20000) : sh::rt::builtin_scene(name);
+    Bvh bvh = sh::rt::build_bvh(s);
+    SCOPED_TRACE(name);
+    expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+    expect_nearer_child_first(bvh);
+  }
+}
+
+TEST(Bvh, LeafSizeLimitsFromOneToTheLargest) {
+  sh::rt::Scene s = sh::rt::builtin_scene("spheres");
+  for (int leaf : {1, 2, 8, sh::rt::kBvhMaxLeaf}) {
+    SCOPED_TRACE(leaf);
+    expect_well_formed(s, sh::rt::build_bvh(s, {leaf}), leaf);
+  }
+  for (int bad : {0, sh::rt::kBvhMaxLeaf + 1}) {
+    try {
+      sh::rt::build_bvh(s, {bad});
+      ADD_FAILURE() << "leaves of " << bad << " accepted";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("leaves of " + std::to_string(bad)), std::string::npos) << e.what();
+    }
+  }
+}
+
+// No plane separates coincident triangles: they are halved by count, so
+// the depth is that of a balanced tree and every leaf is within its limit.
+TEST(Bvh, CoincidentTrianglesMakeABalancedTree) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 5000; ++i) p.insert(p.end(), {{0, 0, 0}, {1, 0.2f, 0.1f}, {0.3f, 1, 0.7f}});
+  sh::rt::Scene s = triangles(p);
+  Bvh bvh = sh::rt::build_bvh(s);
+  expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+  EXPECT_LE(static_cast<std::size_t>(bvh.depth), ceil_log2(s.mesh.triangles()));
+}
+
+// Triangles of no area (points and segments), some at one point: built,
+// bounded, every one listed.
+TEST(Bvh, ZeroAreaTrianglesAreListed) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 3000; ++i) {
+    float x = static_cast<float>(i % 7);
+    p.insert(p.end(), {{x, 0, 0}, {x, 0, 0}, {x, 0, 0}});
+    p.insert(p.end(), {{0, x, 0}, {0, 2 * x, 0}, {0, 3 * x, 0}});
+  }
+  sh::rt::Scene s = triangles(p);
+  Bvh bvh = sh::rt::build_bvh(s);
+  expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+  EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
+}
+
+// Coordinates near the tracer's limit and near float's smallest normal
+// numbers: areas are taken in double, so the SAH still separates the
+// triangles, and the tree is the unscaled one's.
+TEST(Bvh, HugeAndTinyCoordinatesBuildTheUnscaledTree) {
+  sh::rt::Scene base = sh::rt::builtin_scene("spheres");
+  Bvh unscaled = sh::rt::build_bvh(base);
+  for (float scale : {1e17f, 1e-25f}) {
+    sh::rt::Scene s = base;
+    for (Vec3& v : s.mesh.positions) v = v * scale;
+    Bvh bvh = sh::rt::build_bvh(s);
+    SCOPED_TRACE(scale);
+    expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+    EXPECT_NEAR(static_cast<double>(bvh.nodes()), static_cast<double>(unscaled.nodes()), 0.02 * unscaled.nodes());
+  }
+}
+
+// Random triangles of every size up to the scene's, many overlapping.
+TEST(Bvh, ASoupOfLargeAndSmallTriangles) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::vector<Vec3> p;
+  for (int i = 0; i < 20000; ++i) {
+    float size = std::pow(10.0f, 3 * u(rng) - 1);
+    Vec3 at{u(rng), u(rng), u(rng)};
+    for (int v = 0; v < 3; ++v) p.push_back(at + Vec3{u(rng), u(rng), u(rng)} * size);
+  }
+  sh::rt::Scene s = triangles(p);
+  Bvh bvh = sh::rt::build_bvh(s);
+  expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+  EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
+}
+
+TEST(Bvh, TheSameTreeOnOneThreadAndOnTwo) {
+  sh::rt::Scene s = sh::rt::builtin_scene("procedural", 30000);
+  Bvh one;
+  {
+    tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
+    one = sh::rt::build_bvh(s);
+  }
+  tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+  Bvh both = sh::rt::build_bvh(s);
+  EXPECT_EQ(one.lo, both.lo);
+  EXPECT_EQ(one.hi, both.hi);
+  EXPECT_EQ(one.links, both.links);
+  EXPECT_EQ(one.triangles, both.triangles);
+}
+
+TEST(Bvh, ASceneWithoutTrianglesIsAnError) {
+  sh::rt::Scene s = triangles({});
+  EXPECT_THROW(sh::rt::build_bvh(s), sh::Error);
+}
+
+}  // namespace
