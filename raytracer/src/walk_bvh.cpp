@@ -13,13 +13,16 @@ namespace {
 // the same distance to the intersector's tie tolerance may still win a tie.
 constexpr float kBeyondBest = 1.0f + 4e-6f;
 
-// Where the ray's links start in bvh_links: order 2 * axis + (downwards),
-// axis that of the largest direction component (the watertight test's
-// turn puts it last).
-Attrib1i links_base(const BvhTables& b, const Ray& r) {
+// The order threaded for the ray's largest direction component and its
+// sign: 2 * axis + (downwards), the axis the watertight test's turn puts
+// last.  Rays walked together take the lowest order among them, so they
+// follow the same links.
+Attrib1f walk_order(const Ray& r) {
   Attrib1f axis = 2.0f - 2.0f * r.last_is_x - r.last_is_y;
-  Attrib1f downwards = r.turn(r.d)(2) < 0.0f;
-  return (2.0f * axis + downwards).cast<std::int32_t>() * b.nodes;
+  Attrib1f own = 2.0f * axis + (r.turn(r.d)(2) < 0.0f);
+  Attrib1f lowest = 0.0f;
+  for (int k = 0; k + 1 < kBvhOrders; ++k) lowest += 1.0f - any_lane(own <= static_cast<float>(k));
+  return lowest;
 }
 
 void test_leaf(const SceneTables& s, const Ray& r, const Attrib1i& start, Attrib1f& best, Attrib1i& triangle,
@@ -36,18 +39,32 @@ void test_leaf(const SceneTables& s, const Ray& r, const Attrib1i& start, Attrib
 
 }  // namespace
 
+// Rays side by side in SIMD lanes walk together: a box is entered when any
+// of them meets it (any_lane), so every lane is at the same node and reads
+// it with one load instead of a gather.  A ray is tested against the
+// triangles of leaves it alone would have skipped; its nearest hit is the
+// same, as the test does not depend on the boxes.  Where elements run
+// alone (scalar code, the interpreter, OpenCL) this is the single ray's
+// walk.
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
          bool any_hit) {
   const BvhTables& b = *s.bvh;
-  Attrib1i base = links_base(b, r);
+  Attrib1i base = walk_order(r).cast<std::int32_t>() * b.nodes;
   Attrib1i node = 0;
   SH_WHILE(node >= 0) {
-    Attrib1f t_enter, t_leave;
-    clip(r, b.lo[node], b.hi[node], best * kBeyondBest, t_enter, t_leave);
-    Attrib2i link = b.links[base + node];
-    Attrib1f meets = t_enter <= t_leave;
-    SH_IF(meets && (link(0) <= -2).cast<float>()) { test_leaf(s, r, -link(0) - 2, best, triangle, uv); } SH_ENDIF;
-    node = cond(meets && (link(0) >= 0).cast<float>(), link(0), link(1));
+    // Boxes up to the next leaf to test, then its triangles: the box walk
+    // stays a short loop of its own.
+    Attrib1i leaf = -1;
+    SH_WHILE(node >= 0 && leaf < 0) {
+      Attrib1f t_enter, t_leave;
+      clip(r, b.lo[node], b.hi[node], best * kBeyondBest, t_enter, t_leave);
+      Attrib2i link = b.links[base + node];
+      Attrib1i met = any_lane(t_enter <= t_leave).cast<std::int32_t>();
+      leaf = cond(met && link(0) <= -2, -link(0) - 2, leaf);
+      node = cond(met && link(0) >= 0, link(0), link(1));
+    } SH_ENDWHILE;
+    SH_IF(leaf >= 0) { test_leaf(s, r, leaf, best, triangle, uv); } SH_ENDIF;
+    // A ray that found any hit is done; the others walk on together.
     if (any_hit) node = cond(best < t_limit, ConstAttrib1i(-1), node);
   } SH_ENDWHILE;
 }

@@ -375,7 +375,8 @@ class Generator {
 std::vector<Op> generated_ops() {
   std::vector<Op> ops;
   for (int i = 0; i < kOpCount; ++i)
-    if (op_info(op_at(i)).result != ResultRule::TableElement || op_arity(op_at(i)) == 1) ops.push_back(op_at(i));
+    if ((op_info(op_at(i)).result != ResultRule::TableElement || op_arity(op_at(i)) == 1) && !is_lane_group(op_at(i)))
+      ops.push_back(op_at(i));
   return ops;
 }
 

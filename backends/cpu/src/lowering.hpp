@@ -88,6 +88,7 @@ class Lowering {
   Value* libm(const char* name, std::initializer_list<Value*> args);
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
+  Value* any_lane(Value* a, ir::Scalar from);
   Value* sign(Value* a, bool fp);
   Value* floor_remainder(Value* a, Value* b, bool fp);
   Value* round_half_up(Value* a);

@@ -143,10 +143,20 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Or: return mask(b_.CreateOr(truthy(a, from), truthy(b, from)), t);
     case Op::Not: return mask(b_.CreateNot(truthy(a, from)), t);
     case Op::Cond: return b_.CreateSelect(truthy(a, from), b, c);
+    case Op::AnyLane: return any_lane(a, from);
     case Op::Extent: case Op::Load: break;  // table_read()
     case Op::Fetch: case Op::Sample: break;  // not legal IR: the backend refuses it at compile
   }
   throw Error(std::string("cpu backend: ") + ir::op_name(op) + " reached the arithmetic lowering");
+}
+
+// The lanes running this statement are the group: their answers or'd, in
+// every lane.  A uniform value (and scalar code) is its own answer.
+Value* Lowering::any_lane(Value* a, ir::Scalar from) {
+  llvm::Type* t = a->getType();
+  if (!t->isVectorTy()) return mask(truthy(a, from), t);
+  Value* running = b_.CreateAnd(truthy(a, from), exec());
+  return mask(b_.CreateVectorSplat(static_cast<unsigned>(width_), any(running)), t);
 }
 
 Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {

@@ -358,6 +358,9 @@ class Generator {
       case Op::Or: return mask(pos(a) + " || " + pos(b));
       case Op::Not: return mask("!" + pos(a));
       case Op::Cond: return pos(a) + " ? " + b + " : " + c;
+      // Each work-item is its own group: OpenCL 1.2 has no vote across
+      // work-items outside a barrier, which divergent code cannot take.
+      case Op::AnyLane: return mask(pos(a));
       case Op::Extent: case Op::Load: break;   // table_read()
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }

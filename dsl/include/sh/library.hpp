@@ -72,6 +72,11 @@ SH_UNARY_FUNCTION(exp10, Exp10)
 SH_UNARY_FUNCTION(log10, Log10)
 SH_UNARY_FUNCTION(cbrt, Cbrt)
 SH_UNARY_FUNCTION(bit_not, BitNot)
+// 1 where a > 0 in this element or in any element run beside it (SIMD
+// lanes of one batch; a backend may run each element alone), else 0: a
+// walk whose result does not depend on it can keep neighbouring elements
+// together (see ops.def).
+SH_UNARY_FUNCTION(any_lane, AnyLane)
 #undef SH_UNARY_FUNCTION
 
 #define SH_BINARY_FUNCTION(name, OP)                                                      \

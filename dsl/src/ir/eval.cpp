@@ -151,6 +151,7 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::And: return truthy(a) && truthy(b);
     case Op::Or: return truthy(a) || truthy(b);
     case Op::Not: return !truthy(a);
+    case Op::AnyLane: return truthy(a);  // the element alone: the group of one
     case Op::Cond: return truthy(a) ? b : c;
     case Op::Fetch: case Op::Sample: case Op::Extent: case Op::Load: break;
   }

@@ -3,7 +3,9 @@
 // later assignment becomes a move of that temporary (copy propagation then
 // removes the move).  Available expressions flow into nested blocks, and
 // are dropped when an operand may be written: after a branch that writes
-// it, and around any loop that does.
+// it, and around any loop that does.  An across-elements operation
+// (any_lane) answers for the elements running it: it is reused only
+// between two control statements, where the same elements run.
 #include <algorithm>
 
 #include "sh/passes.hpp"
@@ -35,7 +37,10 @@ class Cse {
     for (ir::Stmt& s : b) {
       if (auto* a = std::get_if<ir::Assign>(&s.node)) {
         assign(*a, avail);
-      } else if (auto* f = std::get_if<ir::If>(&s.node)) {
+        continue;
+      }
+      forget_lane_groups(avail);
+      if (auto* f = std::get_if<ir::If>(&s.node)) {
         block(f->then_body, avail);
         block(f->else_body, avail);
         forget(avail, written_in(f->then_body));
@@ -68,6 +73,10 @@ class Cse {
     forget(avail, {a.dest});
     bool reads_itself = std::any_of(a.args.begin(), a.args.end(), [&](const ir::Operand& o) { return o.var == a.dest; });
     if (a.op != ir::Op::Mov && holds_for_good(a) && !reads_itself) avail.push_back({&a});
+  }
+
+  static void forget_lane_groups(std::vector<Available>& avail) {
+    std::erase_if(avail, [](const Available& e) { return ir::is_lane_group(e.expr->op); });
   }
 
   static void forget(std::vector<Available>& avail, const std::set<ir::VarId>& written) {

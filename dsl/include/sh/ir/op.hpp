@@ -61,6 +61,13 @@ constexpr bool is_table_read(Op op) {
   return op_info(op).result == ResultRule::TableElement || op_info(op).result == ResultRule::TableShape;
 }
 
+// Its result for one element depends on the others run with it
+// (any_lane): the conformance suite and the fuzzer test it by its bounds
+// (at least the element's own answer, at most the answer over
+// kLaneGroupLimit consecutive elements), not against the reference.
+constexpr bool is_lane_group(Op op) { return op == Op::AnyLane; }
+inline constexpr int kLaneGroupLimit = 64;
+
 constexpr bool accepts(Domain d, Scalar s) {
   switch (d) {
     case Domain::Any: return true;
