@@ -94,19 +94,23 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
   } SH_ENDIF;
   Attrib1f outside = (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f);
   Attrib1f det = u + v + w;
-  Attrib1f usable = det != 0.0f;
-  Attrib1f inv = 1.0f / cond(usable, det, ConstAttrib1f(1.0f));
-  Attrib1f t = (u * a(2) + v * b(2) + w * c(2)) * inv;
-  Attrib1f in_front = t > distance_error(a, b, c, join(join(u, v), w), inv);
-  // Of triangles at the same distance (to rounding: backends may differ in
-  // the last bits) the lowest numbered wins, whatever order the accelerator
-  // tests them in: every accelerator and backend gives the same hit.
-  Attrib1f tie = (best_tri >= 0).cast<float>() && abs(t - best) <= best * kTieTolerance;
-  Attrib1f nearer = cond(tie, (tri < best_tri).cast<float>(), t < best);
-  Attrib1f hit = usable && !outside && in_front && nearer;
-  best = cond(hit, t, best);
-  best_tri = cond(hit, tri, best_tri);
-  best_uv = cond(hit, join(v, w) * inv, best_uv);
+  // Most tests end here: the distance, its error bound and the division
+  // are for rays that pass through the triangle.
+  SH_IF(det != 0.0f && !outside) {
+    Attrib1f inv = 1.0f / det;
+    Attrib1f t = (u * a(2) + v * b(2) + w * c(2)) * inv;
+    Attrib1f in_front = t > distance_error(a, b, c, join(join(u, v), w), inv);
+    // Of triangles at the same distance (to rounding: backends may differ
+    // in the last bits) the lowest numbered wins, whatever order the
+    // accelerator tests them in: every accelerator and backend gives the
+    // same hit.
+    Attrib1f tie = (best_tri >= 0).cast<float>() && abs(t - best) <= best * kTieTolerance;
+    Attrib1f nearer = cond(tie, (tri < best_tri).cast<float>(), t < best);
+    Attrib1f hit = in_front && nearer;
+    best = cond(hit, t, best);
+    best_tri = cond(hit, tri, best_tri);
+    best_uv = cond(hit, join(v, w) * inv, best_uv);
+  } SH_ENDIF;
 }
 
 Attrib3f nearest_axis(const Attrib3f& t_exits) {
