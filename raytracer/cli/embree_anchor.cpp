@@ -10,38 +10,49 @@
 #include "embree_scene.hpp"
 
 namespace shtrace {
+namespace {
 
-AnchorResult embree_primary_rays(const sh::rt::Scene& scene, const std::vector<float>& origins,
-                                 const std::vector<float>& directions, int repeats, int packet) {
+bool one_ray(const sh::rt::EmbreeScene& embree, const RayBatch& rays, std::size_t i, Query query) {
+  sh::rt::Vec3 o{rays.origins[3 * i], rays.origins[3 * i + 1], rays.origins[3 * i + 2]};
+  sh::rt::Vec3 d{rays.directions[3 * i], rays.directions[3 * i + 1], rays.directions[3 * i + 2]};
+  float t_near = rays.t_near.empty() ? 0 : rays.t_near[i];
+  float t_far = rays.t_far.empty() ? INFINITY : rays.t_far[i];
+  if (query == Query::Any) return embree.occluded(o, d, t_near, t_far);
+  return embree.intersect(o, d, t_near, t_far).hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
+}  // namespace
+
+AnchorResult embree_rays(const sh::rt::Scene& scene, const RayBatch& rays, int repeats, int packet, Query query) {
   sh::rt::EmbreeScene embree(scene);
   if (packet > 1 && !embree.supports_packet(packet)) return {};
-  std::size_t rays = origins.size() / 3;
+  std::size_t n = rays.size();
   std::atomic<std::size_t> hits{0};
   auto t0 = std::chrono::steady_clock::now();
   for (int r = 0; r < repeats; ++r) {
     hits = 0;
     // Ranges of whole packets, 256 rays at least.
-    std::size_t packets = (rays + packet - 1) / packet;
+    std::size_t packets = (n + packet - 1) / packet;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, packets, 256 / packet),
                       [&](const tbb::blocked_range<std::size_t>& range) {
       std::size_t local = 0;
       for (std::size_t k = range.begin(); k < range.end(); ++k) {
         std::size_t i = k * packet;
         if (packet == 1) {
-          RTCRayHit rh = embree.intersect({origins[3 * i], origins[3 * i + 1], origins[3 * i + 2]},
-                                          {directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]});
-          local += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+          local += one_ray(embree, rays, i, query);
           continue;
         }
-        int count = static_cast<int>(std::min<std::size_t>(packet, rays - i)), hit[16];
-        embree.intersect_packet(packet, count, &origins[3 * i], &directions[3 * i], hit);
+        int count = static_cast<int>(std::min<std::size_t>(packet, n - i)), hit[16];
+        embree.intersect_packet(packet, count, &rays.origins[3 * i], &rays.directions[3 * i], hit,
+                                rays.t_near.empty() ? nullptr : &rays.t_near[i],
+                                rays.t_far.empty() ? nullptr : &rays.t_far[i], query == Query::Any);
         for (int j = 0; j < count; ++j) local += hit[j] >= 0;
       }
       hits += local;
     });
   }
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return {static_cast<double>(rays) * repeats / seconds / 1e6, hits};
+  return {static_cast<double>(n) * repeats / seconds / 1e6, hits};
 }
 
 }  // namespace shtrace

@@ -20,6 +20,7 @@
 #include "accel_compare.hpp"
 #include "backend_compare.hpp"
 #include "embree_anchor.hpp"
+#include "ray_kinds.hpp"
 #include "output_file.hpp"
 #include "tradeoff.hpp"
 
@@ -296,7 +297,7 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
   }
   std::vector<std::pair<int, double>> embree;
   for (int packet : {1, 4, 8, 16}) {
-    shtrace::AnchorResult a = shtrace::embree_primary_rays(scene, origins, directions, 5, packet);
+    shtrace::AnchorResult a = shtrace::embree_rays(scene, {origins, directions, {}, {}}, 5, packet);
     std::string name = "embree:" + std::to_string(packet);
     if (a.mrays_per_s > 0) std::printf("%-11s %11s %11s %13s %15.2f\n", name.c_str(), "-", "-", "-", a.mrays_per_s);
     else std::printf("%-11s  rtcIntersect%d: not native on this CPU\n", name.c_str(), packet);
@@ -382,6 +383,14 @@ int main(int argc, char** argv) {
   accel->add_option("--view", view, "full, or half (turned to one side, narrower)")->check(CLI::IsMember({"full", "half"}))
       ->capture_default_str();
 
+  int ray_repeats = 5;
+  CLI::App* rays = app.add_subcommand("rays", "camera, shadow and reflection rays of one scene: the kernels (shadow rays "
+                                      "with the any-hit and the nearest-hit walk) against Embree on the same rays");
+  add_common(rays, common);
+  rays->add_option("--backend", backend_name, "backend to trace on (default: SH_BACKEND, else cpu)");
+  rays->add_option("--repeats", ray_repeats, "warm runs of each kernel, timed together")->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+
   CLI::App* ir_cmd = app.add_subcommand("ir", "print a program written by render --dump-ir-bytes, and its hash");
   ir_cmd->add_option("file", ir_file, "the file")->required();
   ir_cmd->add_flag("--optimized", ir_optimized, "print it after the passes too");
@@ -411,6 +420,7 @@ int main(int argc, char** argv) {
       compare_request.backends = compare_backend_names;
       return shtrace::compare_backends(compare_request);
     }
+    if (rays->parsed()) return shtrace::compare_ray_kinds({scene_for(common), settings_for(common, backend_name), ray_repeats});
     if (accel->parsed()) return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
     if (trade->parsed()) {
       std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);

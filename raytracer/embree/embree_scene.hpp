@@ -4,6 +4,8 @@
 // tests.  Not part of the tracer library, which does not need Embree.
 #include <embree3/rtcore.h>
 
+#include <cmath>
+
 #include <sh/raytracer/scene.hpp>
 
 namespace sh::rt {
@@ -17,14 +19,19 @@ class EmbreeScene {
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-  // rtcIntersect1 from o along d for t in [t_near, inf): the filled ray hit.
-  RTCRayHit intersect(Vec3 o, Vec3 d, float t_near = 0) const;
+  // rtcIntersect1 from o along d for t in [t_near, t_far): the filled ray hit.
+  RTCRayHit intersect(Vec3 o, Vec3 d, float t_near = 0, float t_far = INFINITY) const;
+  // rtcOccluded1: is anything hit for t in [t_near, t_far)?
+  bool occluded(Vec3 o, Vec3 d, float t_near, float t_far) const;
 
-  // rtcIntersect4/8/16 on up to `packet` rays (origins and directions as
-  // x,y,z triples, t from 0); geometry ids land in hit (-1: none).  The
-  // packet size must be one Embree supports on this CPU (supports_packet).
+  // rtcIntersect4/8/16 (or rtcOccluded4/8/16) on up to `packet` rays:
+  // origins and directions as x,y,z triples, t in [t_near, t_far) (null:
+  // from 0, without end); the triangles hit land in hit (-1: none; with
+  // `occluded`, 0 where something is in the way).  The packet size must be
+  // one Embree supports on this CPU (supports_packet).
   bool supports_packet(int packet) const;
-  void intersect_packet(int packet, int count, const float* origins, const float* directions, int* hit) const;
+  void intersect_packet(int packet, int count, const float* origins, const float* directions, int* hit,
+                        const float* t_near = nullptr, const float* t_far = nullptr, bool occluded = false) const;
 
  private:
   RTCDevice device_;

@@ -2,6 +2,7 @@
 // front to back, test each cell's triangles, and accept a hit only inside
 // the current cell (a nearer hit in a later cell cannot exist then).
 #include "rounding.hpp"
+#include "sh/error.hpp"
 #include "walk.hpp"
 
 namespace sh::rt {
@@ -199,6 +200,25 @@ Program intersector_program(const SceneTables& s) {
     Attrib1f hit = intersect(o, d, ConstAttrib1f(kFar), hit_t, hit_triangle, uv);
     t = cond(hit, hit_t, ConstAttrib1f(-1.0f));
     triangle = hit_triangle;
+  } SH_END;
+}
+
+Program occlusion_program(const SceneTables& s, bool any_hit) {
+  if (s.octree && s.octree->lazy) throw Error("the occlusion kernel does not run over a lazy octree");
+  return SH_BEGIN_PROGRAM(any_hit ? "occlusion" : "occlusion_nearest") {
+    InputPoint3f o;
+    InputVector3f d;
+    InputAttrib1f limit;
+    OutputAttrib1f blocked;
+    Intersector intersect(s);
+    if (any_hit) {
+      blocked = intersect.occluded(o, d, limit);
+    } else {
+      Attrib1f t;
+      Attrib1i triangle;
+      Attrib2f uv;
+      blocked = intersect(o, d, limit, t, triangle, uv);
+    }
   } SH_END;
 }
 

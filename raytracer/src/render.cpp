@@ -180,6 +180,17 @@ Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<fl
   return {t.values(), tri.values()};
 }
 
+std::vector<float> Renderer::occluded(const std::vector<float>& origins, const std::vector<float>& directions,
+                                      const std::vector<float>& limits, const BackendChoice& choice, bool any_hit,
+                                      RunStats* stats) {
+  Channel<Point3f> o(origins);
+  Channel<Vector3f> d(directions);
+  Channel<Attrib1f> limit(limits), blocked;
+  RunStats s = run(occlusion_program(*tables_, any_hit), {o, d, limit}, {blocked}, choice);
+  if (stats) *stats = s;
+  return blocked.values();
+}
+
 std::string Renderer::describe_accelerator() const {
   char line[256];
   if (grid_) {

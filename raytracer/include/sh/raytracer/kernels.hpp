@@ -173,6 +173,11 @@ Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direct
 // triangle, request, resume, resume triangle (Renderer::intersect runs it
 // in waves).
 Program intersector_program(const SceneTables& s);
+// origin, direction, limit -> 1 where anything is hit for t in (0, limit),
+// else 0: the shadow-ray query, walked for any hit, or (any_hit false) for
+// the nearest, to measure what stopping early buys.  Not over a lazy
+// octree (its walks run in waves: the tracer's shadow rays do that).
+Program occlusion_program(const SceneTables& s, bool any_hit = true);
 // origin, direction, pixel -> colour, t, triangle.  Over a lazy octree:
 // pixel, path -> colour, t, triangle, request, path, where `path` is the
 // seven channels of PathChannels: a pixel that stops resumes the bounce it

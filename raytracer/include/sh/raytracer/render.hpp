@@ -75,7 +75,14 @@ class Renderer {
   Hits intersect(const std::vector<float>& origins, const std::vector<float>& directions, const BackendChoice& choice,
                  RunStats* stats = nullptr);
 
+  // The occlusion kernel (kernels.hpp) on rays with limits: 1 where
+  // something is in the way.  Not over a lazy octree.
+  std::vector<float> occluded(const std::vector<float>& origins, const std::vector<float>& directions,
+                              const std::vector<float>& limits, const BackendChoice& choice, bool any_hit = true,
+                              RunStats* stats = nullptr);
+
   const Scene& scene() const { return scene_; }
+  const RenderSettings& settings() const { return settings_; }
   Accel accel() const { return settings_.accel; }
   const Grid* grid() const { return grid_ ? &*grid_ : nullptr; }
   const Octree* octree() const { return octree_.get(); }

@@ -1,0 +1,138 @@
+#include "ray_kinds.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "backend_compare.hpp"
+#include "embree_anchor.hpp"
+
+namespace shtrace {
+namespace {
+
+using sh::rt::Vec3;
+
+void add(RayBatch& b, Vec3 o, Vec3 d, float t_near, float t_far) {
+  b.origins.insert(b.origins.end(), {o.x, o.y, o.z});
+  b.directions.insert(b.directions.end(), {d.x, d.y, d.z});
+  b.t_near.push_back(t_near);
+  b.t_far.push_back(t_far);
+}
+
+Vec3 at(const std::vector<float>& v, std::size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
+
+// Where shadow rays go: the first point light, else the first disk light's
+// centre, else a point beyond the scene's upper corner.
+Vec3 light_position(const sh::rt::Scene& s) {
+  if (!s.lights.empty()) return s.lights[0].position;
+  if (!s.disk_lights.empty()) return s.disk_lights[0].centre;
+  return s.bounds_max() + (s.bounds_max() - s.bounds_min());
+}
+
+struct Kinds {
+  RayBatch primary, shadow, reflection;
+};
+
+// From every camera ray's hit: a shadow ray to the light and the mirror
+// reflection about the triangle's plane, both from the hit point pushed off
+// the plane to the side the ray goes (as the tracer's rays leave a
+// surface), so the kernels and Embree start them at the same point.
+Kinds make_rays(sh::rt::Renderer& r, const sh::BackendChoice& choice) {
+  const sh::rt::Scene& s = r.scene();
+  Kinds k;
+  std::tie(k.primary.origins, k.primary.directions) = primary_rays(r, r.settings().width, r.settings().height);
+  sh::rt::Hits hits = r.intersect(k.primary.origins, k.primary.directions, choice);
+  float size = sh::rt::length(s.bounds_max() - s.bounds_min());
+  Vec3 light = light_position(s);
+  for (std::size_t i = 0; i < k.primary.size(); ++i) {
+    if (hits.triangle[i] < 0) continue;
+    Vec3 d = at(k.primary.directions, i), p = at(k.primary.origins, i) + d * hits.t[i];
+    const Vec3* v = &s.mesh.positions[3 * static_cast<std::size_t>(hits.triangle[i])];
+    Vec3 n = sh::rt::normalize(sh::rt::cross(v[1] - v[0], v[2] - v[0]));
+    float clearance = 1e-5f * size + 1e-6f * std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+    auto leave = [&](Vec3 towards) { return p + n * (sh::rt::dot(n, towards) < 0 ? -clearance : clearance); };
+    Vec3 to_light = light - p;
+    float distance = sh::rt::length(to_light);
+    if (distance > 0) add(k.shadow, leave(to_light), to_light * (1 / distance), 0, distance);
+    Vec3 mirrored = d - n * (2 * sh::rt::dot(d, n));
+    add(k.reflection, leave(mirrored), mirrored, 0, INFINITY);
+  }
+  return k;
+}
+
+struct Rate {
+  double mrays_per_s = 0;
+  std::size_t hits = 0;
+};
+
+// The kernels' rate over `repeats` warm runs (one run first to compile).
+template <class Trace>
+Rate kernel_rate(std::size_t rays, int repeats, Trace trace) {
+  trace(nullptr);
+  double ms = 0;
+  std::size_t hits = 0;
+  for (int i = 0; i < repeats; ++i) {
+    sh::RunStats s;
+    hits = trace(&s);
+    ms += s.run_ms;
+  }
+  return {static_cast<double>(rays) * repeats / (ms * 1e3), hits};
+}
+
+std::size_t count_hits(const std::vector<float>& blocked) {
+  std::size_t n = 0;
+  for (float b : blocked) n += b > 0;
+  return n;
+}
+
+std::size_t count_hits(const sh::rt::Hits& h) {
+  std::size_t n = 0;
+  for (std::int32_t t : h.triangle) n += t >= 0;
+  return n;
+}
+
+void print_row(const char* kind, std::size_t rays, Rate ours, const std::string& embree_call, Rate one, Rate sixteen) {
+  std::printf("%-22s %8zu %9.2f %8zu   %-15s %8.2f %8.2f %8zu   %6.3fx %6.3fx\n", kind, rays, ours.mrays_per_s, ours.hits,
+              embree_call.c_str(), one.mrays_per_s, sixteen.mrays_per_s, one.hits, ours.mrays_per_s / one.mrays_per_s,
+              sixteen.mrays_per_s > 0 ? ours.mrays_per_s / sixteen.mrays_per_s : 0.0);
+}
+
+Rate embree(const sh::rt::Scene& s, const RayBatch& b, int repeats, int packet, Query q) {
+  AnchorResult a = embree_rays(s, b, repeats, packet, q);
+  return {a.mrays_per_s, a.hits};
+}
+
+}  // namespace
+
+int compare_ray_kinds(const RayKindsRequest& request) {
+  sh::rt::Renderer r(request.scene, request.settings);
+  sh::BackendChoice choice = sh::backend(request.settings.backend, request.settings.options);
+  Kinds k = make_rays(r, choice);
+  const sh::rt::Scene& s = r.scene();
+  int n = request.repeats;
+  std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each\n", s.name.c_str(), s.mesh.triangles(),
+              r.describe_accelerator().c_str(), choice.name.empty() ? sh::default_backend_name().c_str() : choice.name.c_str(),
+              n);
+  std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s\n", "rays", "count", "Mrays/s", "hits", "Embree",
+              "1 ray", "16 rays", "hits", "/1", "/16");
+  auto nearest = [&](const RayBatch& b) {
+    return kernel_rate(b.size(), n, [&](sh::RunStats* st) { return count_hits(r.intersect(b.origins, b.directions, choice, st)); });
+  };
+  auto occluded = [&](const RayBatch& b, bool any_hit) {
+    return kernel_rate(b.size(), n, [&](sh::RunStats* st) {
+      return count_hits(r.occluded(b.origins, b.directions, b.t_far, choice, any_hit, st));
+    });
+  };
+  Rate primary = nearest(k.primary);
+  print_row("camera", k.primary.size(), primary, "rtcIntersect", embree(s, k.primary, n, 1, Query::Nearest),
+            embree(s, k.primary, n, 16, Query::Nearest));
+  Rate any = occluded(k.shadow, true), walked = occluded(k.shadow, false);
+  Rate occluded_1 = embree(s, k.shadow, n, 1, Query::Any), occluded_16 = embree(s, k.shadow, n, 16, Query::Any);
+  print_row("shadow, any hit", k.shadow.size(), any, "rtcOccluded", occluded_1, occluded_16);
+  print_row("shadow, nearest hit", k.shadow.size(), walked, "rtcOccluded", occluded_1, occluded_16);
+  print_row("reflection", k.reflection.size(), nearest(k.reflection), "rtcIntersect",
+            embree(s, k.reflection, n, 1, Query::Nearest), embree(s, k.reflection, n, 16, Query::Nearest));
+  std::printf("shadow rays: the any-hit walk is %.2fx as fast as the nearest-hit walk\n", any.mrays_per_s / walked.mrays_per_s);
+  return 0;
+}
+
+}  // namespace shtrace
