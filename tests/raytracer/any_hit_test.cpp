@@ -1,5 +1,5 @@
-// The any-hit query shadow rays use: on every backend and accelerator it
-// answers what the nearest-hit query answers (is anything hit before the
+// The any-hit query shadow rays use (the occlusion kernel): on every
+// backend and accelerator it answers what the nearest-hit query answers (is anything hit before the
 // limit?) on random rays with random limits, some short of every surface
 // and some beyond.  (A lazy octree answers it with the nearest-hit walk.)
 #include <gtest/gtest.h>
@@ -11,21 +11,6 @@
 namespace {
 
 using sh::rt::Accel;
-
-sh::Program occlusion_program(const sh::rt::SceneTables& s) {
-  return SH_BEGIN_PROGRAM("occlusion") {
-    sh::InputPoint3f o;
-    sh::InputVector3f d;
-    sh::InputAttrib1f limit;
-    sh::OutputAttrib1f nearest, any;
-    sh::rt::Intersector intersect(s);
-    sh::Attrib1f t;
-    sh::Attrib1i triangle;
-    sh::Attrib2f uv;
-    nearest = intersect(o, d, limit, t, triangle, uv);
-    any = intersect.occluded(o, d, limit);
-  } SH_END;
-}
 
 class AnyHit : public testing::TestWithParam<std::string> {};
 
@@ -41,10 +26,9 @@ TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
     sh::rt::RenderSettings settings;
     settings.accel = accel;
     sh::rt::Renderer r(scene, settings);
-    sh::Channel<sh::Point3f> o(rays.origins);
-    sh::Channel<sh::Vector3f> d(rays.directions);
-    sh::Channel<sh::Attrib1f> limit(limits), nearest, any;
-    sh::run(occlusion_program(r.tables()), {o, d, limit}, {nearest, any}, sh::backend(GetParam()));
+    sh::BackendChoice on = sh::backend(GetParam());
+    std::vector<float> any = r.occluded(rays.origins, rays.directions, limits, on, true),
+                       nearest = r.occluded(rays.origins, rays.directions, limits, on, false);
     std::size_t blocked = 0, differ = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
       blocked += nearest[i] > 0;
