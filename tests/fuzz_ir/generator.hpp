@@ -51,7 +51,9 @@ Case generate(std::uint64_t seed, const GeneratorOptions& options = {});
 
 // The operations programs are drawn from: every row of the op table but
 // the table reads that take more than coordinates (legal IR's `load`,
-// whose coordinates must already be in range: only legalisation writes it).
+// whose coordinates must already be in range: only legalisation writes it)
+// and any_lane (its answer depends on the elements run together, so the
+// backends may rightly differ; conformance/lane_group.cpp tests it).
 std::vector<sh::ir::Op> generated_ops();
 
 }  // namespace fuzz_ir
