@@ -36,7 +36,7 @@ struct Common {
   int samples = 16;
   std::string pattern = "random";
   double grid_density = 2.0;
-  std::string accel = "grid";
+  std::string accel = "auto";
   OctreeLimits octree;
   BvhLimits bvh;
   std::size_t triangles = 100000;
@@ -67,8 +67,9 @@ void add_common(CLI::App* app, Common& c) {
       ->check(CLI::IsMember({"random", "pseudo"}))->capture_default_str();
   app->add_option("--grid-density", c.grid_density, "grid cells per triangle")->capture_default_str()->check(CLI::Range(0.01, 64.0));
   app->add_option("--accel", c.accel,
-                  "accelerator: grid, octree (built before tracing), lazy-octree (built where rays go) or bvh")
-      ->check(CLI::IsMember({"grid", "octree", "lazy-octree", "bvh"}))->capture_default_str();
+                  "accelerator: grid, octree (built before tracing), lazy-octree (built where rays go), bvh, or auto "
+                  "(the grid where the triangles fill the scene's box evenly, else the BVH)")
+      ->check(CLI::IsMember({"grid", "octree", "lazy-octree", "bvh", "auto"}))->capture_default_str();
   app->add_option("--octree-depth", c.octree.max_depth, "octree depth limit")
       ->capture_default_str()->check(CLI::Range(0, kMaxOctreeDepth));
   app->add_option("--leaf-size", c.octree.leaf_size, "octree: most triangles in a leaf above the depth limit")

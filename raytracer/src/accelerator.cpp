@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "sh/error.hpp"
 
@@ -28,7 +29,8 @@ Accel parse_accel(const std::string& name) {
   if (name == "octree") return Accel::Octree;
   if (name == "lazy-octree") return Accel::LazyOctree;
   if (name == "bvh") return Accel::Bvh;
-  throw Error("unknown accelerator '" + name + "' (grid, octree, lazy-octree or bvh)");
+  if (name == "auto") return Accel::Auto;
+  throw Error("unknown accelerator '" + name + "' (grid, octree, lazy-octree, bvh or auto)");
 }
 
 const char* accel_name(Accel a) {
@@ -37,6 +39,7 @@ const char* accel_name(Accel a) {
     case Accel::Octree: return "octree";
     case Accel::LazyOctree: return "lazy-octree";
     case Accel::Bvh: return "bvh";
+    case Accel::Auto: return "auto";
   }
   return "?";
 }
@@ -50,6 +53,26 @@ Box accelerator_bounds(const Scene& scene) {
   float pad = std::max({largest * 1e-3f, magnitude(b) * 1e-6f, std::numeric_limits<float>::min()});
   return {b.lo - Vec3{pad, pad, pad}, b.hi + Vec3{pad, pad, pad}};
 }
+
+double filled_share(const Scene& scene) {
+  Box b = accelerator_bounds(scene);
+  constexpr int n = kFillLattice;
+  std::vector<bool> filled(n * n * n, false);
+  std::size_t count = 0;
+  for (std::size_t t = 0; t < scene.mesh.triangles(); ++t) {
+    const Vec3* v = &scene.mesh.positions[3 * t];
+    Vec3 centre = (v[0] + v[1] + v[2]) * (1.0f / 3);
+    int cell = 0;
+    for (int a = 2; a >= 0; --a) {
+      float at = (centre[a] - b.lo[a]) / (b.hi[a] - b.lo[a]) * n;
+      cell = cell * n + std::clamp(static_cast<int>(at), 0, n - 1);
+    }
+    if (!filled[static_cast<std::size_t>(cell)]) filled[static_cast<std::size_t>(cell)] = true, ++count;
+  }
+  return static_cast<double>(count) / static_cast<double>(std::min<std::size_t>(filled.size(), scene.mesh.triangles()));
+}
+
+Accel choose_accel(const Scene& scene) { return filled_share(scene) >= 0.5 ? Accel::Grid : Accel::Bvh; }
 
 bool triangle_overlaps_box(Vec3 a, Vec3 b, Vec3 c, Vec3 box_lo, Vec3 box_hi) {
   Vec3 centre = (box_lo + box_hi) * 0.5f, h = (box_hi - box_lo) * 0.5f;

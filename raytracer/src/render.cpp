@@ -39,6 +39,10 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   if (settings_.reflections < 0 || settings_.reflections > 64)
     throw Error("reflection depth must be 0..64, got " + std::to_string(settings_.reflections));
   validate(scene_, scene_.name);
+  if (settings_.accel == Accel::Auto) {
+    chosen_share_ = filled_share(scene_);
+    settings_.accel = choose_accel(scene_);
+  }
   switch (settings_.accel) {
     case Accel::Grid:
       grid_ = build_grid(scene_, settings_.grid_density);
@@ -58,6 +62,7 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
       bvh_ = build_bvh(scene_, settings_.bvh);
       tables_ = std::make_unique<SceneTables>(scene_, *bvh_);
       break;
+    case Accel::Auto: throw Error("internal: auto was not resolved to an accelerator");
   }
   tables_->set_samples(settings_.pattern, settings_.shadow_samples, settings_.seed);
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
@@ -204,8 +209,13 @@ std::string Renderer::describe_accelerator() const {
                   octree_->limits().max_depth, octree_->limits().leaf_size, octree_->nodes().size(), octree_->build_ms(),
                   octree_->bytes() / 1048576.0, refiner_ ? ", built so far" : "");
   }
+  std::string out = line;
+  if (chosen_share_) {
+    std::snprintf(line, sizeof line, " (auto: the triangles fill %.2f of the cells they could)", *chosen_share_);
+    out += line;
+  }
   std::string warning = accelerator_warning();
-  return warning.empty() ? line : std::string(line) + "; warning: " + warning;
+  return warning.empty() ? out : out + "; warning: " + warning;
 }
 
 // A BVH's build is bounded without changing what it holds: no warning.

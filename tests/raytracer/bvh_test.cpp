@@ -201,6 +201,26 @@ TEST(Bvh, TheSameTreeOnOneThreadAndOnTwo) {
   EXPECT_EQ(one.triangles, both.triangles);
 }
 
+// auto builds the grid where the triangles fill the box evenly (procedural's
+// soup), the BVH where they leave most of it empty; the renderer says so.
+TEST(AutoAccelerator, TheGridForAnEvenSoupTheBvhElsewhere) {
+  EXPECT_EQ(sh::rt::parse_accel("auto"), sh::rt::Accel::Auto);
+  sh::rt::Scene soup = sh::rt::builtin_scene("procedural", 20000);
+  EXPECT_GE(sh::rt::filled_share(soup), 0.5);
+  EXPECT_EQ(sh::rt::choose_accel(soup), sh::rt::Accel::Grid);
+  for (std::string name : {"cornell", "spheres", "soft", "magg-glass"}) {
+    sh::rt::Scene s = sh::rt::builtin_scene(name);
+    EXPECT_LT(sh::rt::filled_share(s), 0.5) << name;
+    EXPECT_EQ(sh::rt::choose_accel(s), sh::rt::Accel::Bvh) << name;
+  }
+  sh::rt::RenderSettings settings;
+  settings.accel = sh::rt::Accel::Auto;
+  sh::rt::Renderer r(sh::rt::builtin_scene("cornell"), settings);
+  EXPECT_EQ(r.accel(), sh::rt::Accel::Bvh);
+  EXPECT_NE(r.bvh(), nullptr);
+  EXPECT_NE(r.describe_accelerator().find("auto: the triangles fill"), std::string::npos) << r.describe_accelerator();
+}
+
 TEST(Bvh, ASceneWithoutTrianglesIsAnError) {
   sh::rt::Scene s = triangles({});
   EXPECT_THROW(sh::rt::build_bvh(s), sh::Error);

@@ -10,9 +10,21 @@
 
 namespace sh::rt {
 
-enum class Accel { Grid, Octree, LazyOctree, Bvh };
-Accel parse_accel(const std::string& name);  // grid, octree, lazy-octree or bvh; throws sh::Error
+enum class Accel { Grid, Octree, LazyOctree, Bvh, Auto };
+Accel parse_accel(const std::string& name);  // grid, octree, lazy-octree, bvh or auto; throws sh::Error
 const char* accel_name(Accel a);
+
+// What `auto` builds for a scene: the grid where the triangles fill the
+// scene's box evenly, the BVH elsewhere.  Evenly: their centres lie in at
+// least half of the cells of a kFillLattice^3 lattice over the box that
+// they could fill (as many cells as triangles, at most all).  On the
+// built-in scenes it picks whichever renders faster (BENCHMARKS.md, issue
+// 24): the grid on procedural's soup of triangles (0.77 of the cells), the
+// BVH on spheres, cornell and the seeds' scenes (0.03-0.21), whose
+// triangles leave most of the box empty, as models' surfaces do.
+inline constexpr int kFillLattice = 16;
+double filled_share(const Scene& scene);
+Accel choose_accel(const Scene& scene);  // never Auto
 
 struct Box {
   Vec3 lo, hi;

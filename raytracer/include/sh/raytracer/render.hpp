@@ -35,7 +35,7 @@ struct RenderSettings {
   int shadow_samples = 16;     // per disk light and shading point
   SamplePattern pattern = SamplePattern::Random;
   unsigned seed = 1;           // of the sample set
-  Accel accel = Accel::Grid;
+  Accel accel = Accel::Grid;   // Auto: chosen from the scene (choose_accel)
   double grid_density = 2.0;   // grid cells per triangle
   OctreeLimits octree;
   BvhLimits bvh;
@@ -83,7 +83,7 @@ class Renderer {
 
   const Scene& scene() const { return scene_; }
   const RenderSettings& settings() const { return settings_; }
-  Accel accel() const { return settings_.accel; }
+  Accel accel() const { return settings_.accel; }  // the one built: never Auto
   const Grid* grid() const { return grid_ ? &*grid_ : nullptr; }
   const Octree* octree() const { return octree_.get(); }
   const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }
@@ -109,6 +109,7 @@ class Renderer {
   std::optional<Grid> grid_;
   std::shared_ptr<Octree> octree_;
   std::optional<Bvh> bvh_;
+  std::optional<double> chosen_share_;  // where auto chose: filled_share() of the scene
   std::unique_ptr<SceneTables> tables_;
   std::unique_ptr<OctreeRefiner> refiner_;  // a lazy octree's
   Features features_;
