@@ -1,11 +1,24 @@
 #include "embree_scene.hpp"
 
+#include <atomic>
+#include <chrono>
 #include <limits>
 
 namespace sh::rt {
 
+namespace {
+
+bool count_bytes(void* total, ssize_t bytes, bool) {
+  *static_cast<std::atomic<long long>*>(total) += bytes;
+  return true;
+}
+
+}  // namespace
+
 EmbreeScene::EmbreeScene(const Scene& scene, const char* device_config, bool robust) {
   device_ = rtcNewDevice(device_config);
+  std::atomic<long long> allocated{0};
+  rtcSetDeviceMemoryMonitorFunction(device_, count_bytes, &allocated);
   scene_ = rtcNewScene(device_);
   if (robust) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -21,7 +34,11 @@ EmbreeScene::EmbreeScene(const Scene& scene, const char* device_config, bool rob
   rtcCommitGeometry(g);
   rtcAttachGeometry(scene_, g);
   rtcReleaseGeometry(g);
+  auto t0 = std::chrono::steady_clock::now();
   rtcCommitScene(scene_);
+  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  rtcSetDeviceMemoryMonitorFunction(device_, nullptr, nullptr);
+  bytes_ = allocated;
 }
 
 EmbreeScene::~EmbreeScene() {
