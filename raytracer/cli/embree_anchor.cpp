@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 
-#include "embree_scene.hpp"
 
 namespace shtrace {
 namespace {
@@ -23,8 +22,7 @@ bool one_ray(const sh::rt::EmbreeScene& embree, const RayBatch& rays, std::size_
 
 }  // namespace
 
-AnchorResult embree_rays(const sh::rt::Scene& scene, const RayBatch& rays, int repeats, int packet, Query query) {
-  sh::rt::EmbreeScene embree(scene);
+AnchorResult embree_rays(const sh::rt::EmbreeScene& embree, const RayBatch& rays, int repeats, int packet, Query query) {
   if (packet > 1 && !embree.supports_packet(packet)) return {};
   std::size_t n = rays.size();
   std::atomic<std::size_t> hits{0};

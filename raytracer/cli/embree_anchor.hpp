@@ -3,7 +3,7 @@
 // `shtrace bench` and `shtrace rays`.
 #include <vector>
 
-#include <sh/raytracer/scene.hpp>
+#include "embree_scene.hpp"
 
 namespace shtrace {
 
@@ -16,14 +16,14 @@ struct RayBatch {
 // The nearest hit (rtcIntersect) or whether anything is hit (rtcOccluded).
 enum class Query { Nearest, Any };
 
-// Mrays/s of Embree over the rays (all threads, oneTBB), and the number
+// Mrays/s of Embree's scene over the rays (all threads, oneTBB), and the number
 // that hit something: one ray at a time (packet 1) or packets of 4, 8 or
 // 16 consecutive rays.  Zero rate where the CPU lacks the packet.
 struct AnchorResult {
   double mrays_per_s = 0;
   std::size_t hits = 0;
 };
-AnchorResult embree_rays(const sh::rt::Scene& scene, const RayBatch& rays, int repeats, int packet = 1,
+AnchorResult embree_rays(const sh::rt::EmbreeScene& embree, const RayBatch& rays, int repeats, int packet = 1,
                          Query query = Query::Nearest);
 
 }  // namespace shtrace

@@ -5,7 +5,6 @@
 
 #include "backend_compare.hpp"
 #include "embree_anchor.hpp"
-#include "embree_scene.hpp"
 
 namespace shtrace {
 namespace {
@@ -97,16 +96,15 @@ void print_row(const char* kind, std::size_t rays, Rate ours, const std::string&
               sixteen.mrays_per_s > 0 ? ours.mrays_per_s / sixteen.mrays_per_s : 0.0);
 }
 
-Rate embree(const sh::rt::Scene& s, const RayBatch& b, int repeats, int packet, Query q) {
-  AnchorResult a = embree_rays(s, b, repeats, packet, q);
+Rate embree_rate(const sh::rt::EmbreeScene& embree, const RayBatch& b, int repeats, int packet, Query q) {
+  AnchorResult a = embree_rays(embree, b, repeats, packet, q);
   return {a.mrays_per_s, a.hits};
 }
 
 // The accelerator's build beside Embree's of the same triangles (on as
 // many threads).
-void print_builds(const sh::rt::Renderer& r) {
+void print_builds(const sh::rt::Renderer& r, const sh::rt::EmbreeScene& embree) {
   std::size_t n = r.scene().mesh.triangles();
-  sh::rt::EmbreeScene embree(r.scene());
   std::printf("build: %s %.1f ms, %.1f bytes per triangle (+ 36 of vertices in the scene's tables); Embree %.1f ms, "
               "%.1f bytes per triangle (its 48 of vertices and indices included)\n",
               sh::rt::accel_name(r.accel()), r.accelerator_build_ms(), static_cast<double>(r.accelerator_bytes()) / n,
@@ -116,14 +114,20 @@ void print_builds(const sh::rt::Renderer& r) {
 }  // namespace
 
 int compare_ray_kinds(const RayKindsRequest& request) {
+  // A lazy octree's walks run in waves, which the occlusion kernel does not.
+  if (request.settings.accel == sh::rt::Accel::LazyOctree)
+    throw sh::Error("rays: a lazy octree's shadow rays run only inside the tracer's waves; use --accel grid, octree, "
+                    "bvh or auto");
   sh::rt::Renderer r(request.scene, request.settings);
   sh::BackendChoice choice = sh::backend(request.settings.backend, request.settings.options);
   Kinds k = make_rays(r, choice);
   const sh::rt::Scene& s = r.scene();
+  sh::rt::EmbreeScene embree(s);
   int n = request.repeats;
   std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each\n", s.name.c_str(), s.mesh.triangles(),
               r.describe_accelerator().c_str(), choice.name.empty() ? sh::default_backend_name().c_str() : choice.name.c_str(),
               n);
+  print_builds(r, embree);
   std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s\n", "rays", "count", "Mrays/s", "hits", "Embree",
               "1 ray", "16 rays", "hits", "/1", "/16");
   auto nearest = [&](const RayBatch& b) {
@@ -134,16 +138,19 @@ int compare_ray_kinds(const RayKindsRequest& request) {
       return count_hits(r.occluded(b.origins, b.directions, b.t_far, choice, any_hit, st));
     });
   };
-  print_builds(r);
-  Rate primary = nearest(k.primary);
-  print_row("camera", k.primary.size(), primary, "rtcIntersect", embree(s, k.primary, n, 1, Query::Nearest),
-            embree(s, k.primary, n, 16, Query::Nearest));
+  print_row("camera", k.primary.size(), nearest(k.primary), "rtcIntersect",
+            embree_rate(embree, k.primary, n, 1, Query::Nearest), embree_rate(embree, k.primary, n, 16, Query::Nearest));
+  if (k.reflection.size() == 0) {
+    std::printf("no camera ray hits the scene: no shadow or reflection rays to trace\n");
+    return 0;
+  }
   Rate any = occluded(k.shadow, true), walked = occluded(k.shadow, false);
-  Rate occluded_1 = embree(s, k.shadow, n, 1, Query::Any), occluded_16 = embree(s, k.shadow, n, 16, Query::Any);
+  Rate occluded_1 = embree_rate(embree, k.shadow, n, 1, Query::Any),
+       occluded_16 = embree_rate(embree, k.shadow, n, 16, Query::Any);
   print_row("shadow, any hit", k.shadow.size(), any, "rtcOccluded", occluded_1, occluded_16);
   print_row("shadow, nearest hit", k.shadow.size(), walked, "rtcOccluded", occluded_1, occluded_16);
   print_row("reflection", k.reflection.size(), nearest(k.reflection), "rtcIntersect",
-            embree(s, k.reflection, n, 1, Query::Nearest), embree(s, k.reflection, n, 16, Query::Nearest));
+            embree_rate(embree, k.reflection, n, 1, Query::Nearest), embree_rate(embree, k.reflection, n, 16, Query::Nearest));
   std::printf("shadow rays: the any-hit walk is %.2fx as fast as the nearest-hit walk\n", any.mrays_per_s / walked.mrays_per_s);
   return 0;
 }

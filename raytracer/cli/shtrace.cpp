@@ -297,8 +297,9 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
                                                  directions, 5);
   }
   std::vector<std::pair<int, double>> embree;
+  sh::rt::EmbreeScene embree_scene(scene);
   for (int packet : {1, 4, 8, 16}) {
-    shtrace::AnchorResult a = shtrace::embree_rays(scene, {origins, directions, {}, {}}, 5, packet);
+    shtrace::AnchorResult a = shtrace::embree_rays(embree_scene, {origins, directions, {}, {}}, 5, packet);
     std::string name = "embree:" + std::to_string(packet);
     if (a.mrays_per_s > 0) std::printf("%-11s %11s %11s %13s %15.2f\n", name.c_str(), "-", "-", "-", a.mrays_per_s);
     else std::printf("%-11s  rtcIntersect%d: not native on this CPU\n", name.c_str(), packet);

@@ -165,7 +165,6 @@ std::unique_ptr<Node> build_tree(const Scene& scene, BvhLimits limits) {
   if (limits.max_leaf < 1 || limits.max_leaf > kBvhMaxLeaf)
     throw Error("bvh: leaves of " + std::to_string(limits.max_leaf) + " triangles: must be 1.." +
                 std::to_string(kBvhMaxLeaf));
-  accelerator_bounds(scene);  // throws on a scene without triangles
   Builder b(scene.mesh.positions, limits);
   return b.build(0, b.triangles(), 0);
 }
@@ -176,7 +175,8 @@ namespace sh::rt {
 
 Bvh build_bvh(const Scene& scene, BvhLimits limits) {
   auto t0 = std::chrono::steady_clock::now();
-  Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, limits), accelerator_bounds(scene));
+  Box bounds = accelerator_bounds(scene);  // throws on a scene without triangles
+  Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, limits), bounds);
   bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return bvh;
 }

@@ -114,6 +114,15 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
   } SH_ENDIF;
 }
 
+void test_listed(const SceneTables& s, const Ray& r, const Table1D<Attrib1i>& list, Attrib1i& k, Attrib1i tri,
+                 Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv) {
+  SH_WHILE(tri >= 0) {
+    test_triangle(s, r, tri, best, best_tri, best_uv);
+    k += 1;
+    tri = list[k];
+  } SH_ENDWHILE;
+}
+
 Attrib3f nearest_axis(const Attrib3f& t_exits) {
   Attrib1f along_x = t_exits(0) <= t_exits(1) && t_exits(0) <= t_exits(2);
   Attrib1f along_y = (1.0f - along_x) * (t_exits(1) <= t_exits(2));

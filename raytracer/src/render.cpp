@@ -41,7 +41,7 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   validate(scene_, scene_.name);
   if (settings_.accel == Accel::Auto) {
     chosen_share_ = filled_share(scene_);
-    settings_.accel = choose_accel(scene_);
+    settings_.accel = choose_accel(*chosen_share_);
   }
   switch (settings_.accel) {
     case Accel::Grid:

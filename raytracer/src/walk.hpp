@@ -35,6 +35,12 @@ void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& 
 void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
                    Attrib2f& best_uv);
 
+// Tests the triangles listed in `list` from k on (k moves along), `tri`
+// being list[k] (-1 where the list is empty), up to the -1 that ends it: a
+// grid cell's, an octree leaf's or a BVH leaf's.
+void test_listed(const SceneTables& s, const Ray& r, const Table1D<Attrib1i>& list, Attrib1i& k, Attrib1i tri,
+                 Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv);
+
 // 1 along the axis of the nearest of the three exit distances, 0 elsewhere.
 Attrib3f nearest_axis(const Attrib3f& t_exits);
 

@@ -25,18 +25,6 @@ Attrib1f walk_order(const Ray& r) {
   return lowest;
 }
 
-void test_leaf(const SceneTables& s, const Ray& r, const Attrib1i& start, Attrib1f& best, Attrib1i& triangle,
-               Attrib2f& uv) {
-  const BvhTables& b = *s.bvh;
-  Attrib1i k = start;
-  Attrib1i tri = b.triangles[k];
-  SH_WHILE(tri >= 0) {
-    test_triangle(s, r, tri, best, triangle, uv);
-    k += 1;
-    tri = b.triangles[k];
-  } SH_ENDWHILE;
-}
-
 }  // namespace
 
 // Rays side by side in SIMD lanes walk together: a box is entered when any
@@ -63,7 +51,7 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
       leaf = cond(met && link(0) <= -2, -link(0) - 2, leaf);
       node = cond(met && link(0) >= 0, link(0), link(1));
     } SH_ENDWHILE;
-    SH_IF(leaf >= 0) { test_leaf(s, r, leaf, best, triangle, uv); } SH_ENDIF;
+    SH_IF(leaf >= 0) { test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv); } SH_ENDIF;
     // A ray that found any hit is done; the others walk on together.
     if (any_hit) node = cond(best < t_limit, ConstAttrib1i(-1), node);
   } SH_ENDWHILE;

@@ -17,12 +17,7 @@ void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f&
     SH_DO {
       // Every triangle listed in this cell.
       Attrib1i k = g.cell_start[voxel.cast<std::int32_t>()];
-      Attrib1i tri = cond(k >= 0, g.cell_triangles[k], ConstAttrib1i(-1));
-      SH_WHILE(tri >= 0) {
-        test_triangle(s, r, tri, best, triangle, uv);
-        k += 1;
-        tri = g.cell_triangles[k];
-      } SH_ENDWHILE;
+      test_listed(s, r, g.cell_triangles, k, cond(k >= 0, g.cell_triangles[k], ConstAttrib1i(-1)), best, triangle, uv);
       Attrib1f t_exit = min_component(t_max);
       SH_BREAK(best <= t_exit || t_exit >= t_leave);
       if (any_hit) SH_BREAK(best < t_limit);

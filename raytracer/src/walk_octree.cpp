@@ -31,12 +31,7 @@ Leaf descend(const OctreeTables& q, const Attrib3f& cell) {
 
 void test_leaf(const SceneTables& s, const OctreeTables& q, const Ray& r, const Leaf& leaf, WalkState& w) {
   Attrib1i k = -leaf.value - 2;
-  Attrib1i tri = cond(leaf.value <= -2, q.triangles[k], ConstAttrib1i(-1));
-  SH_WHILE(tri >= 0) {
-    test_triangle(s, r, tri, w.best, w.triangle, w.uv);
-    k += 1;
-    tri = q.triangles[k];
-  } SH_ENDWHILE;
+  test_listed(s, r, q.triangles, k, cond(leaf.value <= -2, q.triangles[k], ConstAttrib1i(-1)), w.best, w.triangle, w.uv);
 }
 
 }  // namespace

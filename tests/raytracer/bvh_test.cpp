@@ -207,11 +207,11 @@ TEST(AutoAccelerator, TheGridForAnEvenSoupTheBvhElsewhere) {
   EXPECT_EQ(sh::rt::parse_accel("auto"), sh::rt::Accel::Auto);
   sh::rt::Scene soup = sh::rt::builtin_scene("procedural", 20000);
   EXPECT_GE(sh::rt::filled_share(soup), 0.5);
-  EXPECT_EQ(sh::rt::choose_accel(soup), sh::rt::Accel::Grid);
+  EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(soup)), sh::rt::Accel::Grid);
   for (std::string name : {"cornell", "spheres", "soft", "magg-glass"}) {
     sh::rt::Scene s = sh::rt::builtin_scene(name);
     EXPECT_LT(sh::rt::filled_share(s), 0.5) << name;
-    EXPECT_EQ(sh::rt::choose_accel(s), sh::rt::Accel::Bvh) << name;
+    EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(s)), sh::rt::Accel::Bvh) << name;
   }
   sh::rt::RenderSettings settings;
   settings.accel = sh::rt::Accel::Auto;

@@ -24,7 +24,7 @@ const char* accel_name(Accel a);
 // triangles leave most of the box empty, as models' surfaces do.
 inline constexpr int kFillLattice = 16;
 double filled_share(const Scene& scene);
-Accel choose_accel(const Scene& scene);  // never Auto
+Accel choose_accel(double filled_share);  // never Auto
 
 struct Box {
   Vec3 lo, hi;

@@ -35,7 +35,7 @@ struct RenderSettings {
   int shadow_samples = 16;     // per disk light and shading point
   SamplePattern pattern = SamplePattern::Random;
   unsigned seed = 1;           // of the sample set
-  Accel accel = Accel::Grid;   // Auto: chosen from the scene (choose_accel)
+  Accel accel = Accel::Grid;   // Auto: chosen from the scene (choose_accel of filled_share)
   double grid_density = 2.0;   // grid cells per triangle
   OctreeLimits octree;
   BvhLimits bvh;
