@@ -57,14 +57,20 @@ TEST_P(Conformance, AnyLaneIsTheElementsAnswerOrItsNeighboursAndOnlyRunningOnes)
       float own = x_value(e, c) > 0 ? 1.0f : 0.0f, got = all[e * 2 + c];
       EXPECT_TRUE(got == 0.0f || got == 1.0f) << where << ": " << got;
       EXPECT_GE(got, own) << where;
-      if (!true_nearby(e, c, -1)) EXPECT_EQ(got, 0.0f) << where << ": no true element near";
-      if (mode().backend == "interp") EXPECT_EQ(got, own) << where << ": the interpreter runs elements alone";
+      if (!true_nearby(e, c, -1)) {
+        EXPECT_EQ(got, 0.0f) << where << ": no true element near";
+      }
+      if (mode().backend == "interp") {
+        EXPECT_EQ(got, own) << where << ": the interpreter runs elements alone";
+      }
       float in_if = odd_only[e * 2 + c];
       if (e % 2 == 0) {
         EXPECT_EQ(in_if, 0.0f) << where << ": did not run the if";
       } else {
         EXPECT_GE(in_if, own) << where;
-        if (!true_nearby(e, c, 1)) EXPECT_EQ(in_if, 0.0f) << where << ": only even elements are true near it";
+        if (!true_nearby(e, c, 1)) {
+          EXPECT_EQ(in_if, 0.0f) << where << ": only even elements are true near it";
+        }
       }
     }
 }

@@ -40,6 +40,37 @@ TEST(CpuBackend, ListingIsTheOptimisedLlvmIr) {
   EXPECT_NE(kernel_for(polynomial(), backend("cpu", f64))->listing().find("fmul <8 x double>"), std::string::npos);
 }
 
+// A stencil's reads at x + c along a row are one masked vector load each
+// (with a gather kept for the row's edges); reads at an input's index are
+// gathers only.
+TEST(CpuBackend, StencilReadsAreVectorLoads) {
+  Table2D<Attrib1f> image(64, 64);
+  image.assign(std::vector<float>(64 * 64, 1.0f));
+  Program stencil = SH_BEGIN_PROGRAM("stencil") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = image[at + ConstAttrib2i(-1, 0)] + image[at + ConstAttrib2i(1, 1)];
+  } SH_END;
+  Program scattered = SH_BEGIN_PROGRAM("scattered") {
+    InputAttrib2i at;
+    OutputAttrib1f out;
+    out = image[at + ConstAttrib2i(-1, 0)];
+  } SH_END;
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes16});
+  std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
+  auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << ir;
+  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.gather.v16f32"), 2u) << ir;
+  std::string other = kernel_for(scattered, backend("cpu", o))->listing();
+  EXPECT_EQ(count(other, "@llvm.masked.load.v16f32"), 0u) << other;
+  EXPECT_EQ(count(other, "call <16 x float> @llvm.masked.gather.v16f32"), 1u) << other;
+}
+
 TEST(CpuBackend, WidthSettingPicksTheLanesAndRejectsOthers) {
   for (const char* width : {"4", "16"}) {
     Options o;

@@ -2,6 +2,8 @@
 // loop iteration, and the critical path under parallel units.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <sh/sh.hpp>
 
 #include "../../examples/ray_plane.hpp"
@@ -83,6 +85,29 @@ TEST(Analysis, CountsAreOnePerComponent) {
   EXPECT_EQ(c[Unit::Mul], 4u);
   EXPECT_EQ(c[Unit::Add], 4u);
   EXPECT_EQ(c[Unit::Transcendental], 4u);
+}
+
+// Reads at x + c of position(), clamped at the edge by legalisation: a run
+// along the row; at a uniform index: the same element; at an input: anywhere.
+TEST(Analysis, TableAccessFollowsPositionThroughOffsetsAndClamps) {
+  Table2D<Attrib1f> image(8, 8);
+  Table1D<Attrib1f> line(8);
+  Attrib1i row_offset = 3;
+  Program p = SH_BEGIN_PROGRAM("accesses") {
+    InputAttrib1i any;
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    Attrib1i x = at(0) - 2;
+    out = image[at + ConstAttrib2i(1, -1)] + line[x] + line[row_offset] + line[any] + image[at(1, 0)];
+    SH_FOR(Attrib1i k = 0, k < 3, k += 1) { out += line[at(0) + k]; } SH_ENDFOR;
+  } SH_END;
+  ir::Program legal = passes::legalize(optimize(p.ir()));
+  std::multiset<std::string> kinds;
+  for (const auto& [read, access] : analysis::table_access(legal)) kinds.insert(analysis::access_name(access));
+  // image at (x + 1, y - 1), line at x - 2: runs; line at a uniform: the
+  // same; line at an input, image at (y, x) and line at x + a loop counter
+  // that is the same in every lane, but changes: a run, too.
+  EXPECT_EQ(kinds, (std::multiset<std::string>{"consecutive", "consecutive", "consecutive", "same", "scattered", "scattered"}));
 }
 
 }  // namespace

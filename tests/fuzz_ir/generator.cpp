@@ -41,6 +41,7 @@ class Generator {
   Case run() {
     p().name = "fuzz_" + std::to_string(c_.seed);
     c_.count = static_cast<std::size_t>(rng_.between(1, 40));
+    launch_domain();
     signature();
     budget_ = rng_.between(4, 48);
     Block body;
@@ -219,6 +220,21 @@ class Generator {
     return a;
   }
 
+  // A small grid, often with rows shorter than the SIMD lanes, and a run
+  // that starts inside it (as an mpi rank's or a wave's part does).
+  void launch_domain() {
+    std::size_t row = static_cast<std::size_t>(rng_.between(1, 20)), rows = static_cast<std::size_t>(rng_.between(1, 4));
+    c_.domain.first = static_cast<std::size_t>(rng_.between(0, 30));
+    c_.domain.extent = {row, rows, (c_.domain.first + c_.count + row * rows - 1) / (row * rows)};
+  }
+
+  std::optional<Assign> position(Op op) {
+    int n = rng_.between(1, 3);
+    std::optional<VarId> d = dest(Scalar::I32, n, !exact_operation(op, Scalar::I32));
+    if (!d) return std::nullopt;
+    return Assign{*d, mask(n, p().type_of(*d).width), op, {}, -1};
+  }
+
   std::optional<Assign> table_shape(Op op) {
     if (p().tables.empty() || op_info(op).arity != 0) return std::nullopt;
     int t = rng_.below(static_cast<int>(p().tables.size()));
@@ -240,6 +256,7 @@ class Generator {
         case ResultRule::Converted: a = converted(op); break;
         case ResultRule::TableElement: a = table_read(op); break;
         case ResultRule::TableShape: a = table_shape(op); break;
+        case ResultRule::ElementPosition: a = position(op); break;
       }
       if (a) return b.push_back(Stmt{std::move(*a)});
     }

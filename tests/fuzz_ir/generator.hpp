@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <sh/backend.hpp>
 #include <sh/ir/program.hpp>
 
 namespace fuzz_ir {
@@ -37,6 +38,7 @@ struct Case {
   std::uint64_t seed = 0;
   sh::ir::Program program;
   std::size_t count = 0;                          // stream elements
+  sh::LaunchDomain domain;                        // where they lie (position())
   std::vector<Data> inputs;                       // parallel to program.inputs
   std::vector<std::array<double, 4>> uniforms;    // parallel to program.uniforms
   std::vector<TableData> tables;                  // parallel to program.tables

@@ -127,6 +127,7 @@ Result run(const Case& c, const Mode& m, bool optimize) {
   std::vector<Buffer> inputs, outputs, tables;
   sh::RunArgs args;
   args.count = c.count;
+  args.domain = c.domain;
   for (const Data& d : c.inputs) inputs.push_back(to_buffer(d));
   for (Buffer& b : inputs) args.inputs.push_back({b.type(), b.size(), b.data()});
   for (sh::ir::VarId id : p.outputs) {

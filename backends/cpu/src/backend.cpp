@@ -39,6 +39,7 @@ class CpuKernel : public Kernel {
       dims.insert(dims.end(), t.dims.begin(), t.dims.end());
     }
     std::vector<std::atomic<std::int64_t>> inline_reads(args.tables.size());
+    std::array<std::int64_t, 3> domain = kernel_domain(args.domain);
     alignas(16) std::int64_t status[2] = {0, 0};
     KernelFn fn = jitted_.entry();
     auto n = static_cast<std::int64_t>(args.count);
@@ -52,7 +53,7 @@ class CpuKernel : public Kernel {
       tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, sets, grain), [&](const tbb::blocked_range<std::int64_t>& r) {
         auto call = [&](const void* const* its_tables) {
           fn(r.begin() * lanes, std::min(r.end() * lanes, n), inputs.data(), outputs.data(), uniforms.data(), its_tables,
-             dims.data(), status);
+             dims.data(), domain.data(), status);
         };
         if (!fetched_) return call(tables.data());
         // Each task moves windows of its own.

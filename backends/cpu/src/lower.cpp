@@ -5,6 +5,7 @@
 #include "lowering.hpp"
 #include "signature.hpp"
 #include "sh/ir/verifier.hpp"
+#include "sh/ir/visitor.hpp"
 
 namespace sh::cpu {
 
@@ -14,7 +15,8 @@ using llvm::Value;
 Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVMContext& ctx)
     : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {
   ir::verify_legal(p);
-  if (spmd()) facts_ = analyse_spmd(p);
+  if (spmd()) facts_ = analyse_spmd(p), access_ = analysis::table_access(p);
+  reads_position_ = ir::uses(p, ir::Op::Position);
 }
 
 Lowered Lowering::run() {
@@ -70,7 +72,7 @@ Value* Lowering::to_storage(Value* x, ir::Scalar s) {
 void Lowering::function() {
   auto* ptr = b_.getPtrTy();
   auto* i64 = b_.getInt64Ty();
-  auto* type = llvm::FunctionType::get(b_.getVoidTy(), {i64, i64, ptr, ptr, ptr, ptr, ptr, ptr}, false);
+  auto* type = llvm::FunctionType::get(b_.getVoidTy(), {i64, i64, ptr, ptr, ptr, ptr, ptr, ptr, ptr}, false);
   fn_ = llvm::Function::Create(type, llvm::Function::ExternalLinkage, kKernelSymbol, module_.get());
   if (o_.math == MathMode::Precise) fn_->addFnAttr("denormal-fp-math", "ieee,ieee");
   if (spmd()) {
@@ -86,6 +88,7 @@ void Lowering::function() {
   uniforms_ = arg++;
   tables_ = arg++;
   dims_ = arg++;
+  Value* domain = arg++;
   status_ = arg++;
 
   BasicBlock* entry = BasicBlock::Create(ctx_, "entry", fn_);
@@ -107,6 +110,8 @@ void Lowering::function() {
       dims[d] = b_.CreateLoad(b_.getInt32Ty(), b_.CreateConstInBoundsGEP1_64(b_.getInt32Ty(), dims_, 3 * t + d));
     table_dims_.push_back(dims);
   }
+  if (reads_position_)
+    for (int k = 0; k < 3; ++k) domain_[k] = b_.CreateLoad(i64, b_.CreateConstInBoundsGEP1_64(i64, domain, k));
   allocate_registers();
   b_.CreateBr(head);
 
@@ -116,16 +121,41 @@ void Lowering::function() {
 
   b_.SetInsertPoint(body);
   Value* count = spmd() ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(end, e), b_.getInt64(width_)) : nullptr;
+  if (reads_position_) count = place_batch(e, count);
   if (spmd()) b_.CreateStore(live_lanes(count), exec_);
   clear_registers();
   full_or_tail(count, [&](Value* tail) { load_inputs(e, tail); });
   block(p_.body);
   full_or_tail(count, [&](Value* tail) { store_outputs(e, tail); });
-  b_.CreateStore(b_.CreateAdd(e, b_.getInt64(width_)), element_);
+  b_.CreateStore(b_.CreateAdd(e, reads_position_ && spmd() ? count : b_.getInt64(width_)), element_);
   b_.CreateBr(head);
 
   b_.SetInsertPoint(exit);
   b_.CreateRetVoid();
+}
+
+// The batch's place in the launch domain (signature.hpp): x of its first
+// element, and the y and z all of it shares, for a batch ends where its row
+// does; so x runs on by one per lane and a read at x + c is a vector load.
+// Returns the batch's count, cut at the row's end.
+Value* Lowering::place_batch(Value* e, Value* count) {
+  Value* g = b_.CreateAdd(e, domain_[0]);
+  Value* x = b_.CreateURem(g, domain_[1]);
+  Value* rows = b_.CreateUDiv(g, domain_[1]);
+  llvm::Type* i32 = b_.getInt32Ty();
+  position_ = {b_.CreateTrunc(x, i32), b_.CreateTrunc(b_.CreateURem(rows, domain_[2]), i32),
+               b_.CreateTrunc(b_.CreateUDiv(rows, domain_[2]), i32)};
+  if (!spmd()) return count;
+  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, count, b_.CreateSub(domain_[1], x));
+}
+
+// Component k of the element's position: x is one more in each lane.
+Value* Lowering::position(int k, bool vary) {
+  if (!vary) return position_[k];
+  if (k > 0) return splat(position_[k]);
+  std::vector<llvm::Constant*> ids;
+  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
+  return b_.CreateAdd(splat(position_[0]), llvm::ConstantVector::get(ids));
 }
 
 // Constants and uniforms are SSA values; every other variable is one

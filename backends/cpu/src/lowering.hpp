@@ -20,6 +20,7 @@
 #include <llvm/IR/Intrinsics.h>
 
 #include "lower.hpp"
+#include "sh/analysis.hpp"
 #include "spmd_analysis.hpp"
 
 namespace sh::cpu {
@@ -61,6 +62,8 @@ class Lowering {
   Value* interleave(const std::array<Value*, 4>& components, int width);
   Value* spread(Value* tail, int width);
   Value* live_lanes(Value* count);
+  Value* place_batch(Value* e, Value* count);
+  Value* position(int k, bool vary);
 
   // ---- statements and control flow (flow.cpp) ------------------------------
   void block(const ir::Block& body);
@@ -101,7 +104,9 @@ class Lowering {
   void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);
   void scatter(const ir::Scatter& sc);
   llvm::Align alignment(llvm::Type* scalar) const { return llvm::Align(scalar->getPrimitiveSizeInBits() / 8); }
-  std::array<Value*, 4> same_or_gather(Value* flat, const std::function<std::array<Value*, 4>(Value*, bool)>& element);
+  using ElementRead = std::function<std::array<Value*, 4>(Value*, bool)>;
+  std::array<Value*, 4> same_or_gather(Value* flat, const ElementRead& element);
+  std::array<Value*, 4> consecutive_or_gather(int table, Value* flat, const ElementRead& element);
 
   struct LoopState {
     BasicBlock* exit;          // break, in a loop that branches
@@ -119,8 +124,12 @@ class Lowering {
   Value *inputs_ = nullptr, *outputs_ = nullptr, *uniforms_ = nullptr, *tables_ = nullptr, *dims_ = nullptr,
         *status_ = nullptr;
   llvm::AllocaInst* element_ = nullptr;
+  bool reads_position_ = false;
+  std::array<Value*, 3> domain_{};    // first, row length, rows (signature.hpp)
+  std::array<Value*, 3> position_{};  // the batch's x (first lane), y, z
   llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
   SpmdFacts facts_;
+  std::unordered_map<const ir::Assign*, analysis::Access> access_;  // spmd: per table read
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.
   std::vector<VarSet> keep_;

@@ -29,6 +29,8 @@ void Lowering::assign(const ir::Assign& a) {
   std::array<Value*, 4> result{};
   if (ir::is_table_read(a.op)) {
     table_read(a, result);
+  } else if (a.op == ir::Op::Position) {
+    for (int i = 0; i < a.mask.size; ++i) result[i] = position(i, varying(a.dest));
   } else {
     ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
     for (int i = 0; i < a.mask.size; ++i) {
@@ -145,6 +147,7 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::Cond: return b_.CreateSelect(truthy(a, from), b, c);
     case Op::AnyLane: return any_lane(a, from);
     case Op::Extent: case Op::Load: break;  // table_read()
+    case Op::Position: break;               // position()
     case Op::Fetch: case Op::Sample: break;  // not legal IR: the backend refuses it at compile
   }
   throw Error(std::string("cpu backend: ") + ir::op_name(op) + " reached the arithmetic lowering");
@@ -215,7 +218,8 @@ Value* Lowering::round_half_up(Value* a) {
 // A table's extent, or its element at coordinates in range (legal IR).  A
 // varying read is a gather over the running lanes, indexed in 32 bits (the
 // kernel refuses bigger tables) so that it is one gather instruction per 16
-// lanes, not two; a uniform read is one load.
+// lanes, not two; where lanes turn out to read one element it is one load,
+// and where they read a run (x + c of a stencil), one vector load.
 void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   const ir::TableDecl& t = p_.tables[a.table];
   bool gather = varying(a.dest);
@@ -246,7 +250,9 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
     }
     return values;
   };
-  std::array<Value*, 4> raw = gather ? same_or_gather(flat, element) : element(flat, false);
+  std::array<Value*, 4> raw = !gather ? element(flat, false)
+                             : access_.at(&a) == analysis::Access::Consecutive ? consecutive_or_gather(a.table, flat, element)
+                                                                                : same_or_gather(flat, element);
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
 }
 
@@ -411,8 +417,7 @@ void Lowering::scatter(const ir::Scatter& sc) {
 // element (coherent rays in one grid cell, say) one load serves them all:
 // checked at run time, per table read.  With no lane running (statements
 // after every lane broke out) lane 0's clamped index is read, harmlessly.
-std::array<Value*, 4> Lowering::same_or_gather(Value* flat,
-                                               const std::function<std::array<Value*, 4>(Value*, bool)>& element) {
+std::array<Value*, 4> Lowering::same_or_gather(Value* flat, const ElementRead& element) {
   Value* running = exec();
   Value* first = first_lane(running);
   first = b_.CreateAnd(first, llvm::ConstantInt::get(first->getType(), width_ - 1));
@@ -437,6 +442,52 @@ std::array<Value*, 4> Lowering::same_or_gather(Value* flat,
   for (int c = 0; c < 4 && loaded[c]; ++c) {
     llvm::PHINode* phi = b_.CreatePHI(loaded[c]->getType(), 2);
     phi->addIncoming(loaded[c], one_end);
+    phi->addIncoming(gathered[c], many_end);
+    joined[c] = phi;
+  }
+  return joined;
+}
+
+// Running lanes that read one element after another (a stencil's
+// neighbour at x + c: table_access's hint) are one masked vector load of
+// the run, components deinterleaved; where they do not (a row's edge, where
+// reads clamp), a gather.  The lanes that do not run are not read, so a
+// run may pass the table's end there.
+std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, const ElementRead& element) {
+  const ir::TableDecl& t = p_.tables[table];
+  Value* running = exec();
+  Value* start = b_.CreateExtractElement(flat, std::uint64_t{0});
+  std::vector<llvm::Constant*> ids;
+  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
+  Value* in_step = b_.CreateICmpEQ(flat, b_.CreateAdd(splat(start), llvm::ConstantVector::get(ids)));
+  BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
+  BasicBlock* many = BasicBlock::Create(ctx_, "read.gather", fn_);
+  BasicBlock* join = BasicBlock::Create(ctx_, "read.done", fn_);
+  b_.CreateCondBr(b_.CreateAndReduce(b_.CreateOr(in_step, b_.CreateNot(running))), run, many);
+
+  b_.SetInsertPoint(run);
+  int w = t.element.width;
+  llvm::Type* scalar = storage_scalar(t.element.scalar);
+  Value* at = b_.CreateInBoundsGEP(scalar, table_base_[table], b_.CreateMul(b_.CreateZExt(start, b_.getInt64Ty()), b_.getInt64(w)));
+  std::vector<int> per_value;
+  for (int i = 0; i < width_ * w; ++i) per_value.push_back(i / w);
+  Value* values_running = w == 1 ? running : b_.CreateShuffleVector(running, per_value);
+  auto* block_type = llvm::FixedVectorType::get(scalar, static_cast<unsigned>(width_ * w));
+  Value* block = b_.CreateMaskedLoad(block_type, at, alignment(scalar), values_running, llvm::Constant::getNullValue(block_type));
+  std::array<Value*, 4> loaded = deinterleave(block, w);
+  BasicBlock* run_end = b_.GetInsertBlock();
+  b_.CreateBr(join);
+
+  b_.SetInsertPoint(many);
+  std::array<Value*, 4> gathered = element(flat, true);
+  BasicBlock* many_end = b_.GetInsertBlock();
+  b_.CreateBr(join);
+
+  b_.SetInsertPoint(join);
+  std::array<Value*, 4> joined{};
+  for (int c = 0; c < w; ++c) {
+    llvm::PHINode* phi = b_.CreatePHI(loaded[c]->getType(), 2);
+    phi->addIncoming(loaded[c], run_end);
     phi->addIncoming(gathered[c], many_end);
     joined[c] = phi;
   }

@@ -1,8 +1,10 @@
 #pragma once
 // The machine-code kernel's C signature: one call runs elements [begin,
 // end).  Uniforms arrive as four doubles each; tables as data pointers and
-// three dimensions each.  A kernel that stops early (a loop past its
+// three dimensions each; the launch domain (position()) as the run's first
+// element in it, its row length and its rows per layer (KernelDomain).  A kernel that stops early (a loop past its
 // iteration cap) writes status[0] = loop number + 1, status[1] = element.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -12,7 +14,14 @@ namespace sh::cpu {
 
 using KernelFn = void (*)(std::int64_t begin, std::int64_t end, void* const* inputs, void* const* outputs,
                           const double* uniforms, const void* const* tables, const std::int32_t* table_dims,
-                          std::int64_t* status);
+                          const std::int64_t* domain, std::int64_t* status);
+
+// The launch domain as a kernel reads it: the run's first element in the
+// grid, the row length (INT64_MAX for a domain of one row) and the rows.
+inline std::array<std::int64_t, 3> kernel_domain(const LaunchDomain& d) {
+  std::int64_t row = d.extent[0] ? static_cast<std::int64_t>(d.extent[0]) : INT64_MAX;
+  return {static_cast<std::int64_t>(d.first), row, static_cast<std::int64_t>(d.extent[1])};
+}
 
 inline constexpr const char* kKernelSymbol = "sh_kernel";
 

@@ -36,7 +36,7 @@ class Uniformity {
   void block(const ir::Block& b, bool divergent) {
     for (const ir::Stmt& s : b) {
       if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-        bool any = divergent;
+        bool any = divergent || a->op == ir::Op::Position;  // x differs in every lane
         for (const ir::Operand& o : a->args) any = any || varying(o);
         if (any) mark(a->dest);
       } else if (auto* i = std::get_if<ir::If>(&s.node)) {

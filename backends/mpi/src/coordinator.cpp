@@ -291,6 +291,7 @@ class Coordinator : public Kernel {
     if (changed)
       for (const auto& u : args.uniforms) p.put(u);
     uniforms_sent_ = args.uniforms;
+    p.put(args.domain);
     p.put(waves != nullptr);
     if (waves) pack_waves(p, *waves);
     return p.bytes();
@@ -340,6 +341,7 @@ class Coordinator : public Kernel {
     if (n == 0) return;
     RunArgs slice = s.args;
     slice.count = n;
+    slice.domain.first += begin;
     for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
     for (BufferView& b : slice.outputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
     try {

@@ -83,6 +83,7 @@ class Worker {
       for (auto& value : k.uniforms) value = u.get<std::array<double, 4>>();
     }
     args.uniforms = k.uniforms;
+    args.domain = u.get<LaunchDomain>();
     std::optional<Waves> waves;
     std::string refusal;  // a refiner this process cannot make: each chunk fails with it
     if (u.get<bool>()) waves = receive_waves(u, refusal);
@@ -183,6 +184,7 @@ class Worker {
     Unpacker u(message);
     auto begin = u.get<std::uint64_t>();
     args.count = u.get<std::uint64_t>();
+    args.domain.first += begin;
     // Reserved up front: the views below point into these strings.
     std::vector<std::string> inputs, outputs;
     inputs.reserve(k.program.inputs.size());

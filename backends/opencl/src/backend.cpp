@@ -60,6 +60,10 @@ class OpenClKernel : public Kernel {
     cl_uint arg = 0;
     cl_long count = static_cast<cl_long>(args.count);
     set(arg++, sizeof count, &count);
+    const LaunchDomain& d = args.domain;
+    cl_long domain[3] = {static_cast<cl_long>(d.first), d.extent[0] ? static_cast<cl_long>(d.extent[0]) : CL_LONG_MAX,
+                         static_cast<cl_long>(d.extent[1])};
+    for (cl_long& k : domain) set(arg++, sizeof k, &k);
     // On a device that shares host memory the streams are used in place;
     // elsewhere they are copied.  An output that is also an input (an
     // in-out channel) is copied, since buffers over one host region may not

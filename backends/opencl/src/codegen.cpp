@@ -7,6 +7,7 @@
 
 #include "sh/ir/printer.hpp"
 #include "sh/ir/verifier.hpp"
+#include "sh/ir/visitor.hpp"
 
 namespace sh::opencl {
 namespace {
@@ -38,6 +39,12 @@ std::string round_half_up_function(const std::string& t) {
          " ? f + 1 : f;\n}\n";
 }
 
+// The element's place in the launch domain (sh::LaunchDomain): the run's
+// elements start at `first` of a grid of rows `row` long, `rows` a layer.
+constexpr const char* kPosition =
+    "  const long at = first + e;\n"
+    "  const int position_x = (int)(at % row), position_y = (int)(at / row % rows), position_z = (int)(at / row / rows);\n";
+
 class Generator {
  public:
   Generator(const ir::Program& p, const sh::Options& o) : p_(p), o_(o) {}
@@ -52,9 +59,10 @@ class Generator {
     if (o_.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
     if (adds_floats()) head << kAtomicAddFloat;
     std::ostringstream kernel;
-    kernel << "\n__kernel void " << kKernelName << "(\n    const long count";
+    kernel << "\n__kernel void " << kKernelName << "(\n    const long count, const long first, const long row, const long rows";
     signature(kernel);
     kernel << ")\n{\n  const long e = get_global_id(0);\n  if (e >= count) return;\n";
+    if (ir::uses(p_, ir::Op::Position)) kernel << kPosition;
     registers();
     load_inputs();
     block(p_.body, 1);
@@ -257,6 +265,8 @@ class Generator {
     std::string results[4];
     if (ir::is_table_read(a.op)) {
       table_read(a, results);
+    } else if (a.op == ir::Op::Position) {
+      for (int i = 0; i < a.mask.size; ++i) results[i] = std::string("position_") + kComponent[i];
     } else {
       ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
       for (int i = 0; i < a.mask.size; ++i) {
@@ -362,6 +372,7 @@ class Generator {
       // work-items outside a barrier, which divergent code cannot take.
       case Op::AnyLane: return mask(pos(a));
       case Op::Extent: case Op::Load: break;   // table_read()
+      case Op::Position: break;                 // assign()
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");

@@ -1,5 +1,8 @@
 #pragma once
-// What a kernel costs, from its IR: operations counted by class, one per
+// What a kernel does, from its IR.  How it reads its tables: where elements
+// that run side by side (SIMD lanes along a row of the launch domain, or a
+// GPU's work-items) read, so that a backend can load a run of them at once.
+// What a kernel costs: operations counted by class, one per
 // component, for straight-line code and per loop iteration; and the
 // critical path of straight-line code under a machine with a given number
 // of units per class and their latencies (a list scheduler over the
@@ -7,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -53,5 +57,18 @@ struct Machine {
 // Cycles from the first operation to the last result of a straight-line
 // program (throws sh::Error on one with branches or loops).
 std::uint64_t critical_path(const ir::Program& p, const Machine& m);
+
+// Where neighbouring elements of one row of the launch domain read a table:
+// all at one element (coordinates that do not depend on the element), at
+// consecutive elements (x + c along the row, where x is position()'s and c
+// does not depend on the element; clamping at the table's edge is allowed),
+// or anywhere.  A hint from the IR alone: a backend that loads a run of
+// elements checks at run time that the lanes do read one (the row's and the
+// table's edges, data-dependent coordinates that happen to agree).
+enum class Access : std::uint8_t { Same, Consecutive, Scattered };
+const char* access_name(Access a);
+
+// Per table read (`load` of legal IR, `fetch` before it) in the program.
+std::unordered_map<const ir::Assign*, Access> table_access(const ir::Program& p);
 
 }  // namespace sh::analysis

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -67,8 +68,27 @@ struct TableView {
   }
 };
 
+// Where a run's elements lie in its launch domain, a row-major grid of
+// extent[0] x extent[1] x extent[2] elements: element i of the run is
+// element first + i of the grid, at x = g % extent[0], y = g / extent[0] %
+// extent[1], z = g / (extent[0] * extent[1]) for g = first + i (what
+// position() reads).  A run cut into parts (mpi ranks, waves) keeps the
+// whole grid and moves `first`.  An extent[0] of 0 stands for one row as
+// long as the stream.
+struct LaunchDomain {
+  std::array<std::size_t, 3> extent{0, 1, 1};
+  std::size_t first = 0;
+  std::size_t row() const { return extent[0] ? extent[0] : std::numeric_limits<std::size_t>::max(); }
+  std::array<std::int32_t, 3> position(std::size_t i) const {
+    std::size_t g = first + i, rows = g / row();
+    return {static_cast<std::int32_t>(g % row()), static_cast<std::int32_t>(rows % extent[1]),
+            static_cast<std::int32_t>(rows / extent[1])};
+  }
+};
+
 struct RunArgs {
   std::size_t count = 0;  // stream elements
+  LaunchDomain domain;
   std::vector<BufferView> inputs, outputs;
   std::vector<std::array<double, 4>> uniforms;  // parallel to ir.uniforms
   std::vector<TableView> tables;                // parallel to ir.tables

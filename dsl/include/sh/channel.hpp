@@ -41,6 +41,11 @@ class Channel {
   Channel(MemoryPtr memory, std::size_t count) : Channel() { this->memory(std::move(memory), count); }
 
   std::size_t size() const { return buffer_->size(); }
+  // Makes the channel a width x height x depth grid, row-major, of as many
+  // elements: a program writing it runs over that launch domain, and
+  // position() reads each element's place in it.
+  void shape(std::size_t width, std::size_t height = 1, std::size_t depth = 1) { buffer_->shape({width, height, depth}); }
+  std::array<std::size_t, 3> shape() const { return buffer_->shape(); }
   std::size_t count() const { return buffer_->size(); }  // Sh's name
   void resize(std::size_t count) { buffer_->resize(count); }
   // The memory the elements lie in (for a channel that allocated its own,
@@ -65,6 +70,9 @@ class Channel {
     run(app.program, app.inputs, {buffer_});
     return *this;
   }
+  // A program with no inputs (a stencil over tables, a generator) runs
+  // over the channel's own elements: out = blur;
+  Channel& operator=(const Program& program) { return *this = Application{program, {}}; }
 
  private:
   std::shared_ptr<detail::Buffer> buffer_;
@@ -80,6 +88,7 @@ class Stream {
     run(app.program, app.inputs, channels_);
     return *this;
   }
+  Stream& operator=(const Program& program) { return *this = Application{program, {}}; }
 
  private:
   std::vector<std::shared_ptr<detail::Buffer>> channels_;

@@ -79,6 +79,17 @@ SH_UNARY_FUNCTION(bit_not, BitNot)
 SH_UNARY_FUNCTION(any_lane, AnyLane)
 #undef SH_UNARY_FUNCTION
 
+// The element's place in its run's launch domain: x, y, z of a row-major
+// grid (sh::LaunchDomain; a channel's shape() sets it), the first N of
+// them.  A stencil reads a table at offsets from it (docs/stencils.md);
+// neighbours along x sit in neighbouring SIMD lanes, so such reads are
+// vector loads.
+template <int N = 1>
+Attrib<N, std::int32_t> position() {
+  static_assert(N >= 1 && N <= 3, "position<N>(): a launch domain has 1 to 3 dimensions");
+  return wrap<Attrib<N, std::int32_t>>(detail::position(N));
+}
+
 #define SH_BINARY_FUNCTION(name, OP)                                                      \
   template <AttribLike A, AttribLike B>                                                   \
     requires Compatible<A, B>                                                             \

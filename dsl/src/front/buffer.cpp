@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "sh/error.hpp"
@@ -32,6 +33,23 @@ void Buffer::resize(std::size_t count) {
   }
   count_ = count;
   words_.assign((bytes() + 7) / 8, 0);
+}
+
+std::array<std::size_t, 3> Buffer::shape() const {
+  bool current = shape_[0] * shape_[1] * shape_[2] == count_ && shape_[0] > 0;
+  return current ? shape_ : std::array<std::size_t, 3>{0, 1, 1};
+}
+
+void Buffer::shape(const std::array<std::size_t, 3>& extent) {
+  std::string what = "a channel's shape " + std::to_string(extent[0]) + " x " + std::to_string(extent[1]) + " x " +
+                     std::to_string(extent[2]);
+  constexpr std::size_t kMostPerDimension = std::numeric_limits<std::int32_t>::max();
+  for (std::size_t e : extent)
+    if (e == 0 || e > kMostPerDimension) throw Error(what + " has an extent outside [1, 2^31 - 1]");
+  if (extent[0] * extent[1] > kMostPerDimension * kMostPerDimension / extent[2])
+    throw Error(what + " holds more elements than memory can");
+  resize(extent[0] * extent[1] * extent[2]);
+  shape_ = extent;
 }
 
 void Buffer::check_fits(std::size_t count, const std::string& what) const {

@@ -178,6 +178,13 @@ Value table_read(const std::shared_ptr<TableStorage>& table, ir::Op op, const Va
   return r->emit_result(table->decl.element, op, {r->read(c)}, r->table_index(table));
 }
 
+Value position(int dimensions) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("position() names an element of a run, so it can only be read inside a program");
+  if (dimensions < 1 || dimensions > 3) r->fail("position<" + std::to_string(dimensions) + ">(): a launch domain has 1 to 3 dimensions");
+  return r->emit_result({ir::Scalar::I32, dimensions}, ir::Op::Position, {});
+}
+
 void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& index, const Value& value) {
   Recorder* r = current_recorder();
   if (!r) host_fail("accumulators can only be added into inside a program");

@@ -105,6 +105,9 @@ class Machine {
     int n = a.mask.size;
     if (ir::is_table_read(a.op)) {
       result = table_read(a, s);
+    } else if (a.op == ir::Op::Position) {
+      std::array<std::int32_t, 3> at = a_.domain.position(element_);
+      for (int i = 0; i < n; ++i) result[i] = at[i];
     } else {
       ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
       for (int i = 0; i < n; ++i) {

@@ -67,6 +67,10 @@ class Verifier {
     for (const Operand& o : a.args) operand(o, s);
     if (is_table_read(a.op)) return table_read(a, s);
     if (a.table >= 0) fail("only table reads name a table", &s);
+    if (op_info(a.op).result == ResultRule::ElementPosition) {
+      if (a.mask.size > 3 || dest.type.scalar != Scalar::I32) fail("a position is i32, at most one per dimension (3)", &s);
+      return;
+    }
     Scalar operand_scalar = p_.type_of(a.args[0].var).scalar;
     for (const Operand& o : a.args) {
       if (o.width() != 1 && o.width() != a.mask.size) fail("operand width differs from the result width", &s);

@@ -48,4 +48,16 @@ void Mutator::mutate(Break s, Block& out) { out.push_back(Stmt{s}); }
 void Mutator::mutate(Continue s, Block& out) { out.push_back(Stmt{s}); }
 void Mutator::mutate(Scatter s, Block& out) { out.push_back(Stmt{s}); }
 
+bool uses(const Program& p, Op op) {
+  struct Finder : Visitor {
+    Op op;
+    bool found = false;
+    void visit(const Assign& a) override { found = found || a.op == op; }
+    using Visitor::visit;
+  } finder;
+  finder.op = op;
+  finder.visit(p.body);
+  return finder.found;
+}
+
 }  // namespace sh::ir

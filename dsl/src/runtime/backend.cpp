@@ -8,6 +8,7 @@
 #include "../interp/interp.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
+#include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
 #include "sh/waves.hpp"
 
@@ -68,6 +69,32 @@ std::string describe_slot(const ir::Program& p, const char* what, std::size_t k)
 
 BufferView view_of(detail::Buffer& b) { return BufferView{b.type(), b.size(), b.data()}; }
 
+std::string describe_shape(const std::array<std::size_t, 3>& e) {
+  return std::to_string(e[0]) + " x " + std::to_string(e[1]) + " x " + std::to_string(e[2]);
+}
+
+// The grid of the channels that have a shape (outputs first); they must
+// agree.  Without one the domain is a single row.
+LaunchDomain launch_domain(const ir::Program& p, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
+                           const std::vector<std::shared_ptr<detail::Buffer>>& outputs) {
+  LaunchDomain domain;
+  std::string from;
+  auto consider = [&](const detail::Buffer& b, const std::string& which) {
+    std::array<std::size_t, 3> shape = b.shape();
+    if (shape[0] == 0) return;
+    if (from.empty()) {
+      domain.extent = shape;
+      from = which;
+    } else if (shape != domain.extent) {
+      throw Error("program '" + p.name + "': " + which + " is shaped " +
+                  describe_shape(shape) + " but " + from + " is shaped " + describe_shape(domain.extent));
+    }
+  };
+  for (std::size_t k = 0; k < outputs.size(); ++k) consider(*outputs[k], "output channel " + std::to_string(k));
+  for (std::size_t k = 0; k < inputs.size(); ++k) consider(*inputs[k], "input channel " + std::to_string(k));
+  return domain;
+}
+
 RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
                        const std::vector<std::shared_ptr<detail::Buffer>>& outputs) {
   const ir::Program& p = program.ir();
@@ -100,6 +127,7 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
                   " elements but the stream has " + std::to_string(args.count));
     args.outputs.push_back(view_of(*outputs[k]));
   }
+  args.domain = launch_domain(p, inputs, outputs);
   for (const auto& u : program.uniforms()) args.uniforms.push_back(u->value);
   for (std::size_t t = 0; t < program.tables().size(); ++t) {
     detail::TableStorage& s = *program.tables()[t];
@@ -208,6 +236,9 @@ namespace {
 
 void check_waves(const ir::Program& p, const Waves& w) {
   if (!w.refiner) throw Error("program '" + p.name + "': running in waves needs a refiner");
+  if (ir::uses(p, ir::Op::Position))
+    throw Error("program '" + p.name + "' reads position(), which waves cannot keep: a later wave runs its elements "
+                "gathered out of their places");
   auto output = [&](int k) {
     if (k < 0 || static_cast<std::size_t>(k) >= p.outputs.size())
       throw Error(describe_slot(p, "output", static_cast<std::size_t>(std::max(k, 0))) + " named for waves does not exist (" +

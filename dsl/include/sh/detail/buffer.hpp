@@ -41,6 +41,12 @@ class Buffer {
   // The viewed memory's version (HostMemory::dirty), 0 for owned storage.
   std::uint64_t memory_version() const { return memory_ ? memory_->version() : 0; }
 
+  // The grid the elements form, row-major (LaunchDomain::extent): set by
+  // shape(), which resizes to the grid's count; one row ({0, 1, 1}) where
+  // none was set or the count changed since.
+  std::array<std::size_t, 3> shape() const;
+  void shape(const std::array<std::size_t, 3>& extent);
+
   // Component c of element i, as a double (exact for every stored type).
   double get(std::size_t i, int c) const;
   void set(std::size_t i, int c, double v);
@@ -50,6 +56,7 @@ class Buffer {
 
   ir::Type type_;
   std::size_t count_ = 0;
+  std::array<std::size_t, 3> shape_{0, 1, 1};
   std::vector<std::uint64_t> words_;  // owned storage, 8-byte aligned; empty for a view
   std::shared_ptr<HostMemory> memory_;
 };

@@ -59,6 +59,10 @@ Value widened(const Value& v, int width);
 Value swizzle(const Value& v, std::initializer_list<int> components);
 Value component(const Value& v, int i);
 
+// The element's position in the launch domain, its first `dimensions`
+// coordinates (i32); only inside a program.
+Value position(int dimensions);
+
 // Host-side access to a uniform or constant (outside recording).
 std::array<double, 4> host_value(const Value& v);
 void set_name(const Value& v, const std::string& name);

@@ -25,8 +25,9 @@ inline constexpr int kOpCount = 0
 // The operand scalars an operation takes.
 enum class Domain : std::uint8_t { Any, Numeric, Float, Integer };
 // How the result's scalar follows from the operands': the operands', any
-// (Cast), the table's element, or i32 per table dimension.
-enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement, TableShape };
+// (Cast), the table's element, i32 per table dimension, or i32 per
+// dimension of the launch domain.
+enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement, TableShape, ElementPosition };
 // Classes the cost analysis counts by.
 enum class OpClass : std::uint8_t { Move, Add, Mul, Div, Negate, Compare, Transcendental, TableRead };
 

@@ -35,4 +35,7 @@ class Mutator {
   virtual void mutate(Scatter s, Block& out);
 };
 
+// Whether some assignment in the program performs `op`.
+bool uses(const Program& p, Op op);
+
 }  // namespace sh::ir

@@ -1,0 +1,103 @@
+// position(): each element's place in its run's launch domain, and the
+// stencils written with it.  Rows are of odd lengths, shorter and longer
+// than any SIMD width, so that runs of lanes meet a row's end mid-batch;
+// neighbours read past the table's edge clamp, inside divergent ifs too.
+#include "harness.hpp"
+
+namespace conformance {
+namespace {
+
+using sh::Attrib1f;
+using sh::Attrib1i;
+using sh::Attrib3f;
+using sh::Attrib3i;
+
+std::array<int, 3> place(std::size_t e, std::size_t row, std::size_t rows) {
+  return {static_cast<int>(e % row), static_cast<int>(e / row % rows), static_cast<int>(e / row / rows)};
+}
+
+TEST_P(Conformance, PositionIsTheElementsPlaceInTheLaunchDomain) {
+  sh::Program p = SH_BEGIN_PROGRAM("position") {
+    sh::Output<Attrib3i> where;
+    where = sh::position<3>();
+  } SH_END;
+  struct Shape {
+    std::size_t w, h, d;
+  };
+  for (Shape s : {Shape{1000, 1, 1}, Shape{37, 5, 1}, Shape{3, 7, 4}, Shape{1, 9, 2}, Shape{17, 1, 3}}) {
+    sh::Channel<Attrib3i> where;
+    where.shape(s.w, s.h, s.d);
+    run(p, {}, {where});
+    ASSERT_EQ(where.size(), s.w * s.h * s.d);
+    for (std::size_t e = 0; e < where.size(); ++e) {
+      std::array<int, 3> at = place(e, s.w, s.h);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(where[3 * e + c], at[c]) << s.w << "x" << s.h << "x" << s.d << " element " << e << " component " << c;
+    }
+  }
+}
+
+TEST_P(Conformance, PositionWithoutAShapeIsTheElementsIndex) {
+  sh::Program p = SH_BEGIN_PROGRAM("index") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1i> i;
+    i = sh::position() + x.cast<std::int32_t>();
+  } SH_END;
+  sh::Channel<Attrib1f> x(std::vector<float>(777, 2.0f));
+  sh::Channel<Attrib1i> i;
+  run(p, {x}, {i});
+  for (std::size_t e = 0; e < i.size(); ++e) ASSERT_EQ(i[e], static_cast<int>(e) + 2) << "element " << e;
+}
+
+// Values small integers, so that every sum is exact in f32 whatever order
+// a backend adds in (fast math reassociates).
+float pixel(int x, int y) { return static_cast<float>((x * 7 + y * 13) % 17); }
+
+// A 5 x 3 box over a W x H image, edges clamped; in odd columns only,
+// from inside an if, the 3-component table's neighbour to the right.
+TEST_P(Conformance, StencilReadsNeighboursAndClampsAtTheEdges) {
+  for (int w : {1, 3, 19, 40, 67}) {
+    const int h = 5;
+    sh::Table2D<Attrib1f> image(w, h);
+    sh::Table2D<Attrib3f> colour(w, h);
+    std::vector<float> values, colours;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        values.push_back(pixel(x, y));
+        colours.insert(colours.end(), {pixel(x, y), -pixel(y, x), static_cast<float>(x)});
+      }
+    image.assign(values);
+    colour.assign(colours);
+    sh::Program p = SH_BEGIN_PROGRAM("box") {
+      sh::Output<Attrib1f> box;
+      sh::Output<Attrib3f> right;
+      sh::Attrib2i at = sh::position<2>();
+      box = 0.0f;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) box += image[at + sh::ConstAttrib2i(dx, dy)];
+      right = sh::ConstAttrib3f(0.0f, 0.0f, 0.0f);
+      SH_IF((at(0) % 2).cast<float>() > 0.5f) { right = colour[at + sh::ConstAttrib2i(1, 0)]; } SH_ENDIF;
+    } SH_END;
+    sh::Channel<Attrib1f> box;
+    sh::Channel<Attrib3f> right;
+    box.shape(static_cast<std::size_t>(w), h);
+    run(p, {}, {box, right});
+    auto clamp = [](int v, int n) { return std::min(std::max(v, 0), n - 1); };
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float sum = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) sum += pixel(clamp(x + dx, w), clamp(y + dy, h));
+        std::size_t e = static_cast<std::size_t>(y * w + x);
+        ASSERT_EQ(box[e], sum) << "width " << w << " at " << x << ", " << y;
+        int rx = clamp(x + 1, w);
+        for (int c = 0; c < 3; ++c) {
+          float want = x % 2 ? colours[3 * static_cast<std::size_t>(y * w + rx) + c] : 0.0f;
+          ASSERT_EQ(right[3 * e + c], want) << "width " << w << " at " << x << ", " << y << " component " << c;
+        }
+      }
+  }
+}
+
+}  // namespace
+}  // namespace conformance
