@@ -1,5 +1,8 @@
 #include "kernels.hpp"
 
+#include <immintrin.h>
+
+#include <algorithm>
 #include <random>
 
 namespace bench {
@@ -123,6 +126,185 @@ void triangles_cpp(const TriangleScene& s, float* out, std::size_t begin, std::s
     }
     out[r] = nearest;
   }
+}
+
+}  // namespace bench
+
+namespace bench {
+namespace {
+
+constexpr int kTaps = 2 * kBlurRadius + 1;
+constexpr float kBoxWeight = 1.0f / (kTaps * kTaps);
+constexpr float kLineWeight = 1.0f / kTaps;
+
+int clamped(int v, int n) { return v < 0 ? 0 : v >= n ? n - 1 : v; }
+
+// Runs row(y, its output) for the rows [y0, y1).
+template <class Row>
+void each_row(const Image& im, int y0, int y1, Row row) {
+  for (int y = y0; y < y1; ++y) row(y, im.out + static_cast<std::size_t>(y) * im.w);
+}
+
+const float* row_at(const Image& im, int y) { return im.in + static_cast<std::size_t>(clamped(y, im.h)) * im.w; }
+
+// The blur's one pixel at x, clamping x: the form for the image's edges.
+float box_at(const Image& im, int y, int x) {
+  float sum = 0;
+  for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy)
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += row_at(im, y + dy)[clamped(x + dx, im.w)];
+  return sum * kBoxWeight;
+}
+
+// The pixels whose taps all lie inside the row: [lo, hi).
+int interior_lo(const Image&) { return kBlurRadius; }
+int interior_hi(const Image& im) { return im.w - kBlurRadius; }
+
+}  // namespace
+
+Program blur_program(const Table2D<Attrib1f>& image) {
+  return SH_BEGIN_PROGRAM("blur") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    Attrib1f sum = 0.0f;
+    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy)
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += image[at + ConstAttrib2i(dx, dy)];
+    out = sum * kBoxWeight;
+  } SH_END;
+}
+
+Program blur_rows_program(const Table2D<Attrib1f>& image) {
+  return SH_BEGIN_PROGRAM("blur_rows") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    Attrib1f sum = 0.0f;
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += image[at + ConstAttrib2i(dx, 0)];
+    out = sum * kLineWeight;
+  } SH_END;
+}
+
+Program blur_columns_program(const Table2D<Attrib1f>& rows) {
+  return SH_BEGIN_PROGRAM("blur_columns") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    Attrib1f sum = 0.0f;
+    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) sum += rows[at + ConstAttrib2i(0, dy)];
+    out = sum * kLineWeight;
+  } SH_END;
+}
+
+void blur_cpp(const Image& im, int y0, int y1) {
+  each_row(im, y0, y1, [&](int y, float* out) {
+    const float* r[kTaps];
+    for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
+    for (int x = 0; x < std::min(interior_lo(im), im.w); ++x) out[x] = box_at(im, y, x);
+    for (int x = interior_lo(im); x < interior_hi(im); ++x) {
+      float sum = 0;
+      for (int k = 0; k < kTaps; ++k)
+        for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[k][x + dx];
+      out[x] = sum * kBoxWeight;
+    }
+    for (int x = std::max(interior_hi(im), interior_lo(im)); x < im.w; ++x) out[x] = box_at(im, y, x);
+  });
+}
+
+void blur_rows_cpp(const Image& im, int y0, int y1) {
+  each_row(im, y0, y1, [&](int y, float* out) {
+    const float* r = row_at(im, y);
+    auto at = [&](int x) {
+      float sum = 0;
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[clamped(x + dx, im.w)];
+      return sum * kLineWeight;
+    };
+    for (int x = 0; x < std::min(interior_lo(im), im.w); ++x) out[x] = at(x);
+    for (int x = interior_lo(im); x < interior_hi(im); ++x) {
+      float sum = 0;
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[x + dx];
+      out[x] = sum * kLineWeight;
+    }
+    for (int x = std::max(interior_hi(im), interior_lo(im)); x < im.w; ++x) out[x] = at(x);
+  });
+}
+
+void blur_columns_cpp(const Image& im, int y0, int y1) {
+  each_row(im, y0, y1, [&](int y, float* out) {
+    const float* r[kTaps];
+    for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
+    for (int x = 0; x < im.w; ++x) {
+      float sum = 0;
+      for (int k = 0; k < kTaps; ++k) sum += r[k][x];
+      out[x] = sum * kLineWeight;
+    }
+  });
+}
+
+// AVX-512: sixteen pixels per step, their taps loaded unaligned; the edges
+// and the row's last partial step as the C++ form.
+#if defined(__AVX512F__)
+void blur_simd(const Image& im, int y0, int y1) {
+  each_row(im, y0, y1, [&](int y, float* out) {
+    const float* r[kTaps];
+    for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
+    int x = 0;
+    for (; x < std::min(interior_lo(im), im.w); ++x) out[x] = box_at(im, y, x);
+    for (; x + 16 <= interior_hi(im); x += 16) {
+      __m512 sum = _mm512_setzero_ps();
+      for (int k = 0; k < kTaps; ++k)
+        for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r[k] + x + dx));
+      _mm512_storeu_ps(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kBoxWeight)));
+    }
+    for (; x < im.w; ++x) out[x] = box_at(im, y, x);
+  });
+}
+
+void blur_rows_simd(const Image& im, int y0, int y1) {
+  each_row(im, y0, y1, [&](int y, float* out) {
+    const float* r = row_at(im, y);
+    auto at = [&](int x) {
+      float sum = 0;
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[clamped(x + dx, im.w)];
+      return sum * kLineWeight;
+    };
+    int x = 0;
+    for (; x < std::min(interior_lo(im), im.w); ++x) out[x] = at(x);
+    for (; x + 16 <= interior_hi(im); x += 16) {
+      __m512 sum = _mm512_setzero_ps();
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r + x + dx));
+      _mm512_storeu_ps(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
+    }
+    for (; x < im.w; ++x) out[x] = at(x);
+  });
+}
+
+void blur_columns_simd(const Image& im, int y0, int y1) {
+  each_row(im, y0, y1, [&](int y, float* out) {
+    const float* r[kTaps];
+    for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
+    int x = 0;
+    for (; x + 16 <= im.w; x += 16) {
+      __m512 sum = _mm512_setzero_ps();
+      for (int k = 0; k < kTaps; ++k) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r[k] + x));
+      _mm512_storeu_ps(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
+    }
+    for (; x < im.w; ++x) {
+      float sum = 0;
+      for (int k = 0; k < kTaps; ++k) sum += r[k][x];
+      out[x] = sum * kLineWeight;
+    }
+  });
+}
+#else
+// Without AVX-512 the hand form is the compiler's.
+void blur_simd(const Image& im, int y0, int y1) { blur_cpp(im, y0, y1); }
+void blur_rows_simd(const Image& im, int y0, int y1) { blur_rows_cpp(im, y0, y1); }
+void blur_columns_simd(const Image& im, int y0, int y1) { blur_columns_cpp(im, y0, y1); }
+#endif
+
+std::vector<float> blur_image(int w, int h) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  std::vector<float> image(static_cast<std::size_t>(w) * h);
+  for (float& v : image) v = value(rng);
+  return image;
 }
 
 }  // namespace bench

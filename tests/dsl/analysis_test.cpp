@@ -103,11 +103,30 @@ TEST(Analysis, TableAccessFollowsPositionThroughOffsetsAndClamps) {
   } SH_END;
   ir::Program legal = passes::legalize(optimize(p.ir()));
   std::multiset<std::string> kinds;
-  for (const auto& [read, access] : analysis::table_access(legal)) kinds.insert(analysis::access_name(access));
-  // image at (x + 1, y - 1), line at x - 2: runs; line at a uniform: the
-  // same; line at an input, image at (y, x) and line at x + a loop counter
-  // that is the same in every lane, but changes: a run, too.
-  EXPECT_EQ(kinds, (std::multiset<std::string>{"consecutive", "consecutive", "consecutive", "same", "scattered", "scattered"}));
+  for (const auto& [read, access] : analysis::table_access(legal))
+    kinds.insert(std::string(analysis::access_name(access.hint)) + (access.proven_run ? " proven" : ""));
+  // image at (x + 1, y - 1) and line at x - 2: runs, proven (each value is
+  // written once, outside ifs and loops); line at x + a loop counter: a run
+  // by the hint only; line at a uniform: the same element; line at an
+  // input and image at (y, x): anywhere.
+  EXPECT_EQ(kinds, (std::multiset<std::string>{"consecutive proven", "consecutive proven", "consecutive", "same",
+                                               "scattered", "scattered"}));
+}
+
+// A value written inside an if may be the one from before it in some
+// lanes: no proof, whatever the condition.
+TEST(Analysis, TableAccessProvesNothingWrittenInsideAnIf) {
+  Table1D<Attrib1f> line(8);
+  Attrib1f flag = 1.0f;
+  Program p = SH_BEGIN_PROGRAM("inside_if") {
+    OutputAttrib1f out;
+    Attrib1i x = 0;
+    SH_IF(flag > 0.0f) { x = position(); } SH_ENDIF;
+    out = line[x];
+  } SH_END;
+  auto reads = analysis::table_access(passes::legalize(optimize(p.ir())));
+  ASSERT_EQ(reads.size(), 1u);
+  EXPECT_FALSE(reads.begin()->second.proven_run);
 }
 
 }  // namespace

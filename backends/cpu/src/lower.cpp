@@ -122,6 +122,7 @@ void Lowering::function() {
   b_.SetInsertPoint(body);
   Value* count = spmd() ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(end, e), b_.getInt64(width_)) : nullptr;
   if (reads_position_) count = place_batch(e, count);
+  batch_count_ = count;
   if (spmd()) b_.CreateStore(live_lanes(count), exec_);
   clear_registers();
   full_or_tail(count, [&](Value* tail) { load_inputs(e, tail); });

@@ -107,6 +107,10 @@ class Lowering {
   using ElementRead = std::function<std::array<Value*, 4>(Value*, bool)>;
   std::array<Value*, 4> same_or_gather(Value* flat, const ElementRead& element);
   std::array<Value*, 4> consecutive_or_gather(int table, Value* flat, const ElementRead& element);
+  std::array<Value*, 4> run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element);
+  std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
+                               BasicBlock* from_b, int width);
+  std::array<Value*, 4> masked_run(int table, Value* start);
 
   struct LoopState {
     BasicBlock* exit;          // break, in a loop that branches
@@ -129,7 +133,8 @@ class Lowering {
   std::array<Value*, 3> position_{};  // the batch's x (first lane), y, z
   llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
   SpmdFacts facts_;
-  std::unordered_map<const ir::Assign*, analysis::Access> access_;  // spmd: per table read
+  std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
+  Value* batch_count_ = nullptr;  // spmd: the lanes that hold elements (the rest are past the end or the row)
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.
   std::vector<VarSet> keep_;

@@ -250,9 +250,15 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
     }
     return values;
   };
-  std::array<Value*, 4> raw = !gather ? element(flat, false)
-                             : access_.at(&a) == analysis::Access::Consecutive ? consecutive_or_gather(a.table, flat, element)
-                                                                                : same_or_gather(flat, element);
+  std::array<Value*, 4> raw{};
+  if (!gather)
+    raw = element(flat, false);
+  else if (access_.at(&a).proven_run)
+    raw = run_or_gather(a, flat, element);
+  else if (access_.at(&a).hint == analysis::Access::Consecutive)
+    raw = consecutive_or_gather(a.table, flat, element);
+  else
+    raw = same_or_gather(flat, element);
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
 }
 
@@ -451,47 +457,87 @@ std::array<Value*, 4> Lowering::same_or_gather(Value* flat, const ElementRead& e
 // Running lanes that read one element after another (a stencil's
 // neighbour at x + c: table_access's hint) are one masked vector load of
 // the run, components deinterleaved; where they do not (a row's edge, where
-// reads clamp), a gather.  The lanes that do not run are not read, so a
-// run may pass the table's end there.
+// reads clamp), a gather.
 std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, const ElementRead& element) {
-  const ir::TableDecl& t = p_.tables[table];
-  Value* running = exec();
   Value* start = b_.CreateExtractElement(flat, std::uint64_t{0});
   std::vector<llvm::Constant*> ids;
   for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
   Value* in_step = b_.CreateICmpEQ(flat, b_.CreateAdd(splat(start), llvm::ConstantVector::get(ids)));
+  Value* all_in_step = b_.CreateAndReduce(b_.CreateOr(in_step, b_.CreateNot(exec())));
   BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
   BasicBlock* many = BasicBlock::Create(ctx_, "read.gather", fn_);
-  BasicBlock* join = BasicBlock::Create(ctx_, "read.done", fn_);
-  b_.CreateCondBr(b_.CreateAndReduce(b_.CreateOr(in_step, b_.CreateNot(running))), run, many);
-
+  b_.CreateCondBr(all_in_step, run, many);
   b_.SetInsertPoint(run);
+  std::array<Value*, 4> loaded = masked_run(table, b_.CreateZExt(start, b_.getInt64Ty()));
+  BasicBlock* run_end = b_.GetInsertBlock();
+  b_.SetInsertPoint(many);
+  std::array<Value*, 4> gathered = element(flat, true);
+  return joined(loaded, run_end, gathered, b_.GetInsertBlock(), p_.tables[table].element.width);
+}
+
+// A read whose coordinates as asked are proven to run along the row
+// (table_access): where the batch's run lies inside the table, nothing is
+// clamped and it is one masked vector load, tested by its ends alone; at
+// the table's edges, a gather of the clamped coordinates.
+std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
+  const ir::TableDecl& t = p_.tables[a.table];
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* inside = b_.getTrue();
+  Value* start = b_.getInt64(0);
+  Value* stride = b_.getInt64(1);
+  for (int d = 0; d < t.rank; ++d) {
+    Value* first = b_.CreateSExt(b_.CreateExtractElement(widen(read(a.args[1], d)), std::uint64_t{0}), i64);
+    Value* extent = b_.CreateZExt(table_dims_[a.table][d], i64);
+    Value* last = d == 0 ? b_.CreateAdd(first, b_.CreateSub(batch_count_, b_.getInt64(1))) : first;
+    inside = b_.CreateAnd(inside, b_.CreateAnd(b_.CreateICmpSGE(first, b_.getInt64(0)), b_.CreateICmpSLT(last, extent)));
+    start = b_.CreateAdd(start, b_.CreateMul(first, stride));
+    stride = b_.CreateMul(stride, extent);
+  }
+  BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
+  BasicBlock* edge = BasicBlock::Create(ctx_, "read.edge", fn_);
+  b_.CreateCondBr(inside, run, edge);
+  b_.SetInsertPoint(run);
+  std::array<Value*, 4> loaded = masked_run(a.table, start);
+  BasicBlock* run_end = b_.GetInsertBlock();
+  b_.SetInsertPoint(edge);
+  std::array<Value*, 4> gathered = element(flat, true);
+  return joined(loaded, run_end, gathered, b_.GetInsertBlock(), t.element.width);
+}
+
+// The running lanes' elements from `start` on, one after another: a masked
+// vector load (lanes that do not run are not read, so the run may pass the
+// table's end there), components deinterleaved.
+std::array<Value*, 4> Lowering::masked_run(int table, Value* start) {
+  const ir::TableDecl& t = p_.tables[table];
   int w = t.element.width;
   llvm::Type* scalar = storage_scalar(t.element.scalar);
-  Value* at = b_.CreateInBoundsGEP(scalar, table_base_[table], b_.CreateMul(b_.CreateZExt(start, b_.getInt64Ty()), b_.getInt64(w)));
+  Value* at = b_.CreateInBoundsGEP(scalar, table_base_[table], b_.CreateMul(start, b_.getInt64(w)));
   std::vector<int> per_value;
   for (int i = 0; i < width_ * w; ++i) per_value.push_back(i / w);
+  Value* running = exec();
   Value* values_running = w == 1 ? running : b_.CreateShuffleVector(running, per_value);
   auto* block_type = llvm::FixedVectorType::get(scalar, static_cast<unsigned>(width_ * w));
   Value* block = b_.CreateMaskedLoad(block_type, at, alignment(scalar), values_running, llvm::Constant::getNullValue(block_type));
-  std::array<Value*, 4> loaded = deinterleave(block, w);
-  BasicBlock* run_end = b_.GetInsertBlock();
-  b_.CreateBr(join);
+  return deinterleave(block, w);
+}
 
-  b_.SetInsertPoint(many);
-  std::array<Value*, 4> gathered = element(flat, true);
-  BasicBlock* many_end = b_.GetInsertBlock();
+// The values of two paths, where they meet; ends both blocks.
+std::array<Value*, 4> Lowering::joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
+                                       BasicBlock* from_b, int width) {
+  BasicBlock* join = BasicBlock::Create(ctx_, "read.done", fn_);
+  b_.SetInsertPoint(from_a);
   b_.CreateBr(join);
-
+  b_.SetInsertPoint(from_b);
+  b_.CreateBr(join);
   b_.SetInsertPoint(join);
-  std::array<Value*, 4> joined{};
-  for (int c = 0; c < w; ++c) {
-    llvm::PHINode* phi = b_.CreatePHI(loaded[c]->getType(), 2);
-    phi->addIncoming(loaded[c], run_end);
-    phi->addIncoming(gathered[c], many_end);
-    joined[c] = phi;
+  std::array<Value*, 4> out{};
+  for (int c = 0; c < width; ++c) {
+    llvm::PHINode* phi = b_.CreatePHI(a[c]->getType(), 2);
+    phi->addIncoming(a[c], from_a);
+    phi->addIncoming(b[c], from_b);
+    out[c] = phi;
   }
-  return joined;
+  return out;
 }
 
 }  // namespace sh::cpu

@@ -62,13 +62,24 @@ std::uint64_t critical_path(const ir::Program& p, const Machine& m);
 // all at one element (coordinates that do not depend on the element), at
 // consecutive elements (x + c along the row, where x is position()'s and c
 // does not depend on the element; clamping at the table's edge is allowed),
-// or anywhere.  A hint from the IR alone: a backend that loads a run of
-// elements checks at run time that the lanes do read one (the row's and the
-// table's edges, data-dependent coordinates that happen to agree).
+// or anywhere.
 enum class Access : std::uint8_t { Same, Consecutive, Scattered };
 const char* access_name(Access a);
 
+struct ReadAccess {
+  // A hint from the IR alone: a backend that loads a run of elements on it
+  // checks at run time that the lanes do read one (the row's and the
+  // table's edges, data-dependent coordinates that happen to agree).
+  Access hint = Access::Scattered;
+  // Proven: the coordinates as asked (before the clamp to the table's edge)
+  // are in every lane the first lane's plus (lane, 0, 0), so that a backend
+  // need only test the run's ends against the table's.  Holds for values
+  // each written once, outside every if and loop, from position(),
+  // constants and uniforms by + and -.
+  bool proven_run = false;
+};
+
 // Per table read (`load` of legal IR, `fetch` before it) in the program.
-std::unordered_map<const ir::Assign*, Access> table_access(const ir::Program& p);
+std::unordered_map<const ir::Assign*, ReadAccess> table_access(const ir::Program& p);
 
 }  // namespace sh::analysis

@@ -1,7 +1,9 @@
 // Table access analysis: per variable component, how it varies across the
-// elements of one row of the launch domain that run side by side.  A forward
-// walk repeated until nothing changes; a component only ever moves from
-// Same to Consecutive to Scattered, so the walk ends.
+// elements of one row of the launch domain that run side by side.  Two
+// forward walks, each repeated until nothing changes (a component only ever
+// moves from Same to Consecutive to Scattered, so they end): the hint joins
+// every write of a component; the proof takes only components written once,
+// outside every if and loop, and reads them in program order.
 #include <algorithm>
 
 #include "sh/analysis.hpp"
@@ -14,29 +16,73 @@ using Kinds = std::array<Access, 4>;
 
 Access join(Access a, Access b) { return std::max(a, b); }
 
-class TableAccess : public ir::Visitor {
+// Writes per variable component over the whole program.
+class WriteCounter : public ir::Visitor {
  public:
-  explicit TableAccess(const ir::Program& p) : p_(p), kinds_(p.vars.size()) {
+  explicit WriteCounter(const ir::Program& p) : writes(p.vars.size()) {}
+  using ir::Visitor::visit;
+  void visit(const ir::Assign& a) override {
+    for (int i = 0; i < a.mask.size; ++i) ++writes[a.dest][a.mask[i]];
+  }
+  std::vector<std::array<int, 4>> writes;
+};
+
+class Walk : public ir::Visitor {
+ public:
+  Walk(const ir::Program& p, bool prove) : p_(p), prove_(prove), kinds_(p.vars.size()) {
     for (ir::VarId v : p.inputs) kinds_[v].fill(Access::Scattered);
+    if (prove_) {
+      WriteCounter counter(p);
+      counter.visit(p.body);
+      writes_ = std::move(counter.writes);
+    }
   }
 
+  // Per read: the kind of its coordinates (clamped for a hint, as asked
+  // for a proof).  A hint joins over the whole program until it settles; a
+  // proof follows program order, so that a read sees only the writes before
+  // it (and, in a loop, those of earlier iterations).
   std::unordered_map<const ir::Assign*, Access> run() {
     do {
       changed_ = false;
       visit(p_.body);
-    } while (changed_);
+    } while (changed_ && !prove_);
     return reads_;
   }
 
   using ir::Visitor::visit;
   void visit(const ir::Assign& a) override {
-    Kinds result{};
-    for (int i = 0; i < a.mask.size; ++i) result[i] = component(a, i);
-    if (ir::op_info(a.op).result == ir::ResultRule::TableElement) reads_[&a] = read(a.args[0]);
+    if (ir::op_info(a.op).result == ir::ResultRule::TableElement)
+      reads_[&a] = read(prove_ && a.op == ir::Op::Load ? a.args[1] : a.args[0]);
     for (int i = 0; i < a.mask.size; ++i) {
-      Access& k = kinds_[a.dest][a.mask[i]];
-      if (join(k, result[i]) != k) changed_ = true, k = join(k, result[i]);
+      int c = a.mask[i];
+      bool provable = !prove_ || (nested_ == 0 && writes_[a.dest][c] == 1);
+      Access k = provable ? component(a, i) : Access::Scattered;
+      Access& now = kinds_[a.dest][c];
+      if (join(now, k) != now) changed_ = true, now = join(now, k);
     }
+  }
+  // A write inside an if or a loop may not happen, or happen for some lanes
+  // only: a proof takes none of them.
+  void visit(const ir::If& s) override {
+    ++nested_;
+    ir::Visitor::visit(s);
+    --nested_;
+  }
+  void visit(const ir::Loop& s) override {
+    ++nested_;
+    if (!prove_) {
+      ir::Visitor::visit(s);
+    } else {  // until it settles: one iteration's writes reach the next's reads
+      bool before = changed_, any = false;
+      do {
+        changed_ = false;
+        ir::Visitor::visit(s);
+        any = any || changed_;
+      } while (changed_);
+      changed_ = before || any;
+    }
+    --nested_;
   }
 
  private:
@@ -44,10 +90,9 @@ class TableAccess : public ir::Visitor {
 
   // Consecutive along x (the first coordinate), the same in the others.
   Access read(const ir::Operand& coords) const {
-    Access along = of(coords, 0);
     for (int d = 1; d < coords.width(); ++d)
       if (of(coords, d) != Access::Same) return Access::Scattered;
-    return along;
+    return of(coords, 0);
   }
 
   Access component(const ir::Assign& a, int i) const {
@@ -69,8 +114,8 @@ class TableAccess : public ir::Visitor {
         if (integer && arg(1) == Access::Same) return arg(0);
         break;
       case ir::Op::Min:
-      case ir::Op::Max:  // a clamp to the edge keeps a run inside it
-        if (!integer) break;
+      case ir::Op::Max:  // a clamp to the edge keeps a run inside it: a hint only
+        if (!integer || prove_) break;
         if (arg(0) == Access::Same) return arg(1);
         if (arg(1) == Access::Same) return arg(0);
         return Access::Scattered;
@@ -80,7 +125,10 @@ class TableAccess : public ir::Visitor {
   }
 
   const ir::Program& p_;
+  bool prove_;
   std::vector<Kinds> kinds_;
+  std::vector<std::array<int, 4>> writes_;
+  int nested_ = 0;  // enclosing ifs and loops
   std::unordered_map<const ir::Assign*, Access> reads_;
   bool changed_ = false;
 };
@@ -96,6 +144,11 @@ const char* access_name(Access a) {
   return "?";
 }
 
-std::unordered_map<const ir::Assign*, Access> table_access(const ir::Program& p) { return TableAccess(p).run(); }
+std::unordered_map<const ir::Assign*, ReadAccess> table_access(const ir::Program& p) {
+  std::unordered_map<const ir::Assign*, Access> hints = Walk(p, false).run(), proofs = Walk(p, true).run();
+  std::unordered_map<const ir::Assign*, ReadAccess> out;
+  for (const auto& [read, hint] : hints) out[read] = {hint, proofs.at(read) == Access::Consecutive};
+  return out;
+}
 
 }  // namespace sh::analysis

@@ -271,6 +271,7 @@ RunStats run_with(const Program& program, const std::vector<std::shared_ptr<deta
     kernel->run_waves(args, *waves, stats);
   else
     kernel->run(args, stats);
+  for (const auto& o : outputs) o->written();
   stats.run_ms = ms_since(t0);
   return stats;
 }

@@ -38,6 +38,11 @@ class Buffer {
   // The memory the data lie in; owned storage is moved into a HostMemory
   // first (the data stay where they are).
   MemoryPtr memory();
+  // A run wrote the elements: memory a table views too has changed, so a
+  // backend that keeps a copy of the table (opencl, mpi) reads it again.
+  void written() {
+    if (memory_) memory_->dirty();
+  }
   // The viewed memory's version (HostMemory::dirty), 0 for owned storage.
   std::uint64_t memory_version() const { return memory_ ? memory_->version() : 0; }
 
