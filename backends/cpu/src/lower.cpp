@@ -110,8 +110,7 @@ void Lowering::function() {
       dims[d] = b_.CreateLoad(b_.getInt32Ty(), b_.CreateConstInBoundsGEP1_64(b_.getInt32Ty(), dims_, 3 * t + d));
     table_dims_.push_back(dims);
   }
-  if (reads_position_)
-    for (int k = 0; k < 3; ++k) domain_[k] = b_.CreateLoad(i64, b_.CreateConstInBoundsGEP1_64(i64, domain, k));
+  if (reads_position_) start_place(begin, domain);
   allocate_registers();
   b_.CreateBr(head);
 
@@ -121,33 +120,67 @@ void Lowering::function() {
 
   b_.SetInsertPoint(body);
   Value* count = spmd() ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(end, e), b_.getInt64(width_)) : nullptr;
-  if (reads_position_) count = place_batch(e, count);
+  if (reads_position_) count = place_batch(count);
   batch_count_ = count;
   if (spmd()) b_.CreateStore(live_lanes(count), exec_);
   clear_registers();
   full_or_tail(count, [&](Value* tail) { load_inputs(e, tail); });
   block(p_.body);
   full_or_tail(count, [&](Value* tail) { store_outputs(e, tail); });
-  b_.CreateStore(b_.CreateAdd(e, reads_position_ && spmd() ? count : b_.getInt64(width_)), element_);
+  Value* step = reads_position_ && spmd() ? count : b_.getInt64(width_);
+  if (reads_position_) advance_place(step);
+  b_.CreateStore(b_.CreateAdd(e, step), element_);
   b_.CreateBr(head);
 
   b_.SetInsertPoint(exit);
   b_.CreateRetVoid();
 }
 
-// The batch's place in the launch domain (signature.hpp): x of its first
-// element, and the y and z all of it shares, for a batch ends where its row
-// does; so x runs on by one per lane and a read at x + c is a vector load.
-// Returns the batch's count, cut at the row's end.
-Value* Lowering::place_batch(Value* e, Value* count) {
-  Value* g = b_.CreateAdd(e, domain_[0]);
-  Value* x = b_.CreateURem(g, domain_[1]);
-  Value* rows = b_.CreateUDiv(g, domain_[1]);
-  llvm::Type* i32 = b_.getInt32Ty();
-  position_ = {b_.CreateTrunc(x, i32), b_.CreateTrunc(b_.CreateURem(rows, domain_[2]), i32),
-               b_.CreateTrunc(b_.CreateUDiv(rows, domain_[2]), i32)};
+// The call's first element's place in the launch domain (signature.hpp):
+// x, y, z, kept in slots and moved on batch by batch, so that only the
+// call's start divides.
+void Lowering::start_place(Value* begin, Value* domain) {
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* first = b_.CreateLoad(i64, domain);
+  row_ = b_.CreateLoad(i64, b_.CreateConstInBoundsGEP1_64(i64, domain, 1));
+  rows_ = b_.CreateLoad(i64, b_.CreateConstInBoundsGEP1_64(i64, domain, 2));
+  Value* g = b_.CreateAdd(begin, first);
+  Value* row_number = b_.CreateUDiv(g, row_);
+  std::array<Value*, 3> at{b_.CreateURem(g, row_), b_.CreateURem(row_number, rows_), b_.CreateUDiv(row_number, rows_)};
+  for (int k = 0; k < 3; ++k) {
+    place_[k] = b_.CreateAlloca(i64, nullptr, "place");
+    b_.CreateStore(at[k], place_[k]);
+  }
+}
+
+// The batch's x (its first element's) and the y and z all of it shares,
+// for a batch ends where its row does: x runs on by one per lane, and a
+// read at x + c is a vector load.  Returns the batch's count, cut at the
+// row's end.
+Value* Lowering::place_batch(Value* count) {
+  llvm::Type* i64 = b_.getInt64Ty();
+  std::array<Value*, 3> at{};
+  for (int k = 0; k < 3; ++k) {
+    at[k] = b_.CreateLoad(i64, place_[k]);
+    position_[k] = b_.CreateTrunc(at[k], b_.getInt32Ty());
+  }
   if (!spmd()) return count;
-  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, count, b_.CreateSub(domain_[1], x));
+  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, count, b_.CreateSub(row_, at[0]));
+}
+
+// Past the batch's `step` elements: the next row (and layer) where this
+// one ends.
+void Lowering::advance_place(Value* step) {
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* x = b_.CreateAdd(b_.CreateLoad(i64, place_[0]), step);
+  Value* y = b_.CreateLoad(i64, place_[1]);
+  Value* z = b_.CreateLoad(i64, place_[2]);
+  Value* row_done = b_.CreateICmpEQ(x, row_);
+  Value* next_y = b_.CreateAdd(y, b_.getInt64(1));
+  Value* layer_done = b_.CreateAnd(row_done, b_.CreateICmpEQ(next_y, rows_));
+  b_.CreateStore(b_.CreateSelect(row_done, b_.getInt64(0), x), place_[0]);
+  b_.CreateStore(b_.CreateSelect(layer_done, b_.getInt64(0), b_.CreateSelect(row_done, next_y, y)), place_[1]);
+  b_.CreateStore(b_.CreateSelect(layer_done, b_.CreateAdd(z, b_.getInt64(1)), z), place_[2]);
 }
 
 // Component k of the element's position: x is one more in each lane.

@@ -62,7 +62,9 @@ class Lowering {
   Value* interleave(const std::array<Value*, 4>& components, int width);
   Value* spread(Value* tail, int width);
   Value* live_lanes(Value* count);
-  Value* place_batch(Value* e, Value* count);
+  void start_place(Value* begin, Value* domain);
+  Value* place_batch(Value* count);
+  void advance_place(Value* step);
   Value* position(int k, bool vary);
 
   // ---- statements and control flow (flow.cpp) ------------------------------
@@ -129,8 +131,9 @@ class Lowering {
         *status_ = nullptr;
   llvm::AllocaInst* element_ = nullptr;
   bool reads_position_ = false;
-  std::array<Value*, 3> domain_{};    // first, row length, rows (signature.hpp)
-  std::array<Value*, 3> position_{};  // the batch's x (first lane), y, z
+  Value *row_ = nullptr, *rows_ = nullptr;       // the launch domain's (signature.hpp)
+  std::array<llvm::AllocaInst*, 3> place_{};  // the next batch's x, y, z
+  std::array<Value*, 3> position_{};          // the batch's x (first lane), y, z
   llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
   SpmdFacts facts_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
