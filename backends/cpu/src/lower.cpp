@@ -227,10 +227,12 @@ void Lowering::clear_registers() {
         b_.CreateStore(llvm::Constant::getNullValue(var_type(static_cast<ir::VarId>(v))), slots_[v][c]);
 }
 
+// In 32 bits: one compare of one register at every width (a compare of
+// 64-bit lanes would take two at 16, and their masks a merge at each use).
 Value* Lowering::live_lanes(Value* count) {
   std::vector<llvm::Constant*> ids;
-  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt64(static_cast<std::uint64_t>(i)));
-  return b_.CreateICmpSLT(llvm::ConstantVector::get(ids), splat(count), "live");
+  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
+  return b_.CreateICmpSLT(llvm::ConstantVector::get(ids), splat(b_.CreateTrunc(count, b_.getInt32Ty())), "live");
 }
 
 // Emits `emit` once for a full set of lanes (tail = nullptr) and once for

@@ -488,8 +488,13 @@ std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, 
   for (int d = 0; d < t.rank; ++d) {
     Value* first = b_.CreateSExt(b_.CreateExtractElement(widen(read(a.args[1], d)), std::uint64_t{0}), i64);
     Value* extent = b_.CreateZExt(table_dims_[a.table][d], i64);
-    Value* last = d == 0 ? b_.CreateAdd(first, b_.CreateSub(batch_count_, b_.getInt64(1))) : first;
-    inside = b_.CreateAnd(inside, b_.CreateAnd(b_.CreateICmpSGE(first, b_.getInt64(0)), b_.CreateICmpSLT(last, extent)));
+    // Starts of a run that fits: [0, extent - lanes]; one unsigned compare
+    // (a negative start is a huge one), against a bound shared by the reads.
+    Value* starts = d == 0 ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smax,
+                                                      b_.CreateAdd(b_.CreateSub(extent, batch_count_), b_.getInt64(1)),
+                                                      b_.getInt64(0))
+                           : extent;
+    inside = b_.CreateAnd(inside, b_.CreateICmpULT(first, starts));
     start = b_.CreateAdd(start, b_.CreateMul(first, stride));
     stride = b_.CreateMul(stride, extent);
   }
