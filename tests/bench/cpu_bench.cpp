@@ -200,6 +200,7 @@ void blur_cpp(benchmark::State& state, std::initializer_list<BlurRows> passes) {
   state.SetItemsProcessed(state.iterations() * kBlurSize * kBlurSize);
 }
 
+void BM_blur_plain_cpp(benchmark::State& state) { blur_cpp(state, {bench::blur_plain_cpp}); }
 void BM_blur_cpp(benchmark::State& state) { blur_cpp(state, {bench::blur_cpp}); }
 void BM_blur_simd(benchmark::State& state) { blur_cpp(state, {bench::blur_simd}); }
 void BM_blur_separable_cpp(benchmark::State& state) { blur_cpp(state, {bench::blur_rows_cpp, bench::blur_columns_cpp}); }
@@ -238,6 +239,7 @@ BENCHMARK(BM_triangles_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMill
 BENCHMARK(BM_triangles_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_separable_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_blur_plain_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_simd)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_separable_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);

@@ -30,8 +30,9 @@ void triangles_cpp(const TriangleScene& s, float* t, std::size_t begin, std::siz
 
 // A 5 x 5 box blur of a W x H image, edges clamped: direct (25 taps), and
 // separable (5 along rows into a W x H image, then 5 down its columns).
-// The C++ forms cover rows [y0, y1): the compiler's auto-vectorised form
-// (a clamp-free inner loop for the image's interior) and an AVX-512 form.
+// The C++ forms cover rows [y0, y1): the plain loop (every tap clamped, as
+// the DSL program reads), the same loop written for the auto-vectoriser (a
+// clamp-free inner loop for the image's interior), and an AVX-512 form.
 // All add their taps in the same order, so every form gives the same bits.
 inline constexpr int kBlurRadius = 2;
 sh::Program blur_program(const sh::Table2D<sh::Attrib1f>& image);
@@ -42,6 +43,7 @@ struct Image {
   float* out;
   int w, h;
 };
+void blur_plain_cpp(const Image& im, int y0, int y1);
 void blur_cpp(const Image& im, int y0, int y1);
 void blur_simd(const Image& im, int y0, int y1);
 void blur_rows_cpp(const Image& im, int y0, int y1);
