@@ -261,7 +261,18 @@ double intersect_rate(sh::rt::Renderer& r, const BackendChoice& b, const std::ve
   return origins.size() / 3.0 * repeats / (ms * 1e3);
 }
 
-int bench_command(const Common& c, std::vector<std::string> backends) {
+// Where a first render's compile went, phase by phase over its kernels.
+void print_phases(const RenderReport& r) {
+  std::printf("  compile phases:");
+  const char* separator = " ";
+  for (const CompilePhase& phase : r.compile_phases) {
+    std::printf("%s%s %.1f", separator, phase.name.c_str(), phase.ms);
+    separator = ", ";
+  }
+  std::printf(" ms\n");
+}
+
+int bench_command(const Common& c, std::vector<std::string> backends, bool phases) {
   if (backends.empty()) backends = backend_names();
   Scene scene = scene_for(c);
   auto [w, h] = parse_size(c.size);
@@ -292,6 +303,7 @@ int bench_command(const Common& c, std::vector<std::string> backends) {
       std::string name = v.name.empty() ? b : b + ":" + v.name;
       std::printf("%-11s %11.1f %11.1f %13.2f %15.2f %11.5f %9.1f\n", name.c_str(), first.compile_ms, second.render_ms,
                   second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img));
+      if (phases) print_phases(first);
     }
     if (b == "cpu") default_cpu = intersect_rate(reference, BackendChoice{"cpu", settings_for(c, "cpu").options}, origins,
                                                  directions, 5);
@@ -358,6 +370,10 @@ int main(int argc, char** argv) {
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
   bench->add_option("--backends", bench_backends, "backends to run, comma-separated (default: all built)")->delimiter(',');
+  bool bench_phases = false;
+  bench->add_flag("--phases", bench_phases,
+                  "under each backend, where its compile went: passes, lowering, cache key, LLVM optimisation, JIT "
+                  "setup, machine code and linking (summed over the render's kernels)");
 
   shtrace::CompareRequest compare_request;
   std::vector<std::string> compare_backend_names;
@@ -414,7 +430,7 @@ int main(int argc, char** argv) {
       return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
                             analyze, frames);
     if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
-    if (bench->parsed()) return bench_command(common, bench_backends);
+    if (bench->parsed()) return bench_command(common, bench_backends, bench_phases);
     if (compare->parsed()) {
       if (compare->get_option("--size")->count() == 0) common.size = "160x120";  // the interpreter runs every pixel, thrice
       compare_request.scene = scene_for(common);

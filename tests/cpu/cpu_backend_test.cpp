@@ -71,6 +71,29 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   EXPECT_EQ(count(other, "call <16 x float> @llvm.masked.gather.v16f32"), 1u) << other;
 }
 
+// A run that compiles says where the time went: the passes, then the
+// backend's phases, adding up to no more than the whole.
+TEST(CpuBackend, CompilePhasesAddUpToTheCompile) {
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes8});
+  o.optimize = true;
+  Attrib1f k = 3.0f;
+  Program p = SH_BEGIN_PROGRAM("phases") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x * k + 0.25f;
+  } SH_END;
+  Channel<Attrib1f> x(std::vector<float>{1, 2}), y;
+  RunStats s = run(p, {x}, {y}, backend("cpu", o));
+  ASSERT_TRUE(s.compiled);
+  ASSERT_GE(s.compile_phases.size(), 6u);
+  EXPECT_EQ(s.compile_phases.front().name, "passes");
+  double sum = 0;
+  for (const CompilePhase& phase : s.compile_phases) sum += phase.ms;
+  EXPECT_LE(sum, s.compile_ms + 1e-6);
+  EXPECT_GT(sum, 0.0);
+}
+
 TEST(CpuBackend, WidthSettingPicksTheLanesAndRejectsOthers) {
   for (const char* width : {"4", "16"}) {
     Options o;
@@ -359,6 +382,14 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   EXPECT_EQ(objects, 1u);
   auto second = cpu.compile(ir, sh::Options{});
   EXPECT_NE(second->listing().find("loaded from the object cache"), std::string::npos);
+  auto names = [](const sh::Kernel& k) {
+    std::vector<std::string> out;
+    for (const sh::CompilePhase& phase : k.compile_phases()) out.push_back(phase.name);
+    return out;
+  };
+  EXPECT_EQ(names(*first), (std::vector<std::string>{"lowering", "cache key", "LLVM optimisation", "JIT setup",
+                                                     "machine code, linked"}));
+  EXPECT_EQ(names(*second).back(), "object from the cache, linked");
   EXPECT_NE(second->listing().find("define void @sh_kernel"), std::string::npos) << "the stored listing comes back";
 
   sh::Channel<sh::Attrib1f> x(std::vector<float>{1, 2}), y1, y2;

@@ -74,6 +74,7 @@ class CpuKernel : public Kernel {
   }
 
   std::string listing() const override { return jitted_.llvm_ir(); }
+  std::vector<CompilePhase> compile_phases() const override { return jitted_.phases(); }
 
  private:
   // SPMD gathers index tables in 32 bits.

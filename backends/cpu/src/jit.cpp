@@ -1,5 +1,6 @@
 #include "jit.hpp"
 
+#include <chrono>
 #include <mutex>
 
 #include <llvm/Analysis/CGSCCPassManager.h>
@@ -84,7 +85,23 @@ Jitted::Jitted(const ir::Program& program, const Options& options) {
   }
 }
 
+// Times the phases of a build one after another.
+class PhaseClock {
+ public:
+  explicit PhaseClock(std::vector<CompilePhase>& phases) : phases_(phases) { phases_.clear(); }
+  void end(const char* phase) {
+    auto now = std::chrono::steady_clock::now();
+    phases_.push_back({phase, std::chrono::duration<double, std::milli>(now - start_).count()});
+    start_ = now;
+  }
+
+ private:
+  std::vector<CompilePhase>& phases_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
 void Jitted::build(const ir::Program& program, const Options& options, bool use_cache) {
+  PhaseClock clock(phases_);
   auto context = std::make_unique<llvm::LLVMContext>();
   lanes_ = lane_count(options);
   Lowered lowered = lower(program, options, lanes_, *context);
@@ -95,6 +112,7 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   llvm::raw_string_ostream os(problems);
   if (llvm::verifyModule(m, &os))
     throw Error("program '" + program.name + "': cpu backend produced invalid LLVM IR: " + os.str());
+  clock.end("lowering");
 
   auto builder = unwrap(llvm::orc::JITTargetMachineBuilder::detectHost(), program, "detecting the host CPU");
   builder.setCodeGenOptLevel(llvm::CodeGenOpt::Aggressive);
@@ -113,6 +131,7 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   k << "|" << options.key() << "|" << builder.getCPU() << "|" << builder.getFeatures().getString() << "|"
     << LLVM_VERSION_STRING;
   cache_ = use_cache ? ObjectCache::open(k.str()) : std::nullopt;
+  clock.end("cache key");
   if (cache_ && cache_->has_object()) {
     llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
   } else {
@@ -125,6 +144,7 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
     m.print(ir, nullptr);
     if (cache_) cache_->store_listing(llvm_ir_);
   }
+  clock.end("LLVM optimisation");
 
   llvm::ObjectCache* cache = cache_ ? &*cache_ : nullptr;
   jit_ = unwrap(llvm::orc::LLJITBuilder()
@@ -145,10 +165,12 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
                          jit_->getDataLayout().getGlobalPrefix()),
                      program, "opening the process symbols");
   jit_->getMainJITDylib().addGenerator(std::move(libm));
+  clock.end("JIT setup");
   check(jit_->addIRModule(llvm::orc::ThreadSafeModule(std::move(lowered.module), std::move(context))), program,
         "adding the module");
   auto address = unwrap(jit_->lookup(kKernelSymbol), program, "compiling");
   entry_ = address.toPtr<KernelFn>();
+  clock.end(from_cache() ? "object from the cache, linked" : "machine code, linked");
 }
 
 Jitted::~Jitted() = default;

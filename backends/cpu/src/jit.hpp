@@ -24,6 +24,7 @@ class Jitted {
   const std::string& llvm_ir() const { return llvm_ir_; }  // after optimisation
   const std::vector<const ir::Stmt*>& loops() const { return loops_; }
   bool from_cache() const { return cache_ && cache_->hit(); }
+  const std::vector<CompilePhase>& phases() const { return phases_; }
 
  private:
   void build(const ir::Program& program, const Options& options, bool use_cache);
@@ -34,6 +35,7 @@ class Jitted {
   int lanes_ = 1;
   std::string llvm_ir_;
   std::vector<const ir::Stmt*> loops_;
+  std::vector<CompilePhase> phases_;
 };
 
 }  // namespace sh::cpu

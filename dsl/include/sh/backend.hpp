@@ -107,10 +107,18 @@ class RunDetails {
   virtual std::vector<std::string> describe() const = 0;
 };
 
+// Where a compile's time went (RunStats::compile_phases): "passes" (the
+// IR optimiser and legalisation) and the backend's own phases, in order.
+struct CompilePhase {
+  std::string name;
+  double ms = 0;
+};
+
 struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)
   double compile_ms = 0;
+  std::vector<CompilePhase> compile_phases;  // where compile_ms went, where compiled
   double run_ms = 0;
   std::size_t elements = 0;
   std::vector<std::string> diagnostics;  // checked mode findings
@@ -125,6 +133,9 @@ struct RunStats {
   }
 };
 
+// Adds compile phases into `total`, phase by phase (by name, in order).
+void add_phases(std::vector<CompilePhase>& total, const std::vector<CompilePhase>& more);
+
 // Adds a run's details into `total` (a copy of them where total is empty).
 void add_details(std::shared_ptr<RunDetails>& total, const std::shared_ptr<RunDetails>& more);
 
@@ -138,6 +149,8 @@ class Kernel {
   virtual void run_waves(const RunArgs& args, const Waves& waves, RunStats& stats);
   // What the kernel became (LLVM IR, OpenCL C, ...), for --dump options.
   virtual std::string listing() const { return {}; }
+  // Where its compile's time went, for backends that time their phases.
+  virtual std::vector<CompilePhase> compile_phases() const { return {}; }
 };
 
 class Backend {

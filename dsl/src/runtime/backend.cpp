@@ -1,5 +1,6 @@
 #include "sh/backend.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <map>
@@ -56,7 +57,9 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
   }
   auto t0 = std::chrono::steady_clock::now();
   ir::Program ir = passes::legalize(options.optimize ? optimize(program.ir(), options.precision) : program.ir());
+  stats.compile_phases = {{"passes", ms_since(t0)}};
   std::shared_ptr<Kernel> kernel = b.compile(ir, options);
+  for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
   stats.compiled = true;
   stats.compile_ms = ms_since(t0);
   std::lock_guard<std::mutex> lock(r.mutex);
@@ -141,6 +144,16 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
 }
 
 }  // namespace
+
+void add_phases(std::vector<CompilePhase>& total, const std::vector<CompilePhase>& more) {
+  for (const CompilePhase& phase : more) {
+    auto same = std::find_if(total.begin(), total.end(), [&](const CompilePhase& p) { return p.name == phase.name; });
+    if (same == total.end())
+      total.push_back(phase);
+    else
+      same->ms += phase.ms;
+  }
+}
 
 void add_details(std::shared_ptr<RunDetails>& total, const std::shared_ptr<RunDetails>& more) {
   if (!more) return;
