@@ -2,6 +2,7 @@
 // the execution mask instead, and branch only to skip work no lane needs.
 #include "lowering.hpp"
 
+#include <algorithm>
 #include <tuple>
 
 namespace sh::cpu {
@@ -132,8 +133,9 @@ void Lowering::check_iterations(std::int64_t number, Value* count, Value* active
 // runs for the lanes still looping, and every lane that entered leaves at
 // the exit.
 void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
-  std::int64_t number = static_cast<std::int64_t>(loops_.size());
-  loops_.push_back(&s);
+  auto numbered = std::find(loops_.begin(), loops_.end(), &s);  // loop_statements' number
+  if (numbered == loops_.end()) numbered = loops_.insert(loops_.end(), &s);
+  std::int64_t number = numbered - loops_.begin();
   llvm::AllocaInst* count = entry_alloca(b_.getInt64Ty(), "iterations");
   b_.CreateStore(b_.getInt64(0), count);
   llvm::AllocaInst* active = masked ? entry_alloca(mask_type(), "active") : nullptr;
@@ -184,6 +186,32 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
     leave_masked();
     b_.CreateStore(entered, exec_);
   }
+}
+
+namespace {
+
+void collect_loops(const ir::Block& body, std::vector<const ir::Stmt*>& out) {
+  for (const ir::Stmt& s : body) {
+    if (auto* i = std::get_if<ir::If>(&s.node)) {
+      collect_loops(i->then_body, out);
+      collect_loops(i->else_body, out);
+    } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+      out.push_back(&s);
+      collect_loops(l->header, out);
+      collect_loops(l->body, out);
+      collect_loops(l->update, out);
+    } else if (std::holds_alternative<ir::Break>(s.node) || std::holds_alternative<ir::Continue>(s.node)) {
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<const ir::Stmt*> loop_statements(const ir::Program& program) {
+  std::vector<const ir::Stmt*> loops;
+  collect_loops(program.body, loops);
+  return loops;
 }
 
 }  // namespace sh::cpu

@@ -19,7 +19,9 @@
 #include <llvm/Support/raw_ostream.h>
 #include <llvm/Target/TargetMachine.h>
 
+#include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
+#include "sh/ir/serialize.hpp"
 
 namespace sh::cpu {
 namespace {
@@ -100,53 +102,78 @@ class PhaseClock {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// The cache key: the program as this backend gets it (structure only:
+// names change no machine code), everything the machine code depends on
+// besides, and this library's build, whose lowering made it.
+std::string cache_key(const ir::Program& program, const Options& options, int lanes,
+                      const llvm::orc::JITTargetMachineBuilder& builder) {
+  static const std::string library = detail::build_id(reinterpret_cast<const void*>(&lane_count));
+  return ir::serialize(program, {.names = false}) + "|" + options.key() + "|" + std::to_string(lanes) + "|" +
+         builder.getCPU() + "|" + builder.getFeatures().getString() + "|" + LLVM_VERSION_STRING + "|" + library;
+}
+
 void Jitted::build(const ir::Program& program, const Options& options, bool use_cache) {
   PhaseClock clock(phases_);
-  auto context = std::make_unique<llvm::LLVMContext>();
   lanes_ = lane_count(options);
-  Lowered lowered = lower(program, options, lanes_, *context);
-  loops_ = std::move(lowered.loops);
-  llvm::Module& m = *lowered.module;
-
-  std::string problems;
-  llvm::raw_string_ostream os(problems);
-  if (llvm::verifyModule(m, &os))
-    throw Error("program '" + program.name + "': cpu backend produced invalid LLVM IR: " + os.str());
-  clock.end("lowering");
-
   auto builder = unwrap(llvm::orc::JITTargetMachineBuilder::detectHost(), program, "detecting the host CPU");
   builder.setCodeGenOptLevel(llvm::CodeGenOpt::Aggressive);
   // f32 precise: no contraction into FMA, so a*b+c rounds twice as written.
   builder.getOptions().AllowFPOpFusion =
       options.math == MathMode::Fast ? llvm::FPOpFusion::Fast : llvm::FPOpFusion::Strict;
+  // A library without a build ID cannot tell its machine code from an
+  // older build's: it keeps none.
+  bool keyed = use_cache && !detail::build_id(reinterpret_cast<const void*>(&lane_count)).empty();
+  cache_ = keyed ? ObjectCache::open(cache_key(program, options, lanes_, builder)) : std::nullopt;
+  clock.end("cache key");
+  if (cache_ && cache_->has_object()) {
+    // Machine code from an earlier compile: no lowering, no LLVM.
+    loops_ = loop_statements(program);
+    llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
+    start_jit(program, builder, nullptr);
+    clock.end("JIT setup");
+    std::unique_ptr<llvm::MemoryBuffer> object = cache_->getObject(nullptr);
+    if (!object) throw Error("program '" + program.name + "': cpu backend: the cached object went missing");
+    check(jit_->addObjectFile(std::move(object)), program, "adding the cached object");
+    link(program);
+    clock.end("object from the cache, linked");
+    return;
+  }
+
+  auto context = std::make_unique<llvm::LLVMContext>();
+  Lowered lowered = lower(program, options, lanes_, *context);
+  loops_ = std::move(lowered.loops);
+  llvm::Module& m = *lowered.module;
+  std::string problems;
+  llvm::raw_string_ostream os(problems);
+  if (llvm::verifyModule(m, &os))
+    throw Error("program '" + program.name + "': cpu backend produced invalid LLVM IR: " + os.str());
   auto machine = unwrap(builder.createTargetMachine(), program, "creating the target machine");
   m.setDataLayout(machine->createDataLayout());
   m.setTargetTriple(machine->getTargetTriple().str());
+  clock.end("lowering");
 
-  // The cache key: what the kernel is before optimisation, and everything
-  // the machine code depends on besides.
-  std::string key;
-  llvm::raw_string_ostream k(key);
-  m.print(k, nullptr);
-  k << "|" << options.key() << "|" << builder.getCPU() << "|" << builder.getFeatures().getString() << "|"
-    << LLVM_VERSION_STRING;
-  cache_ = use_cache ? ObjectCache::open(k.str()) : std::nullopt;
-  clock.end("cache key");
-  if (cache_ && cache_->has_object()) {
-    llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
-  } else {
-    optimise(m, *machine);
-    // Invalid IR from the optimiser would abort the process in code
-    // generation; an error names the program instead.
-    if (llvm::verifyModule(m, &os))
-      throw Error("program '" + program.name + "': cpu backend: LLVM's optimiser produced invalid IR: " + os.str());
-    llvm::raw_string_ostream ir(llvm_ir_);
-    m.print(ir, nullptr);
-    if (cache_) cache_->store_listing(llvm_ir_);
-  }
+  optimise(m, *machine);
+  // Invalid IR from the optimiser would abort the process in code
+  // generation; an error names the program instead.
+  if (llvm::verifyModule(m, &os))
+    throw Error("program '" + program.name + "': cpu backend: LLVM's optimiser produced invalid IR: " + os.str());
+  llvm::raw_string_ostream ir(llvm_ir_);
+  m.print(ir, nullptr);
+  if (cache_) cache_->store_listing(llvm_ir_);
   clock.end("LLVM optimisation");
 
-  llvm::ObjectCache* cache = cache_ ? &*cache_ : nullptr;
+  start_jit(program, builder, cache_ ? &*cache_ : nullptr);
+  clock.end("JIT setup");
+  check(jit_->addIRModule(llvm::orc::ThreadSafeModule(std::move(lowered.module), std::move(context))), program,
+        "adding the module");
+  link(program);
+  clock.end("machine code, linked");
+}
+
+// An LLJIT for the host whose compiles, if any, leave their object in
+// `cache`, and which resolves the C math library of this process.
+void Jitted::start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder,
+                       llvm::ObjectCache* cache) {
   jit_ = unwrap(llvm::orc::LLJITBuilder()
                     .setJITTargetMachineBuilder(builder)
                     .setCompileFunctionCreator([cache](llvm::orc::JITTargetMachineBuilder jtmb)
@@ -160,17 +187,16 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   // Failures come back through lookup() as sh::Error; the session's own
   // report to stderr would only repeat them.
   jit_->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });
-  // Kernels call the C math library (sinf, atan2, ...) of this process.
   auto libm = unwrap(llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(
                          jit_->getDataLayout().getGlobalPrefix()),
                      program, "opening the process symbols");
   jit_->getMainJITDylib().addGenerator(std::move(libm));
-  clock.end("JIT setup");
-  check(jit_->addIRModule(llvm::orc::ThreadSafeModule(std::move(lowered.module), std::move(context))), program,
-        "adding the module");
+}
+
+// Compiles (or links) what was added, and finds the kernel.
+void Jitted::link(const ir::Program& program) {
   auto address = unwrap(jit_->lookup(kKernelSymbol), program, "compiling");
   entry_ = address.toPtr<KernelFn>();
-  clock.end(from_cache() ? "object from the cache, linked" : "machine code, linked");
 }
 
 Jitted::~Jitted() = default;

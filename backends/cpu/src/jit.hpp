@@ -1,6 +1,8 @@
 #pragma once
-// Compiles a lowered module for the host CPU: the O3 pipeline with the
-// host's features, then ORC LLJIT.  The result owns the machine code.
+// Compiles a program for the host CPU: lowered, the O3 pipeline with the
+// host's features, then ORC LLJIT; or, where an earlier process compiled
+// the same program, its machine code from the object cache, linked without
+// lowering or LLVM.  The result owns the machine code.
 #include <memory>
 #include <optional>
 #include <string>
@@ -9,9 +11,13 @@
 #include "object_cache.hpp"
 #include "signature.hpp"
 
-namespace llvm::orc {
+namespace llvm {
+class ObjectCache;
+namespace orc {
 class LLJIT;
-}
+class JITTargetMachineBuilder;
+}  // namespace orc
+}  // namespace llvm
 
 namespace sh::cpu {
 
@@ -28,6 +34,8 @@ class Jitted {
 
  private:
   void build(const ir::Program& program, const Options& options, bool use_cache);
+  void start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder, llvm::ObjectCache* cache);
+  void link(const ir::Program& program);
 
   std::optional<ObjectCache> cache_;  // outlives the JIT that uses it
   std::unique_ptr<llvm::orc::LLJIT> jit_;

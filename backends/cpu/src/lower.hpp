@@ -19,6 +19,11 @@ struct Lowered {
 
 Lowered lower(const ir::Program& program, const Options& options, int width, llvm::LLVMContext& context);
 
+// The program's loops by number, as a kernel that stops early names them
+// (signature.hpp): in program order, those after a break or continue in
+// the same block left out, since they are never lowered.
+std::vector<const ir::Stmt*> loop_statements(const ir::Program& program);
+
 // The lanes a kernel runs with: cpu::Options::width, Auto being the host's
 // widest vectors (16 with AVX-512, 8 with AVX, 4 otherwise).
 int lane_count(const Options& options);

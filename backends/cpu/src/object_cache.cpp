@@ -2,57 +2,20 @@
 
 #include <llvm/Support/MemoryBuffer.h>
 
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+
+#include "sh/detail/disk_cache.hpp"
 
 namespace sh::cpu {
-namespace {
-
-std::optional<std::string> directory() {
-  if (const char* dir = std::getenv("SH_CACHE_DIR")) {
-    if (std::string(dir) == "off") return std::nullopt;
-    if (*dir) return std::string(dir);
-  }
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/sh";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/sh";
-  return std::nullopt;
-}
-
-// Writes through a temporary renamed into place; failures are ignored.
-void write_file(const std::string& path, const char* data, std::size_t size) {
-  std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out.write(data, static_cast<std::streamsize>(size))) return;
-  }
-  std::error_code ignored;
-  std::filesystem::rename(tmp, path, ignored);
-  if (ignored) std::filesystem::remove(tmp, ignored);
-}
-
-}  // namespace
 
 std::optional<ObjectCache> ObjectCache::open(const std::string& key) {
-  std::optional<std::string> dir = directory();
-  if (!dir) return std::nullopt;
-  std::error_code ignored;
-  std::filesystem::create_directories(*dir, ignored);
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a of the key
-  for (unsigned char c : key) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  std::ostringstream name;
-  name << *dir << "/cpu-" << std::hex << h;
-  return ObjectCache(name.str());
+  std::optional<std::string> path = detail::cache_path("cpu", key);
+  if (!path) return std::nullopt;
+  return ObjectCache(*path);
 }
 
 void ObjectCache::notifyObjectCompiled(const llvm::Module*, llvm::MemoryBufferRef object) {
-  write_file(path_ + ".o", object.getBufferStart(), object.getBufferSize());
+  detail::write_cache_file(path_ + ".o", std::string(object.getBufferStart(), object.getBufferSize()));
 }
 
 std::unique_ptr<llvm::MemoryBuffer> ObjectCache::getObject(const llvm::Module*) {
@@ -73,14 +36,8 @@ void ObjectCache::forget() const {
   std::filesystem::remove(path_ + ".ll", ignored);
 }
 
-std::optional<std::string> ObjectCache::listing() const {
-  std::ifstream in(path_ + ".ll");
-  if (!in) return std::nullopt;
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::optional<std::string> ObjectCache::listing() const { return detail::read_cache_file(path_ + ".ll"); }
 
-void ObjectCache::store_listing(const std::string& ir) const { write_file(path_ + ".ll", ir.data(), ir.size()); }
+void ObjectCache::store_listing(const std::string& ir) const { detail::write_cache_file(path_ + ".ll", ir); }
 
 }  // namespace sh::cpu

@@ -1,10 +1,9 @@
 #pragma once
 // Machine code kept on disk, so that a kernel compiled once is loaded, not
-// compiled, by later processes.  Keyed by the kernel's unoptimised LLVM IR,
-// the options, the host CPU and the LLVM version; files are written through
-// a temporary and renamed.  Where: $SH_CACHE_DIR, else $XDG_CACHE_HOME/sh,
-// else ~/.cache/sh; SH_CACHE_DIR=off turns it off.  A cache that cannot be
-// written is skipped, never an error.
+// compiled, by later processes.  Keyed by the program the backend is given,
+// the options, the host CPU, the LLVM version and the backend's build
+// (jit.cpp); where and how files are written: sh/detail/disk_cache.hpp.  A
+// cache that cannot be written is skipped, never an error.
 #include <llvm/ExecutionEngine/ObjectCache.h>
 
 #include <optional>

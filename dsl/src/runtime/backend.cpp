@@ -5,10 +5,13 @@
 #include <cstdlib>
 #include <map>
 #include <mutex>
+#include <optional>
 
 #include "../interp/interp.hpp"
+#include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
+#include "sh/ir/serialize.hpp"
 #include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
 #include "sh/waves.hpp"
@@ -45,6 +48,27 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 
 std::string resolve(const BackendChoice& choice) { return choice.name.empty() ? default_backend_name() : choice.name; }
 
+// The program as backends get it: optimised (where the options ask) and
+// legalised.  The passes' result is kept on disk under the program as
+// recorded, the options and the build of these passes, so that a later
+// process skips them: a kernel from a backend's cache then costs no pass.
+ir::Program legal_program(const Program& program, const Options& options) {
+  static const int anchor = 0;
+  static const std::string passes_build = detail::build_id(&anchor);
+  std::optional<std::string> path;
+  if (!passes_build.empty())
+    path = detail::cache_path("passes", ir::serialize(program.ir()) + "|" + options.key() + "|" + passes_build);
+  if (path)
+    if (std::optional<std::string> bytes = detail::read_cache_file(*path)) try {
+        return ir::deserialize(*bytes);
+      } catch (const Error&) {
+        // a damaged file: the passes run again and replace it
+      }
+  ir::Program legal = passes::legalize(options.optimize ? optimize(program.ir(), options.precision) : program.ir());
+  if (path) detail::write_cache_file(*path, ir::serialize(legal));
+  return legal;
+}
+
 std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string& name, const Options& options,
                                       RunStats& stats) {
   Backend& b = find_backend(name);
@@ -56,7 +80,7 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     if (it != r.kernels.end()) return it->second;
   }
   auto t0 = std::chrono::steady_clock::now();
-  ir::Program ir = passes::legalize(options.optimize ? optimize(program.ir(), options.precision) : program.ir());
+  ir::Program ir = legal_program(program, options);
   stats.compile_phases = {{"passes", ms_since(t0)}};
   std::shared_ptr<Kernel> kernel = b.compile(ir, options);
   for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
