@@ -269,7 +269,7 @@ void print_phases(const RenderReport& r) {
     std::printf("%s%s %.1f", separator, phase.name.c_str(), phase.ms);
     separator = ", ";
   }
-  std::printf(" ms\n");
+  std::printf(" ms; CPU time %.1f ms\n", r.compile_cpu_ms);
 }
 
 int bench_command(const Common& c, std::vector<std::string> backends, bool phases) {

@@ -134,6 +134,7 @@ Image Renderer::render(RenderReport* report) {
 void Renderer::count(const RunStats& s, RenderReport& r) const {
   r.backend = s.backend;
   r.compile_ms += s.compile_ms;
+  r.compile_cpu_ms += s.compile_cpu_ms;
   add_phases(r.compile_phases, s.compile_phases);
   r.waves += s.waves;
   r.resumed += s.resumed;

@@ -96,6 +96,7 @@ TEST(CpuBackend, CompilePhasesAddUpToTheCompile) {
   for (const CompilePhase& phase : s.compile_phases) sum += phase.ms;
   EXPECT_LE(sum, s.compile_ms + 1e-6);
   EXPECT_GT(sum, 0.0);
+  EXPECT_GT(s.compile_cpu_ms, 0.0);
   unsetenv("SH_CACHE_DIR");
   std::filesystem::remove_all(empty);
 }

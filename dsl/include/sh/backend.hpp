@@ -118,6 +118,7 @@ struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)
   double compile_ms = 0;
+  double compile_cpu_ms = 0;  // the compiling thread's CPU time (compiles run on the caller's thread)
   std::vector<CompilePhase> compile_phases;  // where compile_ms went, where compiled
   double run_ms = 0;
   std::size_t elements = 0;

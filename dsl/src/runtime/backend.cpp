@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -46,6 +47,12 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
 std::string resolve(const BackendChoice& choice) { return choice.name.empty() ? default_backend_name() : choice.name; }
 
 // The program as backends get it: optimised (where the options ask) and
@@ -80,12 +87,14 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     if (it != r.kernels.end()) return it->second;
   }
   auto t0 = std::chrono::steady_clock::now();
+  double cpu0 = thread_cpu_ms();
   ir::Program ir = legal_program(program, options);
   stats.compile_phases = {{"passes", ms_since(t0)}};
   std::shared_ptr<Kernel> kernel = b.compile(ir, options);
   for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
   stats.compiled = true;
   stats.compile_ms = ms_since(t0);
+  stats.compile_cpu_ms = thread_cpu_ms() - cpu0;
   std::lock_guard<std::mutex> lock(r.mutex);
   return r.kernels.emplace(key, std::move(kernel)).first->second;
 }

@@ -49,6 +49,7 @@ struct RenderSettings {
 struct RenderReport {
   std::string backend;
   double compile_ms = 0;  // zero when the kernel came from the cache
+  double compile_cpu_ms = 0;
   std::vector<CompilePhase> compile_phases;  // where compile_ms went
   double render_ms = 0;
   std::size_t rays = 0;   // primary rays
