@@ -8,6 +8,9 @@
 
 #include <sh/cpu.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include "kernels.hpp"
 
 namespace {
@@ -117,6 +120,71 @@ void BM_triangles_cpp(benchmark::State& state) {
   for (auto _ : state) {
     hand_parallel(static_cast<int>(state.range(0)), kRays,
                   [&](std::size_t b, std::size_t e) { bench::triangles_cpp(s, t.data(), b, e); });
+    benchmark::DoNotOptimize(t.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
+}
+
+// ---- the AVX-512 forms of saxpy, Mandelbrot and the triangles ---------------------
+
+// The hand form against the compiler's: the compiler may fuse a multiply
+// and an add (GCC's default contraction), so values agree to rounding, and
+// a Mandelbrot pixel at the set's edge may take another iteration count.
+void check_close(benchmark::State& state, const std::vector<float>& simd, const std::vector<float>& cpp,
+                 double largest_relative, double share_off) {
+  std::size_t off = 0;
+  for (std::size_t i = 0; i < simd.size(); ++i)
+    off += std::fabs(simd[i] - cpp[i]) > largest_relative * std::max(1.0f, std::fabs(cpp[i]));
+  if (static_cast<double>(off) > share_off * static_cast<double>(simd.size()))
+    state.SkipWithError("the AVX-512 form differs from the compiler's");
+}
+
+void BM_saxpy_simd(benchmark::State& state) {
+  std::vector<float> x(kSaxpyN), y(kSaxpyN), r(kSaxpyN), expected(kSaxpyN);
+  for (std::size_t i = 0; i < kSaxpyN; ++i) x[i] = 0.001f * static_cast<float>(i % 1000), y[i] = 2.0f;
+  bench::saxpy_cpp(2.5f, x.data(), y.data(), expected.data(), 0, kSaxpyN);
+  auto saxpy = [&] {
+    hand_parallel(static_cast<int>(state.range(0)), kSaxpyN,
+                  [&](std::size_t b, std::size_t e) { bench::saxpy_simd(2.5f, x.data(), y.data(), r.data(), b, e); });
+  };
+  saxpy();
+  check_close(state, r, expected, 1e-6, 0);
+  for (auto _ : state) {
+    saxpy();
+    benchmark::DoNotOptimize(r.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kSaxpyN);
+}
+
+void BM_mandelbrot_simd(benchmark::State& state) {
+  std::vector<float> c = bench::mandelbrot_coordinates(kMandelbrotSize), shade(c.size() / 2), expected(c.size() / 2);
+  bench::mandelbrot_cpp(c.data(), expected.data(), 0, expected.size());
+  auto mandelbrot = [&] {
+    hand_parallel(static_cast<int>(state.range(0)), shade.size(),
+                  [&](std::size_t b, std::size_t e) { bench::mandelbrot_simd(c.data(), shade.data(), b, e); });
+  };
+  mandelbrot();
+  check_close(state, shade, expected, 0, 0.01);
+  for (auto _ : state) {
+    mandelbrot();
+    benchmark::DoNotOptimize(shade.data());
+  }
+  state.SetItemsProcessed(state.iterations() * shade.size());
+  count_mandelbrot_flops(state, shade);
+}
+
+void BM_triangles_simd(benchmark::State& state) {
+  bench::TriangleScene s = bench::triangle_scene(kRays);
+  std::vector<float> t(kRays), expected(kRays);
+  bench::triangles_cpp(s, expected.data(), 0, kRays);
+  auto triangles = [&] {
+    hand_parallel(static_cast<int>(state.range(0)), kRays,
+                  [&](std::size_t b, std::size_t e) { bench::triangles_simd(s, t.data(), b, e); });
+  };
+  triangles();
+  check_close(state, t, expected, 1e-4, 0.001);
+  for (auto _ : state) {
+    triangles();
     benchmark::DoNotOptimize(t.data());
   }
   state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
@@ -237,6 +305,9 @@ BENCHMARK(BM_mandelbrot_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMil
 BENCHMARK(BM_mandelbrot_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_triangles_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_triangles_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_saxpy_simd)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_mandelbrot_simd)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_triangles_simd)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_separable_dsl)->Apply(widths)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_blur_plain_cpp)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);

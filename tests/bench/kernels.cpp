@@ -314,3 +314,102 @@ std::vector<float> blur_image(int w, int h) {
 }
 
 }  // namespace bench
+
+namespace bench {
+
+#if defined(__AVX512F__)
+void saxpy_simd(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end) {
+  __m512 av = _mm512_set1_ps(a);
+  std::size_t i = begin;
+  for (; i + 16 <= end; i += 16)
+    _mm512_storeu_ps(r + i, _mm512_add_ps(_mm512_mul_ps(av, _mm512_loadu_ps(x + i)), _mm512_loadu_ps(y + i)));
+  saxpy_cpp(a, x, y, r, i, end);
+}
+
+// Sixteen pixels iterate together while any is inside; each counts only
+// while it is.
+void mandelbrot_simd(const float* c, float* shade, std::size_t begin, std::size_t end) {
+  const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+  const __m512i odd = _mm512_add_epi32(even, _mm512_set1_epi32(1));
+  std::size_t p = begin;
+  for (; p + 16 <= end; p += 16) {
+    __m512 lo = _mm512_loadu_ps(c + 2 * p), hi = _mm512_loadu_ps(c + 2 * p + 16);
+    __m512 cx = _mm512_permutex2var_ps(lo, even, hi), cy = _mm512_permutex2var_ps(lo, odd, hi);
+    __m512 zx = _mm512_setzero_ps(), zy = _mm512_setzero_ps(), i = _mm512_setzero_ps();
+    const __m512 four = _mm512_set1_ps(4.0f), two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f);
+    const __m512 limit = _mm512_set1_ps(static_cast<float>(kMandelbrotIterations));
+    for (;;) {
+      __m512 r2 = _mm512_add_ps(_mm512_mul_ps(zx, zx), _mm512_mul_ps(zy, zy));
+      __mmask16 inside = _mm512_cmp_ps_mask(i, limit, _CMP_LT_OQ) & _mm512_cmp_ps_mask(r2, four, _CMP_LT_OQ);
+      if (!inside) break;
+      __m512 nx = _mm512_add_ps(_mm512_sub_ps(_mm512_mul_ps(zx, zx), _mm512_mul_ps(zy, zy)), cx);
+      __m512 ny = _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(two, zx), zy), cy);
+      zx = _mm512_mask_mov_ps(zx, inside, nx);
+      zy = _mm512_mask_mov_ps(zy, inside, ny);
+      i = _mm512_mask_add_ps(i, inside, i, one);
+    }
+    _mm512_storeu_ps(shade + p, i);
+  }
+  mandelbrot_cpp(c, shade, p, end);
+}
+
+// Sixteen rays against each triangle, the rays' coordinates gathered from
+// their 3-float records, the triangle's broadcast.
+void triangles_simd(const TriangleScene& s, float* out, std::size_t begin, std::size_t end) {
+  const float* V = s.vertices.data();
+  const __m512i stride = _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                                            _mm512_set1_epi32(3));
+  auto sub = [](__m512 a, __m512 b) { return _mm512_sub_ps(a, b); };
+  auto mul = [](__m512 a, __m512 b) { return _mm512_mul_ps(a, b); };
+  auto dot = [&](const __m512* a, const __m512* b) {
+    return _mm512_add_ps(_mm512_add_ps(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
+  };
+  auto cross = [&](const __m512* a, const __m512* b, __m512* r) {
+    r[0] = sub(mul(a[1], b[2]), mul(a[2], b[1]));
+    r[1] = sub(mul(a[2], b[0]), mul(a[0], b[2]));
+    r[2] = sub(mul(a[0], b[1]), mul(a[1], b[0]));
+  };
+  std::size_t r = begin;
+  for (; r + 16 <= end; r += 16) {
+    __m512 o[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+      o[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, stride, &s.origins[3 * r + k], 4);
+      d[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, stride, &s.directions[3 * r + k], 4);
+    }
+    __m512 nearest = _mm512_set1_ps(1e30f);
+    for (int t = 0; t < kTriangles; ++t) {
+      const float* v = V + 9 * t;
+      __m512 v0[3], e1[3], e2[3], p[3], sv[3], q[3];
+      for (int k = 0; k < 3; ++k) {
+        v0[k] = _mm512_set1_ps(v[k]);
+        e1[k] = _mm512_set1_ps(v[3 + k] - v[k]);
+        e2[k] = _mm512_set1_ps(v[6 + k] - v[k]);
+        sv[k] = sub(o[k], v0[k]);
+      }
+      cross(d, e2, p);
+      __m512 det = dot(e1, p);
+      __m512 inv = _mm512_div_ps(_mm512_set1_ps(1.0f), det);
+      __m512 u = mul(dot(sv, p), inv);
+      cross(sv, e1, q);
+      __m512 vv = mul(dot(d, q), inv);
+      __m512 tt = mul(dot(e2, q), inv);
+      __mmask16 hit = _mm512_cmp_ps_mask(_mm512_abs_ps(det), _mm512_set1_ps(1e-8f), _CMP_GT_OQ) &
+                      _mm512_cmp_ps_mask(u, _mm512_setzero_ps(), _CMP_GE_OQ) &
+                      _mm512_cmp_ps_mask(vv, _mm512_setzero_ps(), _CMP_GE_OQ) &
+                      _mm512_cmp_ps_mask(_mm512_add_ps(u, vv), _mm512_set1_ps(1.0f), _CMP_LE_OQ) &
+                      _mm512_cmp_ps_mask(tt, _mm512_set1_ps(1e-6f), _CMP_GT_OQ) & _mm512_cmp_ps_mask(tt, nearest, _CMP_LT_OQ);
+      nearest = _mm512_mask_mov_ps(nearest, hit, tt);
+    }
+    _mm512_storeu_ps(out + r, nearest);
+  }
+  triangles_cpp(s, out, r, end);
+}
+#else
+void saxpy_simd(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end) {
+  saxpy_cpp(a, x, y, r, begin, end);
+}
+void mandelbrot_simd(const float* c, float* shade, std::size_t begin, std::size_t end) { mandelbrot_cpp(c, shade, begin, end); }
+void triangles_simd(const TriangleScene& s, float* out, std::size_t begin, std::size_t end) { triangles_cpp(s, out, begin, end); }
+#endif
+
+}  // namespace bench

@@ -14,9 +14,13 @@ inline constexpr int kTriangles = 32;
 
 sh::Program saxpy_program(sh::Attrib1f& a);
 void saxpy_cpp(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end);
+// The AVX-512 forms of saxpy, Mandelbrot and the triangles, sixteen
+// elements per step (the compiler's own form where the host lacks it).
+void saxpy_simd(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end);
 
 sh::Program mandelbrot_program();
 void mandelbrot_cpp(const float* c, float* shade, std::size_t begin, std::size_t end);
+void mandelbrot_simd(const float* c, float* shade, std::size_t begin, std::size_t end);
 std::vector<float> mandelbrot_coordinates(int size);
 
 // Rays against a table of triangles (Möller–Trumbore), nearest hit.
@@ -27,6 +31,7 @@ struct TriangleScene {
 TriangleScene triangle_scene(std::size_t rays);
 sh::Program triangles_program(const sh::Table1D<sh::Attrib3f>& vertices);
 void triangles_cpp(const TriangleScene& s, float* t, std::size_t begin, std::size_t end);
+void triangles_simd(const TriangleScene& s, float* t, std::size_t begin, std::size_t end);
 
 // A 5 x 5 box blur of a W x H image, edges clamped: direct (25 taps), and
 // separable (5 along rows into a W x H image, then 5 down its columns).
