@@ -36,6 +36,31 @@ TEST(Legalize, FetchBecomesAClampedLoad) {
   EXPECT_FALSE(contains(body, "fetch")) << body;
 }
 
+// The edge mode is the table's, printed with it; repeat wraps by mod,
+// zero chooses between the clamped read and 0.
+TEST(Legalize, EdgeModesWrapOrZeroTheRead) {
+  Table2D<Attrib3f> repeat(4, 3), zero(4, 3);
+  repeat.edge(Edge::Repeat);
+  zero.edge(Edge::Zero);
+  Program p = SH_BEGIN_PROGRAM("edges") {
+    Input<Attrib2i> at;
+    Output<Attrib3f> a, b;
+    a = repeat[at];
+    b = zero[at];
+  } SH_END;
+  std::string text = ir::print(p.ir());
+  EXPECT_TRUE(contains(text, "table #0: f32x3 rank 2 edge repeat")) << text;
+  EXPECT_TRUE(contains(text, "table #1: f32x3 rank 2 edge zero")) << text;
+  ir::Program legal = passes::legalize(p.ir());
+  ir::verify(legal);
+  ir::verify_legal(legal);
+  std::string body = body_of(legal);
+  EXPECT_TRUE(contains(body, "mod %0, %")) << body;
+  for (const char* step : {"ge %0, 0", "lt %0, %", "and", "cast f32", "cond"})
+    EXPECT_TRUE(contains(body, step)) << step << " in\n" << body;
+  EXPECT_EQ(ir::deserialize(ir::serialize(p.ir())).tables[1].edge, Edge::Zero);
+}
+
 TEST(Legalize, SampleScalesFloorsAndConvertsBeforeTheClamp) {
   Table2D<Attrib1f> t(4, 2);
   Program p = SH_BEGIN_PROGRAM("sample") {

@@ -115,6 +115,7 @@ class Generator {
     d.rank = rng_.between(1, 3);
     d.element = accumulator ? Type{Scalar::I32, rng_.between(1, 4)} : random_type();
     d.accumulator = accumulator;
+    if (!accumulator) d.edge = static_cast<Edge>(rng_.below(3));
     d.name = (accumulator ? "acc" : "tab") + std::to_string(p().tables.size());
     TableData t;
     std::size_t elements = 1;

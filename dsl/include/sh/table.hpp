@@ -2,7 +2,8 @@
 // Tables: read-only arrays of 1, 2 or 3 dimensions (Sh's arrays and
 // textures) filled on the host and read by kernels.  t[i] reads element i
 // with integer coordinates; t(x) with coordinates in [0, 1] (nearest
-// element).  Both clamp to the edge.
+// element).  Outside the table both clamp to the edge, or wrap around, or
+// give zero, as the table's edge() says.
 #include <array>
 #include <memory>
 #include <string>
@@ -13,6 +14,8 @@
 #include "sh/error.hpp"
 
 namespace sh {
+
+using Edge = ir::Edge;
 
 template <int Rank, class E>
 class Table {
@@ -41,6 +44,14 @@ class Table {
   const std::array<int, 3>& dims() const { return storage_->dims; }
   Table& name(const std::string& n) {
     storage_->decl.name = n;
+    return *this;
+  }
+  // What a read outside the table gives: the nearest element on the edge
+  // (Edge::Clamp, the default), the element the coordinates wrap around to
+  // (Edge::Repeat), or zero (Edge::Zero).  Programs recorded from now on
+  // read it so.
+  Table& edge(Edge e) {
+    storage_->decl.edge = e;
     return *this;
   }
 

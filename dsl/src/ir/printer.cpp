@@ -33,7 +33,9 @@ class Printer {
       const TableDecl& d = p_.tables[t];
       out_ << (d.accumulator ? "  accumulator #" : "  table #") << t;
       if (o_.names && !d.name.empty()) out_ << " " << d.name;
-      out_ << ": " << type_name(d.element) << " rank " << d.rank << "\n";
+      out_ << ": " << type_name(d.element) << " rank " << d.rank;
+      if (d.edge != Edge::Clamp) out_ << " edge " << edge_name(d.edge);
+      out_ << "\n";
     }
     out_ << "body\n";
     block(p_.body, 1);

@@ -2,6 +2,15 @@
 
 namespace sh::ir {
 
+const char* edge_name(Edge e) {
+  switch (e) {
+    case Edge::Clamp: return "clamp";
+    case Edge::Repeat: return "repeat";
+    case Edge::Zero: return "zero";
+  }
+  return "?";
+}
+
 const char* var_kind_name(VarKind k) {
   switch (k) {
     case VarKind::Input: return "input";

@@ -14,7 +14,7 @@ constexpr int kTagCount = 6;
 constexpr char kMagic[] = "SHIR";
 // Bumped whenever the layout or the meaning of a number in it (the op
 // table's order among them) changes, so old bytes are refused, not misread.
-constexpr std::uint8_t kVersion = 2;
+constexpr std::uint8_t kVersion = 3;  // 3: a table's edge mode
 // Deeper nesting than any recorded program has; bounds the reader's stack.
 constexpr int kMaxDepth = 1000;
 
@@ -239,6 +239,7 @@ class ProgramReader {
       t.rank = r_.ranged(r_.u8("table rank"), 1, 4, "table rank");
       t.name = r_.name("table name");
       t.accumulator = r_.flag("table accumulator flag");
+      t.edge = static_cast<Edge>(r_.ranged(r_.u8("table edge mode"), 0, 3, "table edge mode"));
       p_.tables.push_back(std::move(t));
     }
   }
@@ -340,6 +341,7 @@ std::string serialize(const Program& p, const SerializeOptions& options) {
     w.u8(static_cast<unsigned>(t.rank));
     w.name(t.name);
     w.u8(t.accumulator ? 1 : 0);
+    w.u8(static_cast<unsigned>(t.edge));
   }
   w.block(p.body);
   return w.take();

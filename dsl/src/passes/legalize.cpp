@@ -1,11 +1,13 @@
 // Legalisation: the rules every backend would otherwise re-implement are
 // written here once, as IR, between the optimiser and the backends.
-//   - Table reads: a fetch's coordinates are clamped to the table's edge
-//     (extent - 1 and 0); a sample's coordinates in [0, 1] are scaled by the
-//     extent, floored and converted (NaN gives 0, out of range saturates)
-//     first.  Both become `load`, whose coordinates are in range; it keeps
-//     the coordinates as asked so that a checked run can say which read
-//     was clamped.  Scatter indices are clamped the same way.
+//   - Table reads: a fetch's coordinates are brought inside the table by
+//     its edge mode: clamped to the edge (extent - 1 and 0), wrapped around
+//     (mod extent), or clamped with the element read replaced by zero where
+//     a coordinate was outside; a sample's coordinates in [0, 1] are scaled
+//     by the extent, floored and converted (NaN gives 0, out of range
+//     saturates) first.  Both become `load`, whose coordinates are in
+//     range; it keeps the coordinates as asked so that a checked run can
+//     say which read was clamped.  Scatter indices are always clamped.
 //   - Integer division and remainder: x / 0 and x % 0 give 0, INT_MIN / -1
 //     gives INT_MIN and INT_MIN % -1 gives 0.  The divisor a backend sees is
 //     never 0 or -1, so its native division cannot trap.
@@ -69,9 +71,45 @@ class Legalizer : public ir::Mutator {
       ir::Operand floored = emit(out, t, ir::Op::Floor, {scaled});
       asked = emit(out, {ir::Scalar::I32, asked.width()}, ir::Op::Cast, {floored});
     }
-    a.args = {clamped(a.table, asked, out), asked};
     a.op = ir::Op::Load;
+    switch (p_.tables[a.table].edge) {
+      case ir::Edge::Clamp: a.args = {clamped(a.table, asked, out), asked}; break;
+      case ir::Edge::Repeat: a.args = {wrapped(a.table, asked, out), asked}; break;
+      case ir::Edge::Zero: return zero_outside(std::move(a), asked, out);
+    }
     out.push_back(ir::Stmt{std::move(a)});
+  }
+
+  // Coordinates wrapped into [0, extent - 1] in every dimension: the
+  // remainder that takes the divisor's sign (mod), so -1 is extent - 1.
+  ir::Operand wrapped(int table, const ir::Operand& coords, ir::Block& out) {
+    return emit(out, {ir::Scalar::I32, coords.width()}, ir::Op::Mod, {coords, extent(table, out)});
+  }
+
+  static ir::Operand component(ir::Operand o, int i) {
+    o.swizzle.index[0] = o.swizzle[i];
+    o.swizzle.size = 1;
+    return o;
+  }
+
+  // The element at the clamped coordinates where every coordinate is inside
+  // the table, else zero: the read, then a choice between it and zero.
+  void zero_outside(ir::Assign read, const ir::Operand& asked, ir::Block& out) {
+    const ir::TableDecl& t = p_.tables[read.table];
+    ir::Type coords{ir::Scalar::I32, asked.width()}, one{ir::Scalar::I32, 1};
+    ir::Operand from_start = emit(out, coords, ir::Op::Ge, {asked, number(ir::Scalar::I32, 0)});
+    ir::Operand before_end = emit(out, coords, ir::Op::Lt, {asked, extent(read.table, out)});
+    ir::Operand each = emit(out, coords, ir::Op::And, {from_start, before_end});
+    ir::Operand inside = component(each, 0);
+    for (int d = 1; d < asked.width(); ++d) inside = emit(out, one, ir::Op::And, {inside, component(each, d)});
+    if (t.element.scalar != ir::Scalar::I32) inside = emit(out, {t.element.scalar, 1}, ir::Op::Cast, {inside});
+    ir::Operand element = temp(t.element);
+    ir::Assign choice{read.dest, read.mask, ir::Op::Cond, {inside, element, number(t.element.scalar, 0)}, -1};
+    read.dest = element.var;
+    read.mask = element.swizzle;
+    read.args = {clamped(read.table, asked, out), asked};
+    out.push_back(ir::Stmt{std::move(read)});
+    out.push_back(ir::Stmt{std::move(choice)});
   }
 
   // A constant divisor with no component 0 or -1 cannot trap.

@@ -35,11 +35,18 @@ struct Operand {
 // A table the kernel reads, or an accumulator it adds into (Scatter).  An
 // accumulator is never read by the program that adds into it: the order of
 // the additions is left to the backend, so only the sums are defined.
+// What a read outside a table gives (legalize.cpp lowers it): the nearest
+// element on the edge, the element the coordinates wrap around to (as a
+// tiled texture), or zero.  Adds into an accumulator always clamp.
+enum class Edge : std::uint8_t { Clamp, Repeat, Zero };
+const char* edge_name(Edge e);
+
 struct TableDecl {
   Type element;
   int rank = 1;  // 1, 2 or 3 dimensions
   std::string name;
   bool accumulator = false;
+  Edge edge = Edge::Clamp;
 };
 
 struct Stmt;
