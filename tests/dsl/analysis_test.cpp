@@ -113,6 +113,25 @@ TEST(Analysis, TableAccessFollowsPositionThroughOffsetsAndClamps) {
                                                "scattered", "scattered"}));
 }
 
+// A proven run at position() plus constants carries its offsets (a
+// stencil's tap); at position() plus a uniform it is proven, with none.
+TEST(Analysis, TableAccessGivesAStencilTapsOffsets) {
+  Table2D<Attrib1f> image(8, 8);
+  Attrib1i shift = 2;
+  Program p = SH_BEGIN_PROGRAM("taps") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    Attrib2i up = at - ConstAttrib2i(0, 1);
+    out = image[up + ConstAttrib2i(-3, 0)] * 2.0f + image[at + join(shift, ConstAttrib1i(0))];
+  } SH_END;
+  std::multiset<std::string> found;
+  for (const auto& [read, access] : analysis::table_access(passes::legalize(optimize(p.ir())))) {
+    ASSERT_TRUE(access.proven_run);
+    found.insert(access.offset ? std::to_string((*access.offset)[0]) + "," + std::to_string((*access.offset)[1]) : "none");
+  }
+  EXPECT_EQ(found, (std::multiset<std::string>{"-3,-1", "none"}));
+}
+
 // A value written inside an if may be the one from before it in some
 // lanes: no proof, whatever the condition.
 TEST(Analysis, TableAccessProvesNothingWrittenInsideAnIf) {

@@ -126,7 +126,7 @@ void Lowering::function() {
   if (spmd()) b_.CreateStore(live_lanes(count), exec_);
   clear_registers();
   full_or_tail(count, [&](Value* tail) { load_inputs(e, tail); });
-  block(p_.body);
+  batch_body();
   full_or_tail(count, [&](Value* tail) { store_outputs(e, tail); });
   Value* step = reads_position_ && spmd() ? count : b_.getInt64(width_);
   if (reads_position_) advance_place(step);

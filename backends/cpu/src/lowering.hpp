@@ -110,6 +110,14 @@ class Lowering {
   std::array<Value*, 4> same_or_gather(Value* flat, const ElementRead& element);
   std::array<Value*, 4> consecutive_or_gather(int table, Value* flat, const ElementRead& element);
   std::array<Value*, 4> run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element);
+  struct Run {
+    Value* inside;  // the whole run lies in the table
+    Value* start;   // its first element's flat index
+  };
+  Run run_of(const ir::Assign& a);
+  Value* tap_start(int table, const std::array<int, 3>& offset);
+  void batch_body();
+  Value* batch_inside();
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> masked_run(int table, Value* start);
@@ -138,6 +146,7 @@ class Lowering {
   SpmdFacts facts_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
   Value* batch_count_ = nullptr;  // spmd: the lanes that hold elements (the rest are past the end or the row)
+  bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.
   std::vector<VarSet> keep_;

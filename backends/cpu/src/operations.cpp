@@ -253,6 +253,8 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   std::array<Value*, 4> raw{};
   if (!gather)
     raw = element(flat, false);
+  else if (access_.at(&a).proven_run && batch_inside_ && access_.at(&a).offset)
+    raw = masked_run(a.table, tap_start(a.table, *access_.at(&a).offset));
   else if (access_.at(&a).proven_run)
     raw = run_or_gather(a, flat, element);
   else if (access_.at(&a).hint == analysis::Access::Consecutive)
@@ -480,6 +482,21 @@ std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, co
 // clamped and it is one masked vector load, tested by its ends alone; at
 // the table's edges, a gather of the clamped coordinates.
 std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
+  Run r = run_of(a);
+  BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
+  BasicBlock* edge = BasicBlock::Create(ctx_, "read.edge", fn_);
+  b_.CreateCondBr(r.inside, run, edge);
+  b_.SetInsertPoint(run);
+  std::array<Value*, 4> loaded = masked_run(a.table, r.start);
+  BasicBlock* run_end = b_.GetInsertBlock();
+  b_.SetInsertPoint(edge);
+  std::array<Value*, 4> gathered = element(flat, true);
+  return joined(loaded, run_end, gathered, b_.GetInsertBlock(), p_.tables[a.table].element.width);
+}
+
+// The run a proven read's lanes ask for: its start (the first lane's
+// coordinates as asked) and whether it fits in the table.
+Lowering::Run Lowering::run_of(const ir::Assign& a) {
   const ir::TableDecl& t = p_.tables[a.table];
   llvm::Type* i64 = b_.getInt64Ty();
   Value* inside = b_.getTrue();
@@ -498,15 +515,83 @@ std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, 
     start = b_.CreateAdd(start, b_.CreateMul(first, stride));
     stride = b_.CreateMul(stride, extent);
   }
-  BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
-  BasicBlock* edge = BasicBlock::Create(ctx_, "read.edge", fn_);
-  b_.CreateCondBr(inside, run, edge);
-  b_.SetInsertPoint(run);
-  std::array<Value*, 4> loaded = masked_run(a.table, start);
-  BasicBlock* run_end = b_.GetInsertBlock();
+  return {inside, start};
+}
+
+// The flat index of a tap's run in a batch inside the table: position()
+// plus the offset, in 64 bits, so that taps on one row share its address.
+Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* start = b_.getInt64(0);
+  Value* stride = b_.getInt64(1);
+  for (int d = 0; d < p_.tables[table].rank; ++d) {
+    Value* at = b_.CreateNSWAdd(b_.CreateSExt(position_[d], i64), b_.getInt64(offset[d]));
+    start = b_.CreateNSWAdd(start, b_.CreateNSWMul(at, stride));
+    stride = b_.CreateNSWMul(stride, b_.CreateZExt(table_dims_[table][d], i64));
+  }
+  return start;
+}
+
+// The body for one batch.  Where the program reads tables at position()
+// plus constants (a stencil's taps), it is lowered twice: once for a full
+// batch whose taps all lie inside their tables, each tap one vector load
+// with no test and no mask, and once with each tap tested; one test before
+// the body chooses.  Rows are long and taps short, so nearly every batch
+// takes the first.
+void Lowering::batch_body() {
+  Value* inside = batch_inside();
+  if (!inside) return block(p_.body);
+  BasicBlock* fast = BasicBlock::Create(ctx_, "batch.inside", fn_);
+  BasicBlock* edge = BasicBlock::Create(ctx_, "batch.edge", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "batch.done", fn_);
+  b_.CreateCondBr(b_.CreateAnd(inside, b_.CreateICmpEQ(batch_count_, b_.getInt64(width_))), fast, edge);
+  b_.SetInsertPoint(fast);
+  b_.CreateStore(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
+  batch_inside_ = true;
+  block(p_.body);
+  batch_inside_ = false;
+  b_.CreateBr(done);
   b_.SetInsertPoint(edge);
-  std::array<Value*, 4> gathered = element(flat, true);
-  return joined(loaded, run_end, gathered, b_.GetInsertBlock(), t.element.width);
+  block(p_.body);
+  b_.CreateBr(done);
+  b_.SetInsertPoint(done);
+}
+
+// Whether every tap of the batch lies inside its table: per table, the
+// taps' smallest and largest offsets against its edges (null where the
+// program has no tap).
+Value* Lowering::batch_inside() {
+  if (!spmd() || fetches_tables(o_)) return nullptr;
+  struct Span {
+    std::array<int, 3> low{}, high{};
+    bool any = false;
+  };
+  std::vector<Span> spans(p_.tables.size());
+  for (const auto& [read, access] : access_) {
+    if (!access.proven_run || !access.offset) continue;
+    Span& s = spans[static_cast<std::size_t>(read->table)];
+    for (int d = 0; d < 3; ++d) {
+      int o = (*access.offset)[d];
+      s.low[d] = s.any ? std::min(s.low[d], o) : o;
+      s.high[d] = s.any ? std::max(s.high[d], o) : o;
+    }
+    s.any = true;
+  }
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* inside = nullptr;
+  for (std::size_t t = 0; t < spans.size(); ++t) {
+    if (!spans[t].any) continue;
+    for (int d = 0; d < p_.tables[t].rank; ++d) {
+      Value* at = b_.CreateSExt(position_[d], i64);
+      Value* low = b_.CreateAdd(at, b_.getInt64(spans[t].low[d]));
+      Value* high = b_.CreateAdd(at, b_.getInt64(spans[t].high[d]));
+      if (d == 0) high = b_.CreateAdd(high, b_.CreateSub(batch_count_, b_.getInt64(1)));
+      Value* fits = b_.CreateAnd(b_.CreateICmpSGE(low, b_.getInt64(0)),
+                                 b_.CreateICmpSLT(high, b_.CreateZExt(table_dims_[t][d], i64)));
+      inside = inside ? b_.CreateAnd(inside, fits) : fits;
+    }
+  }
+  return inside;
 }
 
 // The running lanes' elements from `start` on, one after another: a masked

@@ -77,6 +77,11 @@ struct ReadAccess {
   // each written once, outside every if and loop, from position(),
   // constants and uniforms by + and -.
   bool proven_run = false;
+  // Proven too, for a run whose coordinates are position() plus constants:
+  // those constants, dimension by dimension (coordinate d is position
+  // component d plus offset[d]).  A backend can then test every such read
+  // of an element batch against the table's edges once, before the body.
+  std::optional<std::array<int, 3>> offset;
 };
 
 // Per table read (`load` of legal IR, `fetch` before it) in the program.

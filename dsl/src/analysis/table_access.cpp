@@ -5,6 +5,7 @@
 // every write of a component; the proof takes only components written once,
 // outside every if and loop, and reads them in program order.
 #include <algorithm>
+#include <cstdint>
 
 #include "sh/analysis.hpp"
 #include "sh/ir/visitor.hpp"
@@ -29,8 +30,11 @@ class WriteCounter : public ir::Visitor {
 
 class Walk : public ir::Visitor {
  public:
-  Walk(const ir::Program& p, bool prove) : p_(p), prove_(prove), kinds_(p.vars.size()) {
+  Walk(const ir::Program& p, bool prove) : p_(p), prove_(prove), kinds_(p.vars.size()), affine_(p.vars.size()) {
     for (ir::VarId v : p.inputs) kinds_[v].fill(Access::Scattered);
+    for (std::size_t v = 0; v < p.vars.size(); ++v)
+      if (p.vars[v].kind == ir::VarKind::Const && p.vars[v].type.scalar == ir::Scalar::I32)
+        for (int c = 0; c < p.vars[v].type.width; ++c) affine_[v][c] = Affine{-1, static_cast<long long>(p.vars[v].value[c])};
     if (prove_) {
       WriteCounter counter(p);
       counter.visit(p.body);
@@ -49,14 +53,19 @@ class Walk : public ir::Visitor {
     } while (changed_ && !prove_);
     return reads_;
   }
+  // After a proof: the reads at position() plus constants.
+  const std::unordered_map<const ir::Assign*, std::array<int, 3>>& offsets() const { return offsets_; }
 
   using ir::Visitor::visit;
   void visit(const ir::Assign& a) override {
-    if (ir::op_info(a.op).result == ir::ResultRule::TableElement)
+    if (ir::op_info(a.op).result == ir::ResultRule::TableElement) {
       reads_[&a] = read(prove_ && a.op == ir::Op::Load ? a.args[1] : a.args[0]);
+      if (prove_ && a.op == ir::Op::Load) offset_of(a);
+    }
     for (int i = 0; i < a.mask.size; ++i) {
       int c = a.mask[i];
       bool provable = !prove_ || (nested_ == 0 && writes_[a.dest][c] == 1);
+      if (prove_) affine_[a.dest][c] = provable && nested_ == 0 ? affine(a, i) : std::nullopt;
       Access k = provable ? component(a, i) : Access::Scattered;
       Access& now = kinds_[a.dest][c];
       if (join(now, k) != now) changed_ = true, now = join(now, k);
@@ -95,6 +104,53 @@ class Walk : public ir::Visitor {
     return of(coords, 0);
   }
 
+  // A component known as position() component `base` (or none: -1) plus
+  // a constant, where it is written once at the top level.
+  struct Affine {
+    int base;
+    long long constant;
+  };
+  std::optional<Affine> affine_of(const ir::Operand& o, int i) const {
+    return affine_[o.var][o.swizzle[o.width() == 1 ? 0 : i]];
+  }
+
+  static std::optional<Affine> shifted(int base, long long constant) {
+    if (constant < INT32_MIN || constant > INT32_MAX) return std::nullopt;
+    return Affine{base, constant};
+  }
+
+  std::optional<Affine> affine(const ir::Assign& a, int i) const {
+    auto arg = [&](std::size_t k) { return affine_of(a.args[k], i); };
+    switch (a.op) {
+      case ir::Op::Position: return Affine{i, 0};
+      case ir::Op::Mov: return arg(0);
+      case ir::Op::Add: {  // at most one side varies with the position
+        std::optional<Affine> x = arg(0), y = arg(1);
+        if (!x || !y || (x->base >= 0 && y->base >= 0)) return std::nullopt;
+        return shifted(std::max(x->base, y->base), x->constant + y->constant);
+      }
+      case ir::Op::Sub: {
+        std::optional<Affine> x = arg(0), y = arg(1);
+        if (!x || !y || y->base >= 0) return std::nullopt;
+        return shifted(x->base, x->constant - y->constant);
+      }
+      default: return std::nullopt;
+    }
+  }
+
+  // The read's coordinates as asked, if each is position() plus a constant
+  // in its own dimension.
+  void offset_of(const ir::Assign& a) {
+    const ir::Operand& asked = a.args[1];
+    std::array<int, 3> offset{};
+    for (int d = 0; d < asked.width(); ++d) {
+      std::optional<Affine> c = affine_of(asked, d);
+      if (!c || c->base != d) return;
+      offset[d] = static_cast<int>(c->constant);
+    }
+    offsets_[&a] = offset;
+  }
+
   Access component(const ir::Assign& a, int i) const {
     auto arg = [&](std::size_t k) { return of(a.args[k], i); };
     auto all_same = [&] {
@@ -130,6 +186,8 @@ class Walk : public ir::Visitor {
   std::vector<std::array<int, 4>> writes_;
   int nested_ = 0;  // enclosing ifs and loops
   std::unordered_map<const ir::Assign*, Access> reads_;
+  std::vector<std::array<std::optional<Affine>, 4>> affine_;
+  std::unordered_map<const ir::Assign*, std::array<int, 3>> offsets_;
   bool changed_ = false;
 };
 
@@ -145,9 +203,14 @@ const char* access_name(Access a) {
 }
 
 std::unordered_map<const ir::Assign*, ReadAccess> table_access(const ir::Program& p) {
-  std::unordered_map<const ir::Assign*, Access> hints = Walk(p, false).run(), proofs = Walk(p, true).run();
+  Walk proof(p, true);
+  std::unordered_map<const ir::Assign*, Access> hints = Walk(p, false).run(), proofs = proof.run();
   std::unordered_map<const ir::Assign*, ReadAccess> out;
-  for (const auto& [read, hint] : hints) out[read] = {hint, proofs.at(read) == Access::Consecutive};
+  for (const auto& [read, hint] : hints) {
+    ReadAccess& r = out[read] = {hint, proofs.at(read) == Access::Consecutive, std::nullopt};
+    auto offset = proof.offsets().find(read);
+    if (r.proven_run && offset != proof.offsets().end()) r.offset = offset->second;
+  }
   return out;
 }
 
