@@ -49,6 +49,35 @@ TEST_P(Conformance, PositionWithoutAShapeIsTheElementsIndex) {
   for (std::size_t e = 0; e < i.size(); ++e) ASSERT_EQ(i[e], static_cast<int>(e) + 2) << "element " << e;
 }
 
+// Streams a little shorter and longer than whole work-groups and batches
+// (the opencl backend launches groups of up to 1024 and runs a partial
+// last group as a whole one that ends at the stream's end): every element
+// gets its own value and place, in one row and in a 2-D domain.
+TEST_P(Conformance, EveryElementOfAStreamAroundWholeGroupsGetsItsValue) {
+  sh::Program p = SH_BEGIN_PROGRAM("long_stream") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1i> i;
+    sh::Output<Attrib3i> where;
+    i = x.cast<std::int32_t>() * 3 - sh::position();
+    where = sh::position<3>();
+  } SH_END;
+  for (std::size_t length : {1023, 1024, 1025, 2048, 3077, 5000}) {
+    std::vector<float> xs(length);
+    for (std::size_t e = 0; e < length; ++e) xs[e] = static_cast<float>((e * 7) % 1000);
+    sh::Channel<Attrib1f> x(xs);
+    sh::Channel<Attrib1i> i;
+    sh::Channel<Attrib3i> where;
+    if (length % 1000 == 0) where.shape(1000, length / 1000);
+    run(p, {x}, {i, where});
+    ASSERT_EQ(i.size(), length);
+    for (std::size_t e = 0; e < length; ++e) {
+      std::array<int, 3> at = length % 1000 == 0 ? place(e, 1000, length / 1000) : place(e, length, 1);
+      ASSERT_EQ(i[e], static_cast<int>(xs[e]) * 3 - at[0]) << "length " << length << " element " << e;
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(where[3 * e + c], at[c]) << "length " << length << " element " << e;
+    }
+  }
+}
+
 // Values small integers, so that every sum is exact in f32 whatever order
 // a backend adds in (fast math reassociates).
 float pixel(int x, int y) { return static_cast<float>((x * 7 + y * 13) % 17); }

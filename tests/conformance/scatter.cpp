@@ -21,7 +21,7 @@ TEST_P(Conformance, ScatterCountsEveryRunningElementAtEveryStreamLength) {
     Attrib1f x = e.cast<float>();
     sums.add((e * 3) % 5, join(x * 0.25f, -x));
   } SH_END;
-  for (std::size_t length : {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 33, 35, 1031}) {
+  for (std::size_t length : {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 33, 35, 1031, 2048}) {
     counts.clear();
     sums.clear();
     std::vector<std::int32_t> es(length);

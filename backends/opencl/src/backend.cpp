@@ -46,6 +46,7 @@ class OpenClKernel : public Kernel {
     cl_int err = CL_SUCCESS;
     kernel_ = clCreateKernel(cl_program_, kKernelName, &err);
     check(err, "program '" + p.name + "': creating the OpenCL kernel");
+    group_ = group_size();
   }
 
   ~OpenClKernel() override {
@@ -58,8 +59,8 @@ class OpenClKernel : public Kernel {
     std::vector<Buffer> buffers;
     buffers.reserve(args.inputs.size() + args.outputs.size() + args.tables.size() + 1);
     cl_uint arg = 0;
-    cl_long count = static_cast<cl_long>(args.count);
-    set(arg++, sizeof count, &count);
+    cl_long base = 0;
+    set(arg++, sizeof base, &base);
     const LaunchDomain& d = args.domain;
     cl_long domain[3] = {static_cast<cl_long>(d.first), d.extent[0] ? static_cast<cl_long>(d.extent[0]) : CL_LONG_MAX,
                          static_cast<cl_long>(d.extent[1])};
@@ -95,9 +96,7 @@ class OpenClKernel : public Kernel {
     cl_long status[2] = {0, 0};
     set_buffer(arg++, buffers, make(sizeof status, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, status, "the status"));
 
-    std::size_t global = args.count;
-    check(clEnqueueNDRangeKernel(device_->queue, kernel_, 1, nullptr, &global, nullptr, 0, nullptr, nullptr),
-          where("launching the kernel"));
+    launch(args.count, sums.empty());
     for (std::size_t o = 0; o < args.outputs.size(); ++o) {
       std::size_t size = bytes(args.outputs[o].type, args.outputs[o].count);
       cl_mem mem = buffers[first_output + o].mem;
@@ -125,6 +124,37 @@ class OpenClKernel : public Kernel {
   std::string listing() const override { return source_; }
 
  private:
+  // Whole work-groups of one size chosen for the kernel, so that the device
+  // compiles one work-group function and vectorises it unmasked; the last
+  // partial group runs as one more whole group ending at the stream's end
+  // (its first elements run twice, giving the same values), which a program
+  // that adds into accumulators must not do: it, and a stream shorter than
+  // a group, runs as one launch in groups the implementation chooses.
+  void launch(std::size_t count, bool may_repeat) {
+    std::size_t full = group_ ? count / group_ * group_ : 0;
+    if (full == 0 || (full != count && !may_repeat)) return enqueue(0, count, nullptr);
+    enqueue(0, full, &group_);
+    if (full != count) enqueue(count - group_, group_, &group_);
+  }
+
+  void enqueue(std::size_t base, std::size_t global, const std::size_t* local) {
+    cl_long first = static_cast<cl_long>(base);
+    set(0, sizeof first, &first);
+    check(clEnqueueNDRangeKernel(device_->queue, kernel_, 1, nullptr, &global, local, 0, nullptr, nullptr),
+          where("launching the kernel"));
+  }
+
+  // The largest multiple of the kernel's preferred group size up to 1024
+  // that the kernel allows (0: none, then the implementation chooses).
+  std::size_t group_size() const {
+    std::size_t most = 0, multiple = 0;
+    clGetKernelWorkGroupInfo(kernel_, device_->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof most, &most, nullptr);
+    clGetKernelWorkGroupInfo(kernel_, device_->id, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
+                             &multiple, nullptr);
+    if (multiple == 0) return 0;
+    return std::min<std::size_t>(most, 1024) / multiple * multiple;
+  }
+
   std::string where(const std::string& what) const {
     return "program '" + program_.name + "' on OpenCL device '" + device_->name + "': " + what;
   }
@@ -213,6 +243,7 @@ class OpenClKernel : public Kernel {
   std::string source_;
   cl_program cl_program_ = nullptr;
   cl_kernel kernel_ = nullptr;
+  std::size_t group_ = 0;  // work-items per group of a whole-group launch
   std::mutex mutex_;
 };
 

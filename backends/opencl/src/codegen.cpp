@@ -59,9 +59,12 @@ class Generator {
     if (o_.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
     if (adds_floats()) head << kAtomicAddFloat;
     std::ostringstream kernel;
-    kernel << "\n__kernel void " << kKernelName << "(\n    const long count, const long first, const long row, const long rows";
+    kernel << "\n__kernel void " << kKernelName << "(\n    const long base, const long first, const long row, const long rows";
     signature(kernel);
-    kernel << ")\n{\n  const long e = get_global_id(0);\n  if (e >= count) return;\n";
+    // No test of e against the stream's end: every launch covers elements
+    // that exist (backend.cpp), and a test would make a vectorising
+    // compiler mask every load and store.
+    kernel << ")\n{\n  const long e = base + get_global_id(0);\n";
     if (ir::uses(p_, ir::Op::Position)) kernel << kPosition;
     registers();
     load_inputs();

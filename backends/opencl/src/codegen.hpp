@@ -13,7 +13,8 @@ struct Source {
   bool needs_fp64 = false;
 };
 
-// The kernel's arguments, in order: long count; one __global buffer per
+// The kernel's arguments, in order: long base (the element that work-item
+// 0 runs), long first, row and rows (the launch domain); one __global buffer per
 // input, then per output; one scalar per uniform component; per table a
 // __global buffer (an accumulator's is read and added into) and three int
 // dimensions; __global long* status.
