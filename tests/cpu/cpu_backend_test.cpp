@@ -61,6 +61,13 @@ std::string blocks(const std::string& ir, const std::string& prefix) {
   return out;
 }
 
+// A gather is the hardware's where it has a fast one (AVX-512); elsewhere
+// 16 loads in a row with no branch (scalar `load float`s).
+std::size_t gathers(const std::string& ir) {
+  return __builtin_cpu_supports("avx512f") ? count(ir, "call <16 x float> @llvm.masked.gather.v16f32")
+                                           : count(ir, "load float, ptr") / 16;
+}
+
 // A stencil's reads at x + c along a row are one vector load each: in a
 // full batch whose taps all lie inside the table, with no test and no mask;
 // elsewhere tested, a masked load or a gather at the edges.  Reads at an
@@ -85,10 +92,10 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   EXPECT_EQ(count(inside, "load <16 x float>"), 2u) << ir;
   EXPECT_EQ(count(inside, "@llvm.masked"), 0u) << ir;
   EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << ir;
-  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.gather.v16f32"), 2u) << ir;
+  EXPECT_EQ(gathers(ir), 2u) << ir;
   std::string other = kernel_for(scattered, backend("cpu", o))->listing();
   EXPECT_EQ(count(other, "@llvm.masked.load.v16f32"), 0u) << other;
-  EXPECT_EQ(count(other, "call <16 x float> @llvm.masked.gather.v16f32"), 1u) << other;
+  EXPECT_EQ(gathers(other), 1u) << other;
 }
 
 // Every edge mode keeps a stencil's vector load: inside the table the

@@ -2,6 +2,9 @@
 
 #include <string>
 
+#include <llvm/ADT/StringMap.h>
+#include <llvm/Support/Host.h>
+
 #include "lowering.hpp"
 #include "signature.hpp"
 #include "sh/ir/verifier.hpp"
@@ -18,6 +21,8 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
   loops_ = loop_statements(p);
   if (spmd()) facts_ = analyse_spmd(p), access_ = analysis::table_access(p);
   reads_position_ = ir::uses(p, ir::Op::Position);
+  llvm::StringMap<bool> features;
+  fast_gather_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
 }
 
 Lowered Lowering::run() {

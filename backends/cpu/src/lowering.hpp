@@ -121,6 +121,7 @@ class Lowering {
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> masked_run(int table, Value* start);
+  Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index);
 
   struct LoopState {
     BasicBlock* exit;          // break, in a loop that branches
@@ -146,6 +147,7 @@ class Lowering {
   SpmdFacts facts_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
   Value* batch_count_ = nullptr;  // spmd: the lanes that hold elements (the rest are past the end or the row)
+  bool fast_gather_ = false;      // spmd: the host has a gather instruction worth using (AVX-512)
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.

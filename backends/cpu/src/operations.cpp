@@ -241,12 +241,7 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
       llvm::Type* flat_type = flat_index->getType();
       Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_type, t.element.width)),
                                   llvm::ConstantInt::get(flat_type, c));
-      Value* at = b_.CreateInBoundsGEP(scalar, base, index);
-      if (as_gather)
-        values[c] = b_.CreateMaskedGather(lanes(scalar), at, alignment(scalar), exec(),
-                                          llvm::Constant::getNullValue(lanes(scalar)));
-      else
-        values[c] = b_.CreateLoad(scalar, at);
+      values[c] = as_gather ? gather_lanes(scalar, base, index) : b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, base, index));
     }
     return values;
   };
@@ -262,6 +257,25 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   else
     raw = same_or_gather(flat, element);
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
+}
+
+// The running lanes' elements of `base` at `index` (0 in the others).  A
+// target without a fast gather instruction (AVX2 without AVX-512) has
+// LLVM split a masked gather into a branch and a block per lane, which
+// multiplies the code generator's work; there the lanes load one after
+// another with no branch, a lane that does not run reading element 0.
+Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index) {
+  Value* running = exec();
+  Value* none = llvm::Constant::getNullValue(lanes(scalar));
+  if (fast_gather_)
+    return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), running, none);
+  Value* safe = b_.CreateSelect(running, index, llvm::Constant::getNullValue(index->getType()));
+  Value* values = none;
+  for (int i = 0; i < width_; ++i) {
+    Value* at = b_.CreateInBoundsGEP(scalar, base, b_.CreateExtractElement(safe, static_cast<std::uint64_t>(i)));
+    values = b_.CreateInsertElement(values, b_.CreateLoad(scalar, at), static_cast<std::uint64_t>(i));
+  }
+  return b_.CreateSelect(running, values, none);
 }
 
 // Field k of a fetched table's TableAccess (signature.hpp).
