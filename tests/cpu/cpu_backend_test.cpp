@@ -62,10 +62,10 @@ std::string blocks(const std::string& ir, const std::string& prefix) {
 }
 
 // A gather is the hardware's where it has a fast one (AVX-512); elsewhere
-// 16 loads in a row with no branch (scalar `load float`s).
+// a call of the kernel's function that loads the lanes one by one.
 std::size_t gathers(const std::string& ir) {
   return __builtin_cpu_supports("avx512f") ? count(ir, "call <16 x float> @llvm.masked.gather.v16f32")
-                                           : count(ir, "load float, ptr") / 16;
+                                           : count(ir, "call fastcc <16 x float> @\"sh_lane_loads.float.<16 x i32>\"");
 }
 
 // A stencil's reads at x + c along a row are one vector load each: in a

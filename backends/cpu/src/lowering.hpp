@@ -122,6 +122,7 @@ class Lowering {
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> masked_run(int table, Value* start);
   Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index);
+  llvm::Function* lane_loads(llvm::Type* scalar, llvm::Type* index_type);
 
   struct LoopState {
     BasicBlock* exit;          // break, in a loop that branches

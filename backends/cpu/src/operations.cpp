@@ -262,7 +262,8 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
 // The running lanes' elements of `base` at `index` (0 in the others).  A
 // target without a fast gather instruction (AVX2 without AVX-512) has
 // LLVM split a masked gather into a branch and a block per lane, which
-// multiplies the code generator's work; there the lanes load one after
+// multiplies the code generator's work; there a gather is a call of one
+// function per element and index type that loads the lanes one after
 // another with no branch, a lane that does not run reading element 0.
 Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index) {
   Value* running = exec();
@@ -270,12 +271,32 @@ Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index) {
   if (fast_gather_)
     return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), running, none);
   Value* safe = b_.CreateSelect(running, index, llvm::Constant::getNullValue(index->getType()));
-  Value* values = none;
-  for (int i = 0; i < width_; ++i) {
-    Value* at = b_.CreateInBoundsGEP(scalar, base, b_.CreateExtractElement(safe, static_cast<std::uint64_t>(i)));
-    values = b_.CreateInsertElement(values, b_.CreateLoad(scalar, at), static_cast<std::uint64_t>(i));
-  }
+  llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, safe});
+  values->setCallingConv(llvm::CallingConv::Fast);
   return b_.CreateSelect(running, values, none);
+}
+
+// The function of gather_lanes: compiled once, called by every gather of
+// its types, so that the kernel's code stays one block per branch.
+llvm::Function* Lowering::lane_loads(llvm::Type* scalar, llvm::Type* index_type) {
+  std::string name;
+  llvm::raw_string_ostream os(name);
+  os << "sh_lane_loads." << *scalar << "." << *index_type;
+  if (llvm::Function* known = module_->getFunction(os.str())) return known;
+  auto* type = llvm::FunctionType::get(lanes(scalar), {b_.getPtrTy(), index_type}, false);
+  auto* f = llvm::Function::Create(type, llvm::Function::InternalLinkage, os.str(), module_.get());
+  f->setCallingConv(llvm::CallingConv::Fast);
+  f->addFnAttr(llvm::Attribute::NoInline);
+  for (const char* a : {"min-legal-vector-width", "prefer-vector-width"})
+    if (fn_->hasFnAttribute(a)) f->addFnAttr(fn_->getFnAttribute(a));
+  llvm::IRBuilder<> b(BasicBlock::Create(ctx_, "entry", f));
+  Value* values = llvm::Constant::getNullValue(lanes(scalar));
+  for (int i = 0; i < width_; ++i) {
+    Value* at = b.CreateInBoundsGEP(scalar, f->getArg(0), b.CreateExtractElement(f->getArg(1), static_cast<std::uint64_t>(i)));
+    values = b.CreateInsertElement(values, b.CreateLoad(scalar, at), static_cast<std::uint64_t>(i));
+  }
+  b.CreateRet(values);
+  return f;
 }
 
 // Field k of a fetched table's TableAccess (signature.hpp).
