@@ -373,18 +373,30 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   b_.CreateCondBr(any(still), round, done);
 
   b_.SetInsertPoint(round);
-  fetched_element(table, b_.CreateExtractElement(indices, first_lane(still)));  // into the window
+  Value* leader = first_lane(still);
+  fetched_element(table, b_.CreateExtractElement(indices, leader));  // into the window
   Value* first = b_.CreateLoad(i64, access_field(table, 1));
   Value* offset = b_.CreateSub(indices, splat(first));
   Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
   Value* in_window = b_.CreateAnd(still, b_.CreateICmpULT(offset, splat(span)));
-  std::int64_t bytes = t.element.width * ir::storage_bytes(t.element.scalar);
-  Value* elements = b_.CreateInBoundsGEP(b_.getInt8Ty(), b_.CreateLoad(b_.getPtrTy(), access_field(table, 0)),
-                                         b_.CreateMul(offset, splat(b_.getInt64(bytes))));
-  for (int c = 0; c < t.element.width; ++c)
-    b_.CreateStore(b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, elements, b_.getInt64(c)),
-                                         alignment(scalar), in_window, b_.CreateLoad(vector, slots[c])),
-                   slots[c]);
+  Value* window = b_.CreateLoad(b_.getPtrTy(), access_field(table, 0));
+  // In scalars from the window's start; a lane not reading in this round
+  // reads the leading lane's element, which the window holds.
+  Value* at = b_.CreateMul(b_.CreateSelect(in_window, offset, splat(b_.CreateExtractElement(offset, leader))),
+                           splat(b_.getInt64(t.element.width)));
+  for (int c = 0; c < t.element.width; ++c) {
+    Value* component = b_.CreateConstInBoundsGEP1_64(scalar, window, static_cast<std::uint64_t>(c));
+    Value* before = b_.CreateLoad(vector, slots[c]);
+    Value* read = nullptr;
+    if (fast_gather_) {
+      read = b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, component, at), alignment(scalar), in_window, before);
+    } else {
+      auto* call = b_.CreateCall(lane_loads(scalar, at->getType()), {component, at});
+      call->setCallingConv(llvm::CallingConv::Fast);
+      read = b_.CreateSelect(in_window, call, before);
+    }
+    b_.CreateStore(read, slots[c]);
+  }
   // fetched_element counted the first lane's read.
   Value* others = b_.CreateSub(b_.CreateAddReduce(b_.CreateZExt(in_window, lanes(i64))), b_.getInt64(1));
   b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), others), access_field(table, 3));
