@@ -121,7 +121,7 @@ class Lowering {
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> masked_run(int table, Value* start);
-  Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index);
+  Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise);
   llvm::Function* lane_loads(llvm::Type* scalar, llvm::Type* index_type);
 
   struct LoopState {

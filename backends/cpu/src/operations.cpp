@@ -241,7 +241,11 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
       llvm::Type* flat_type = flat_index->getType();
       Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_type, t.element.width)),
                                   llvm::ConstantInt::get(flat_type, c));
-      values[c] = as_gather ? gather_lanes(scalar, base, index) : b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, base, index));
+      if (as_gather)  // a lane that does not run reads element 0
+        values[c] = gather_lanes(scalar, base, b_.CreateSelect(exec(), index, llvm::Constant::getNullValue(index->getType())),
+                                 exec(), llvm::Constant::getNullValue(lanes(scalar)));
+      else
+        values[c] = b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, base, index));
     }
     return values;
   };
@@ -259,21 +263,20 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   for (int c = 0; c < t.element.width; ++c) result[c] = from_storage(raw[c], t.element.scalar);
 }
 
-// The running lanes' elements of `base` at `index` (0 in the others).  A
+// The elements of `base` at `index` in the lanes of `lanes_read`,
+// `otherwise` in the others (whose indices must still be readable).  A
 // target without a fast gather instruction (AVX2 without AVX-512) has
 // LLVM split a masked gather into a branch and a block per lane, which
 // multiplies the code generator's work; there a gather is a call of one
-// function per element and index type that loads the lanes one after
-// another with no branch, a lane that does not run reading element 0.
-Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index) {
-  Value* running = exec();
-  Value* none = llvm::Constant::getNullValue(lanes(scalar));
+// function per element and index type that loads every lane one after
+// another with no branch.
+Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise) {
   if (fast_gather_)
-    return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), running, none);
-  Value* safe = b_.CreateSelect(running, index, llvm::Constant::getNullValue(index->getType()));
-  llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, safe});
+    return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), lanes_read,
+                                 otherwise);
+  llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, index});
   values->setCallingConv(llvm::CallingConv::Fast);
-  return b_.CreateSelect(running, values, none);
+  return b_.CreateSelect(lanes_read, values, otherwise);
 }
 
 // The function of gather_lanes: compiled once, called by every gather of
@@ -386,16 +389,7 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
                            splat(b_.getInt64(t.element.width)));
   for (int c = 0; c < t.element.width; ++c) {
     Value* component = b_.CreateConstInBoundsGEP1_64(scalar, window, static_cast<std::uint64_t>(c));
-    Value* before = b_.CreateLoad(vector, slots[c]);
-    Value* read = nullptr;
-    if (fast_gather_) {
-      read = b_.CreateMaskedGather(vector, b_.CreateInBoundsGEP(scalar, component, at), alignment(scalar), in_window, before);
-    } else {
-      auto* call = b_.CreateCall(lane_loads(scalar, at->getType()), {component, at});
-      call->setCallingConv(llvm::CallingConv::Fast);
-      read = b_.CreateSelect(in_window, call, before);
-    }
-    b_.CreateStore(read, slots[c]);
+    b_.CreateStore(gather_lanes(scalar, component, at, in_window, b_.CreateLoad(vector, slots[c])), slots[c]);
   }
   // fetched_element counted the first lane's read.
   Value* others = b_.CreateSub(b_.CreateAddReduce(b_.CreateZExt(in_window, lanes(i64))), b_.getInt64(1));
