@@ -53,6 +53,9 @@ TEST(OpenClBackend, DevicesAreListedAndChosenByIndexOrName) {
   std::vector<std::string> devices = opencl::devices();
   ASSERT_FALSE(devices.empty());
   EXPECT_EQ(devices[0].rfind("0:0 ", 0), 0u) << devices[0];
+  // What each supports, from the device (PoCL's runs on this CPU).
+  for (const char* what : {"compute units", "groups up to", "f64 ", "host memory ", "largest buffer "})
+    EXPECT_NE(devices[0].find(what), std::string::npos) << what << " in " << devices[0];
   Channel<Attrib3f> n(std::vector<float>{1, 1, 1});
   Channel<Attrib1f> r;
   Options o;

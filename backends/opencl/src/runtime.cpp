@@ -57,6 +57,29 @@ std::vector<Found> all_devices() {
   return out;
 }
 
+template <class T>
+T info(cl_device_id d, cl_device_info what) {
+  T value{};
+  clGetDeviceInfo(d, what, sizeof value, &value, nullptr);
+  return value;
+}
+
+// What code generation and the launch ask of a device, read once.
+void read_capabilities(cl_device_id id, Device& d) {
+  d.fp64 = info<cl_device_fp_config>(id, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
+  d.max_alloc = info<cl_ulong>(id, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+  d.unified = info<cl_bool>(id, CL_DEVICE_HOST_UNIFIED_MEMORY) == CL_TRUE;
+  d.cpu = (info<cl_device_type>(id, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_CPU) != 0;
+  d.compute_units = info<cl_uint>(id, CL_DEVICE_MAX_COMPUTE_UNITS);
+  d.max_group = info<std::size_t>(id, CL_DEVICE_MAX_WORK_GROUP_SIZE);
+}
+
+std::string capabilities(const Device& d) {
+  return std::string(d.cpu ? "CPU" : "not a CPU") + ", " + std::to_string(d.compute_units) + " compute units, groups up to " +
+         std::to_string(d.max_group) + ", f64 " + (d.fp64 ? "yes" : "no") + ", host memory " +
+         (d.unified ? "shared" : "separate") + ", largest buffer " + std::to_string(d.max_alloc >> 20) + " MiB";
+}
+
 Found choose(const std::vector<Found>& found, std::string choice) {
   if (found.empty()) throw Error(kInstallHint);
   if (choice.empty())
@@ -104,9 +127,12 @@ void check(cl_int err, const std::string& what) {
 
 std::vector<std::string> list_devices() {
   std::vector<std::string> lines;
-  for (const Found& f : all_devices())
+  for (const Found& f : all_devices()) {
+    Device d;
+    read_capabilities(f.device, d);
     lines.push_back(std::to_string(f.p) + ":" + std::to_string(f.d) + " " + info_string(f.device, CL_DEVICE_NAME) + " (" +
-                    platform_name(f.platform) + ", " + info_string(f.device, CL_DEVICE_VERSION) + ")");
+                    platform_name(f.platform) + ", " + info_string(f.device, CL_DEVICE_VERSION) + "): " + capabilities(d));
+  }
   return lines;
 }
 
@@ -122,13 +148,7 @@ std::shared_ptr<Device> open_device(const std::string& choice) {
   d->id = f.device;
   d->name = info_string(f.device, CL_DEVICE_NAME);
   d->platform_name = platform_name(f.platform);
-  cl_device_fp_config fp64 = 0;
-  clGetDeviceInfo(f.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
-  d->fp64 = fp64 != 0;
-  clGetDeviceInfo(f.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof d->max_alloc, &d->max_alloc, nullptr);
-  cl_bool unified = CL_FALSE;
-  clGetDeviceInfo(f.device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified, nullptr);
-  d->unified = unified == CL_TRUE;
+  read_capabilities(f.device, *d);
   cl_int err = CL_SUCCESS;
   d->context = clCreateContext(nullptr, 1, &f.device, nullptr, nullptr, &err);
   check(err, "creating an OpenCL context on " + d->name);

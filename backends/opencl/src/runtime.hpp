@@ -21,7 +21,10 @@ struct Device {
   std::string name, platform_name;
   bool fp64 = false;
   bool unified = false;  // shares the host's memory (a CPU device such as PoCL's)
+  bool cpu = false;
   cl_ulong max_alloc = 0;
+  cl_uint compute_units = 0;
+  std::size_t max_group = 0;  // work-items in a group
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
 };
