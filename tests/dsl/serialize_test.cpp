@@ -104,6 +104,24 @@ TEST(Serialize, EveryValueIsRangeChecked) {
   expect_error([&] { ir::deserialize("{\"scene\": 1}"); }, {"at offset 0: not a serialized program"});
 }
 
+// A table's edge mode is one byte, refused outside the three modes.
+TEST(Serialize, ATablesEdgeModeIsRangeChecked) {
+  auto with_edge = [](ir::Edge e) {
+    ir::Program p = negation();
+    p.tables.push_back(ir::TableDecl{{ir::Scalar::F32, 1}, 2, "image", false, e});
+    return ir::serialize(p);
+  };
+  std::string repeat = with_edge(ir::Edge::Repeat), zero = with_edge(ir::Edge::Zero);
+  ASSERT_EQ(repeat.size(), zero.size());
+  std::size_t at = 0;
+  while (at < repeat.size() && repeat[at] == zero[at]) ++at;
+  ASSERT_LT(at, repeat.size());
+  EXPECT_EQ(ir::deserialize(zero).tables[0].edge, ir::Edge::Zero);
+  std::string unknown = zero;
+  unknown[at] = 3;
+  expect_error([&] { ir::deserialize(unknown); }, {"table edge mode is 3, outside [0, 3)"});
+}
+
 // Ifs nested `depth` deep around one negation.
 ir::Program nested(int depth) {
   ir::Program p = negation();
