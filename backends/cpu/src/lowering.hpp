@@ -7,8 +7,8 @@
 // Lanes: with width 1 every register is a scalar and control flow is
 // branches.  With width W > 1 the kernel is SPMD: a varying register is a
 // <W x T> vector, lane i holding element e + i, a uniform one stays scalar
-// (spmd_analysis.hpp); divergent control flow narrows an execution mask
-// (`exec`), a side of an `if` that no lane needs is skipped, and a loop
+// (analyse_spmd in sh/analysis.hpp); divergent control flow narrows an
+// execution mask (`exec`), a side of an `if` that no lane needs is skipped, and a loop
 // runs while any lane is active.  Arithmetic is the same code for both:
 // LLVM's operations take vectors as they take scalars.
 #include <array>
@@ -21,9 +21,11 @@
 
 #include "lower.hpp"
 #include "sh/analysis.hpp"
-#include "spmd_analysis.hpp"
 
 namespace sh::cpu {
+
+using analysis::SpmdFacts;
+using analysis::VarSet;
 
 class Lowering {
  public:

@@ -17,7 +17,7 @@ Value* Lowering::read(const ir::Operand& o, int i) {
 }
 
 // Under a mask, lanes that are not running keep their value where some
-// lane may read it later (spmd_analysis.hpp).  Outside masks every lane
+// lane may read it later (analyse_spmd in sh/analysis.hpp).  Outside masks every lane
 // runs, and lanes past the stream's end are never stored.
 void Lowering::write(ir::VarId v, int component, Value* x) {
   Value* slot = slots_[v][component];

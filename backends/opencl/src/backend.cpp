@@ -36,21 +36,20 @@ std::string build_options(const sh::Options& o) {
 class OpenClKernel : public Kernel {
  public:
   OpenClKernel(const ir::Program& p, const sh::Options& o)
-      : program_(p), options_(o), device_(open_device(o.get<Options>().device)) {
-    Source source = generate(p, o);
+      : program_(p), options_(o), device_(open_device(o.get<Options>().device)), lanes_(lanes_for(o, *device_)) {
+    Source source = generate(p, o, lanes_);
     source_ = std::move(source.text);
     if (source.needs_fp64 && !device_->fp64)
       throw Error("program '" + p.name + "': needs double precision (f64), which OpenCL device '" + device_->name +
                   "' lacks (no cl_khr_fp64); use precision f32 and float values, or another device");
     cl_program_ = build(*device_, p.name, source_, build_options(o));
-    cl_int err = CL_SUCCESS;
-    kernel_ = clCreateKernel(cl_program_, kKernelName, &err);
-    check(err, "program '" + p.name + "': creating the OpenCL kernel");
-    group_ = group_size();
+    one_ = make_kernel(kKernelName);
+    if (lanes_ > 1) many_ = make_kernel(kLanesKernelName);
   }
 
   ~OpenClKernel() override {
-    if (kernel_) clReleaseKernel(kernel_);
+    for (const Launcher* k : {&one_, &many_})
+      if (k->kernel) clReleaseKernel(k->kernel);
     if (cl_program_) clReleaseProgram(cl_program_);
   }
 
@@ -124,32 +123,69 @@ class OpenClKernel : public Kernel {
   std::string listing() const override { return source_; }
 
  private:
+  // A kernel and the work-items of its whole work-groups.
+  struct Launcher {
+    cl_kernel kernel = nullptr;
+    std::size_t group = 0;  // 0: none chosen, the implementation chooses
+  };
+
+  // Elements per work-item: the setting, or on a CPU device its preferred
+  // float vector width (one on other devices, whose compilers spread
+  // work-items over SIMD lanes themselves).
+  static int lanes_for(const sh::Options& o, const Device& d) {
+    int chosen = o.get<Options>().width;
+    if (chosen != 0) return chosen;
+    if (!d.cpu) return 1;
+    int lanes = 1;
+    while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes < 16) lanes *= 2;
+    return lanes;
+  }
+
+  Launcher make_kernel(const char* name) {
+    cl_int err = CL_SUCCESS;
+    Launcher l;
+    l.kernel = clCreateKernel(cl_program_, name, &err);
+    check(err, "program '" + program_.name + "': creating the OpenCL kernel " + name);
+    l.group = group_size(l.kernel);
+    return l;
+  }
+
   // Whole work-groups of one size chosen for the kernel, so that the device
   // compiles one work-group function and vectorises it unmasked; the last
   // partial group runs as one more whole group ending at the stream's end
   // (its first elements run twice, giving the same values), which a program
-  // that adds into accumulators must not do: it, and a stream shorter than
-  // a group, runs as one launch in groups the implementation chooses.
+  // that adds into accumulators must not do.  Elements left over (all of a
+  // short stream, and an accumulating program's after its whole
+  // work-items) run in the one-element kernel, in one launch of groups the
+  // implementation chooses.
   void launch(std::size_t count, bool may_repeat) {
-    std::size_t full = group_ ? count / group_ * group_ : 0;
-    if (full == 0 || (full != count && !may_repeat)) return enqueue(0, count, nullptr);
-    enqueue(0, full, &group_);
-    if (full != count) enqueue(count - group_, group_, &group_);
+    const Launcher& k = lanes_ > 1 ? many_ : one_;
+    std::size_t lanes = static_cast<std::size_t>(lanes_), span = k.group * lanes;
+    if (may_repeat && span != 0 && count >= span) {
+      std::size_t full = count / span * span;
+      enqueue(k, 0, full / lanes, true);
+      if (full != count) enqueue(k, count - span, k.group, true);
+      return;
+    }
+    std::size_t items = lanes > 1 ? count / lanes : 0;
+    if (items != 0) enqueue(many_, 0, items, false);
+    if (items * lanes != count) enqueue(one_, items * lanes, count - items * lanes, false);
   }
 
-  void enqueue(std::size_t base, std::size_t global, const std::size_t* local) {
+  void enqueue(const Launcher& k, std::size_t base, std::size_t work_items, bool whole_groups) {
     cl_long first = static_cast<cl_long>(base);
-    set(0, sizeof first, &first);
-    check(clEnqueueNDRangeKernel(device_->queue, kernel_, 1, nullptr, &global, local, 0, nullptr, nullptr),
+    check(clSetKernelArg(k.kernel, 0, sizeof first, &first), where("setting the first element"));
+    check(clEnqueueNDRangeKernel(device_->queue, k.kernel, 1, nullptr, &work_items, whole_groups ? &k.group : nullptr, 0,
+                                 nullptr, nullptr),
           where("launching the kernel"));
   }
 
   // The largest multiple of the kernel's preferred group size up to 1024
   // that the kernel allows (0: none, then the implementation chooses).
-  std::size_t group_size() const {
+  std::size_t group_size(cl_kernel kernel) const {
     std::size_t most = 0, multiple = 0;
-    clGetKernelWorkGroupInfo(kernel_, device_->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof most, &most, nullptr);
-    clGetKernelWorkGroupInfo(kernel_, device_->id, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
+    clGetKernelWorkGroupInfo(kernel, device_->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof most, &most, nullptr);
+    clGetKernelWorkGroupInfo(kernel, device_->id, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
                              &multiple, nullptr);
     if (multiple == 0) return 0;
     return std::min<std::size_t>(most, 1024) / multiple * multiple;
@@ -184,8 +220,10 @@ class OpenClKernel : public Kernel {
     return c.buffer.mem;
   }
 
+  // Both kernels take the same arguments.
   void set(cl_uint index, std::size_t size, const void* value) {
-    check(clSetKernelArg(kernel_, index, size, value), where("setting argument " + std::to_string(index)));
+    for (const Launcher* k : {&one_, &many_})
+      if (k->kernel) check(clSetKernelArg(k->kernel, index, size, value), where("setting argument " + std::to_string(index)));
   }
 
   void set_buffer(cl_uint index, std::vector<Buffer>& keep, Buffer b) {
@@ -241,9 +279,9 @@ class OpenClKernel : public Kernel {
   };
   std::map<std::uint64_t, Cached> tables_;
   std::string source_;
+  int lanes_;  // elements per work-item of many_
   cl_program cl_program_ = nullptr;
-  cl_kernel kernel_ = nullptr;
-  std::size_t group_ = 0;  // work-items per group of a whole-group launch
+  Launcher one_, many_;  // one element per work-item; lanes_ (above 1) per work-item
   std::mutex mutex_;
 };
 
@@ -254,9 +292,11 @@ class OpenClBackend : public Backend {
     return std::make_unique<OpenClKernel>(p, o);
   }
   std::vector<Setting> settings() const override {
-    return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"}};
+    return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
+            {"width", "scalar, 2, 4, 8, 16 or auto: elements per work-item, auto the device's float vector width on a CPU, else 1"}};
   }
   BackendOptions default_options() const override { return Options{}; }
+  std::vector<Variant> variants() const override { return {{"scalar", Options{.device = {}, .width = 1}}, {"w8", Options{.device = {}, .width = 8}}}; }
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);

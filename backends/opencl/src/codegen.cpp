@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "sh/analysis.hpp"
 #include "sh/ir/printer.hpp"
 #include "sh/ir/verifier.hpp"
 #include "sh/ir/visitor.hpp"
@@ -13,6 +14,7 @@ namespace sh::opencl {
 namespace {
 
 const char kComponent[] = "xyzw";
+const char kLaneDigit[] = "0123456789abcdef";
 
 const char kAtomicAddFloat[] =
     "\nvoid sh_atomic_add_float(volatile __global float* p, float v) {\n"
@@ -23,58 +25,106 @@ const char kAtomicAddFloat[] =
     "  } while (atomic_cmpxchg((volatile __global unsigned int*)p, old.u, sum.u) != old.u);\n"
     "}\n";
 
-// Sh's mod and round, as ir/eval.cpp defines them (the reference says why
-// they are exact), in the scalar type t: the remainder with the sign of b
-// (C's, plus b where the signs differ), and halves toward +Inf.
-std::string floor_remainder_function(const std::string& t) {
-  bool fp = t != "int";
-  return "\n" + t + " sh_mod_" + t + "(" + t + " a, " + t + " b) {\n  " + t + " r = " +
-         (fp ? "fmod(a, b)" : "a % b") + ";\n  return r != 0 && " + (fp ? "(r < 0) != (b < 0)" : "(r ^ b) < 0") +
-         " ? r + b : r;\n}\n";
-}
+// What the kernels of one source share: the helper functions written once
+// before them, and whether the source needs double precision.
+struct Prelude {
+  std::set<std::string> names;
+  std::string text;
+  bool needs_fp64 = false;
+};
 
-std::string round_half_up_function(const std::string& t) {
-  std::string half = t == "float" ? "0.5f" : "0.5";
-  return "\n" + t + " sh_round_" + t + "(" + t + " a) {\n  " + t + " f = floor(a);\n  return a - f >= " + half +
-         " ? f + 1 : f;\n}\n";
-}
-
-// The element's place in the launch domain (sh::LaunchDomain): the run's
-// elements start at `first` of a grid of rows `row` long, `rows` a layer.
-constexpr const char* kPosition =
-    "  const long at = first + e;\n"
-    "  const int position_x = (int)(at % row), position_y = (int)(at / row % rows), position_z = (int)(at / row / rows);\n";
-
+// One kernel of the source: the scalar form (lanes 1: a work-item runs one
+// element, with C's control flow) or the SPMD form (a work-item runs
+// `lanes` consecutive elements in vector registers, the control flow as
+// masks: an assignment under a mask selects, a branch side runs when any
+// lane takes it, a loop runs while any lane loops).  The two differ only
+// in the text of types, choices and the statements that steer lanes.
 class Generator {
  public:
-  Generator(const ir::Program& p, const sh::Options& o) : p_(p), o_(o) {}
+  Generator(const ir::Program& p, const sh::Options& o, int lanes, Prelude& prelude)
+      : p_(p),
+        o_(o),
+        lanes_(lanes),
+        prelude_(prelude),
+        access_(analysis::table_access(p)),
+        facts_(spmd() ? analysis::analyse_spmd(p) : analysis::SpmdFacts{}) {}
 
-  Source run() {
-    needs_fp64_ = o_.precision == Precision::F64;
-    for (const ir::Var& v : p_.vars) needs_fp64_ = needs_fp64_ || v.type.scalar == ir::Scalar::F64;
-    for (const ir::TableDecl& t : p_.tables) needs_fp64_ = needs_fp64_ || t.element.scalar == ir::Scalar::F64;
-    std::ostringstream head;
-    head << "// program " << p_.name << ", generated from its optimised IR\n";
-    if (needs_fp64_) head << "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n";
-    if (o_.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
-    if (adds_floats()) head << kAtomicAddFloat;
+  std::string run(const char* name) {
     std::ostringstream kernel;
-    kernel << "\n__kernel void " << kKernelName << "(\n    const long base, const long first, const long row, const long rows";
+    kernel << "\n__kernel void " << name << "(\n    const long base, const long first, const long row, const long rows";
     signature(kernel);
     // No test of e against the stream's end: every launch covers elements
     // that exist (backend.cpp), and a test would make a vectorising
     // compiler mask every load and store.
-    kernel << ")\n{\n  const long e = base + get_global_id(0);\n";
-    if (ir::uses(p_, ir::Op::Position)) kernel << kPosition;
+    kernel << ")\n{\n  const long e = base + (long)get_global_id(0) * " << lanes_ << ";\n";
+    if (spmd()) kernel << "  " << vec("int") << " exec = (" << vec("int") << ")(-1);\n";
+    if (ir::uses(p_, ir::Op::Position)) kernel << position();
     registers();
     load_inputs();
     block(p_.body, 1);
     store_outputs();
     body_ << "}\n";
-    return Source{head.str() + helpers_ + kernel.str() + nan_constants() + body_.str(), needs_fp64_};
+    return kernel.str() + nan_constants() + body_.str();
   }
 
  private:
+  bool spmd() const { return lanes_ > 1; }
+  // SPMD: whether lanes may hold different values of v (otherwise every
+  // lane holds lane 0's), and whether an if or loop needs masks.
+  bool varying(ir::VarId v) const { return !spmd() || facts_.varying[v]; }
+  bool divergent(const ir::Stmt& s) const { return spmd() && facts_.divergent.at(&s); }
+
+  // The element's place in the launch domain (sh::LaunchDomain): the run's
+  // elements start at `first` of a grid of rows `row` long, `rows` a layer.
+  // A work-item's lanes usually share a row: then one division serves all.
+  std::string position() const {
+    if (!spmd())
+      return "  const long at = first + e;\n"
+             "  const int position_x = (int)(at % row), position_y = (int)(at / row % rows), position_z = (int)(at / row / "
+             "rows);\n";
+    std::string i = vec("int"), l = vec("long");
+    return "  const long at = first + e;\n  " + i + " position_x, position_y, position_z;\n  if (at % row + " +
+           std::to_string(lanes_) + " <= row) {\n    position_x = (int)(at % row) + " + iota("int") +
+           ";\n    position_y = (" + i + ")((int)(at / row % rows));\n    position_z = (" + i +
+           ")((int)(at / row / rows));\n  } else {\n    const " + l + " lane_at = at + " + iota("long") +
+           ";\n    position_x = convert_" + i + "(lane_at % row);\n    position_y = convert_" + i +
+           "(lane_at / row % rows);\n    position_z = convert_" + i + "(lane_at / row / rows);\n  }\n";
+  }
+
+  // ---- text that differs between the forms -----------------------------------------
+
+  std::string vec(const std::string& scalar) const { return spmd() ? scalar + std::to_string(lanes_) : scalar; }
+  std::string iota(const std::string& scalar) const {
+    std::string list;
+    for (int k = 0; k < lanes_; ++k) list += (k ? ", " : "") + std::to_string(k);
+    return "(" + vec(scalar) + ")(" + list + ")";
+  }
+  static std::string lane(int k) { return std::string(".s") + kLaneDigit[k]; }
+
+  // A 1 or 0 in the type of `s` from a C comparison (1/0 for scalars, -1/0
+  // for vectors).
+  std::string bit(const std::string& comparison, ir::Scalar s) const {
+    if (!spmd()) return std::string("(") + reg_type(s) + ")(" + comparison + ")";
+    return "convert_" + vec(reg_type(s)) + "(-(" + comparison + "))";
+  }
+  // yes where `comparison` holds, otherwise no, in the type of `s`.
+  std::string choose(const std::string& comparison, const std::string& yes, const std::string& no, ir::Scalar s) const {
+    if (!spmd()) return "(" + comparison + " ? " + yes + " : " + no + ")";
+    return "select(" + no + ", " + yes + ", convert_" + vec(mask_type(s)) + "(" + comparison + "))";
+  }
+  // The integer type whose lanes select values of type `s`.
+  const char* mask_type(ir::Scalar s) const { return std::string(reg_type(s)) == "double" ? "long" : "int"; }
+  std::string bits_as(const char* type, const std::string& x) const { return "as_" + vec(type) + "(" + x + ")"; }
+  std::string convert(const char* type, const std::string& x) const {
+    return spmd() ? "convert_" + vec(type) + "(" + x + ")" : std::string("(") + type + ")(" + x + ")";
+  }
+  std::string constant(ir::Scalar s, double v) const {
+    std::string n = number(s, v);
+    return spmd() ? "((" + vec(reg_type(s)) + ")(" + n + "))" : n;
+  }
+
+  // ---- the source's prelude ------------------------------------------------------
+
   // A NaN constant is read from a volatile, so that PoCL's compiler never
   // sees it: given a NaN it knows, some of its built-ins (convert_int_sat,
   // exp10) give an undefined value and the store of it disappears.
@@ -85,18 +135,37 @@ class Generator {
     return decls;
   }
 
-  // The name of a helper function of the kernel's source, written once,
-  // before the kernel, the first time an operation needs it.
-  std::string helper(const char* op, const std::string& t, std::string (*define)(const std::string&)) const {
-    std::string name = std::string("sh_") + op + "_" + t;
-    if (helper_names_.insert(name).second) helpers_ += define(t);
+  // A helper function of the source, written once, before the kernels,
+  // the first time an operation needs it; returns its name.
+  std::string helper(const std::string& name, const std::string& returns, const std::string& rest) const {
+    if (prelude_.names.insert(name).second) prelude_.text += "\n" + returns + " " + name + rest;
     return name;
   }
 
-  bool adds_floats() const {
-    for (const ir::TableDecl& t : p_.tables)
-      if (t.accumulator && ir::is_float(t.element.scalar)) return true;
-    return false;
+  // Sh's mod and round, as ir/eval.cpp defines them (the reference says why
+  // they are exact): the remainder with the sign of b (C's, plus b where
+  // the signs differ), and halves toward +Inf.
+  std::string floor_remainder(ir::Scalar s) const {
+    std::string t = vec(reg_type(s));
+    bool fp = ir::is_float(s);
+    std::string differ = fp ? "(r < 0) != (b < 0)" : "(r ^ b) < 0";
+    return helper("sh_mod_" + t, t,
+                  "(" + t + " a, " + t + " b) {\n  " + t + " r = " + (fp ? lane_by_lane("fmod", {"a", "b"}, s) : "a % b") +
+                      ";\n  return " +
+                      choose("r != 0 && " + differ, "r + b", "r", s) + ";\n}\n");
+  }
+  std::string round_half_up(ir::Scalar s) const {
+    std::string t = vec(reg_type(s));
+    return helper("sh_round_" + t, t,
+                  "(" + t + " a) {\n  " + t + " f = floor(a);\n  return " + choose("a - f >= " + number(s, 0.5), "f + 1", "f", s) +
+                      ";\n}\n");
+  }
+  // The first lane set in a mask (the last lane where none is).
+  std::string first_lane() const {
+    std::string n = std::to_string(lanes_);
+    return helper("sh_first_lane" + n, "int",
+                  "(" + vec("int") + " m) {\n  int l[" + n + "];\n  vstore" + n + "(m, 0, l);\n  int k = 0;\n  while (k < " +
+                      std::to_string(lanes_ - 1) + " && !l[k]) ++k;\n  return k;\n}\n");
   }
 
   // ---- types and names -------------------------------------------------------
@@ -117,7 +186,7 @@ class Generator {
     }
     return "int";
   }
-  const char* reg_type(ir::VarId v) const { return reg_type(p_.type_of(v).scalar); }
+  ir::Scalar scalar_of(ir::VarId v) const { return p_.type_of(v).scalar; }
 
   std::string reg(ir::VarId v, int c) const { return "v" + std::to_string(v) + "_" + kComponent[c]; }
 
@@ -140,10 +209,13 @@ class Generator {
     return is_double ? text : text + "f";
   }
 
+  // An operand's component; in the SPMD form constants and uniforms are
+  // broadcast, so that every built-in sees vectors.
   std::string read(const ir::Operand& o, int i) const {
     int c = o.swizzle[o.width() == 1 ? 0 : i];
     const ir::Var& v = p_.var(o.var);
-    if (v.kind == ir::VarKind::Const) return number(v.type.scalar, v.value[c]);
+    if (v.kind == ir::VarKind::Const) return constant(v.type.scalar, v.value[c]);
+    if (v.kind == ir::VarKind::Uniform && spmd()) return "((" + vec(reg_type(v.type.scalar)) + ")" + reg(o.var, c) + ")";
     return reg(o.var, c);
   }
 
@@ -153,11 +225,11 @@ class Generator {
 
   void signature(std::ostringstream& out) {
     for (std::size_t i = 0; i < p_.inputs.size(); ++i)
-      out << ",\n    __global const " << storage_type(p_.type_of(p_.inputs[i]).scalar) << "* in" << i;
+      out << ",\n    __global const " << storage_type(scalar_of(p_.inputs[i])) << "* in" << i;
     for (std::size_t o = 0; o < p_.outputs.size(); ++o)
-      out << ",\n    __global " << storage_type(p_.type_of(p_.outputs[o]).scalar) << "* out" << o;
+      out << ",\n    __global " << storage_type(scalar_of(p_.outputs[o])) << "* out" << o;
     for (ir::VarId u : p_.uniforms)
-      for (int c = 0; c < p_.type_of(u).width; ++c) out << ",\n    const " << reg_type(u) << " " << reg(u, c);
+      for (int c = 0; c < p_.type_of(u).width; ++c) out << ",\n    const " << reg_type(scalar_of(u)) << " " << reg(u, c);
     for (std::size_t t = 0; t < p_.tables.size(); ++t)
       out << ",\n    __global " << (p_.tables[t].accumulator ? "volatile " : "const ") << storage_type(p_.tables[t].element.scalar)
           << "* table" << t << ", const int table" << t << "_x, const int table" << t << "_y, const int table" << t << "_z";
@@ -168,7 +240,7 @@ class Generator {
     for (std::size_t v = 0; v < p_.vars.size(); ++v) {
       const ir::Var& var = p_.vars[v];
       if (var.kind == ir::VarKind::Const || var.kind == ir::VarKind::Uniform) continue;
-      std::string decl = std::string("  ") + reg_type(var.type.scalar);
+      std::string decl = "  " + vec(reg_type(var.type.scalar));
       for (int c = 0; c < var.type.width; ++c) decl += (c ? ", " : " ") + reg(static_cast<ir::VarId>(v), c) + " = 0";
       body_ << decl << ";";
       if (!var.name.empty()) body_ << "  // " << var.name;
@@ -176,12 +248,30 @@ class Generator {
     }
   }
 
+  // Element k's component c of a stream `w` components wide: in the SPMD
+  // form a one-component stream is a vector load or store, a wider one a
+  // load or store per lane.
+  std::string at(const std::string& stream, int w, int c, int k) const {
+    return stream + "[(e + " + std::to_string(k) + ") * " + std::to_string(w) + " + " + std::to_string(c) + "]";
+  }
+
   void load_inputs() {
     for (std::size_t i = 0; i < p_.inputs.size(); ++i) {
       ir::VarId v = p_.inputs[i];
-      int w = p_.type_of(v).width;
-      for (int c = 0; c < w; ++c)
-        line(1, reg(v, c) + " = in" + std::to_string(i) + "[e * " + std::to_string(w) + " + " + std::to_string(c) + "];");
+      ir::Type t = p_.type_of(v);
+      std::string in = "in" + std::to_string(i);
+      for (int c = 0; c < t.width; ++c) {
+        std::string value;
+        if (!spmd()) {
+          value = at(in, t.width, c, 0);
+        } else if (t.width == 1) {
+          value = "convert_" + vec(reg_type(t.scalar)) + "(vload" + std::to_string(lanes_) + "(0, " + in + " + e))";
+        } else {
+          for (int k = 0; k < lanes_; ++k) value += (k ? ", " : "") + at(in, t.width, c, k);
+          value = "(" + vec(reg_type(t.scalar)) + ")(" + value + ")";
+        }
+        line(1, reg(v, c) + " = " + value + ";");
+      }
     }
   }
 
@@ -189,26 +279,67 @@ class Generator {
     for (std::size_t o = 0; o < p_.outputs.size(); ++o) {
       ir::VarId v = p_.outputs[o];
       ir::Type t = p_.type_of(v);
-      for (int c = 0; c < t.width; ++c)
-        line(1, "out" + std::to_string(o) + "[e * " + std::to_string(t.width) + " + " + std::to_string(c) + "] = (" +
-                    storage_type(t.scalar) + ")" + reg(v, c) + ";");
+      std::string out = "out" + std::to_string(o);
+      const char* stored = storage_type(t.scalar);
+      for (int c = 0; c < t.width; ++c) {
+        if (!spmd()) {
+          line(1, at(out, t.width, c, 0) + " = (" + stored + ")" + reg(v, c) + ";");
+        } else if (t.width == 1) {
+          line(1, "vstore" + std::to_string(lanes_) + "(" + convert(stored, reg(v, c)) + ", 0, " + out + " + e);");
+        } else {
+          for (int k = 0; k < lanes_; ++k)
+            line(1, at(out, t.width, c, k) + " = (" + stored + ")" + reg(v, c) + lane(k) + ";");
+        }
+      }
     }
   }
 
   // ---- statements -----------------------------------------------------------------
 
+  // In the SPMD form the rest of a block after a break or continue runs for
+  // no lane, so it is not written.
   void block(const ir::Block& b, int depth) {
     for (const ir::Stmt& s : b) {
-      if (auto* a = std::get_if<ir::Assign>(&s.node)) assign(*a, depth);
-      else if (auto* i = std::get_if<ir::If>(&s.node)) branch(*i, depth);
-      else if (auto* l = std::get_if<ir::Loop>(&s.node)) loop(*l, s, depth);
-      else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) scatter(*sc, depth);
-      else if (std::holds_alternative<ir::Break>(s.node)) line(depth, jumps_.back().wrapped ? "{ " + jumps_.back().flag + " = 1; break; }" : "break;");
-      else line(depth, "continue;");
+      if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+        assign(*a, depth);
+      } else if (auto* i = std::get_if<ir::If>(&s.node)) {
+        divergent(s) ? masked_branch(*i, s, depth) : branch(*i, depth);
+      } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+        divergent(s) ? masked_loop(*l, s, depth) : loop(*l, s, depth);
+      } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+        scatter(*sc, depth);
+      } else {
+        leave(std::holds_alternative<ir::Break>(s.node), depth);
+        return;
+      }
     }
   }
 
-  std::string truthy(const ir::Operand& o) const { return "(" + read(o, 0) + " > 0)"; }
+  // A masked loop's breaking lanes leave it for good and its continuing
+  // lanes come back at the update; a branching loop is left with C's jumps.
+  void leave(bool is_break, int depth) {
+    const LoopExit& l = exits_.back();
+    if (!l.active.empty()) {
+      if (is_break) line(depth, l.active + " &= ~exec;");
+      line(depth, "exec = 0;");
+    } else if (is_break) {
+      line(depth, l.wrapped ? "{ " + l.flag + " = 1; break; }" : "break;");
+    } else {
+      line(depth, "continue;");
+    }
+  }
+
+  // A branch's condition: the SPMD form branches only where every lane
+  // agrees, so lane 0 speaks for all.
+  std::string truthy(const ir::Operand& o) const {
+    const ir::Var& v = p_.var(o.var);
+    int c = o.swizzle[0];
+    if (v.kind == ir::VarKind::Const) return "(" + number(v.type.scalar, v.value[c]) + " > 0)";
+    return "(" + reg(o.var, c) + (spmd() && v.kind != ir::VarKind::Uniform ? ".s0" : "") + " > 0)";
+  }
+  std::string lanes_where(const ir::Operand& o) const { return exec_mask("(" + read(o, 0) + " > 0)"); }
+  // The lanes where a comparison holds, as a mask of the exec mask's type.
+  std::string exec_mask(const std::string& comparison) const { return "convert_" + vec("int") + "(" + comparison + ")"; }
 
   void branch(const ir::If& s, int depth) {
     line(depth, "if " + truthy(s.cond) + " {");
@@ -220,6 +351,42 @@ class Generator {
     line(depth, "}");
   }
 
+  // Each side runs under its share of the lanes, and only when that share
+  // has one; afterwards the lanes that finished either side go on (those
+  // that broke or continued inside it do not).
+  void masked_branch(const ir::If& s, const ir::Stmt& at, int depth) {
+    std::string n = std::to_string(branches_++), before = "before" + n, taken = "taken" + n, done = "done" + n;
+    std::string mask = vec("int");
+    line(depth, "{");
+    line(depth + 1, "const " + mask + " " + before + " = exec, " + taken + " = " + lanes_where(s.cond) + ";");
+    line(depth + 1, "exec = " + before + " & " + taken + ";");
+    side(s.then_body, facts_.live_during_then.at(&at), depth + 1);
+    line(depth + 1, "const " + mask + " " + done + " = exec;");
+    line(depth + 1, "exec = " + before + " & ~" + taken + ";");
+    side(s.else_body, facts_.live_at_rejoin.at(&at), depth + 1);
+    line(depth + 1, "exec |= " + done + ";");
+    line(depth, "}");
+  }
+
+  void side(const ir::Block& body, const analysis::VarSet& live, int depth) {
+    if (body.empty()) return;
+    line(depth, "if (any(exec)) {");
+    enter_masked(live);
+    block(body, depth + 1);
+    keep_.pop_back();
+    line(depth, "}");
+  }
+
+  // Under a mask, a write to a variable live where the waiting lanes
+  // rejoin keeps their values; any other write is dead for them.
+  void enter_masked(const analysis::VarSet& live) {
+    analysis::VarSet keep = live;
+    if (!keep_.empty())
+      for (std::size_t v = 0; v < keep.size(); ++v) keep[v] = keep[v] || keep_.back()[v];
+    keep_.push_back(std::move(keep));
+  }
+  bool masked() const { return !keep_.empty(); }
+
   static bool has_continue(const ir::Block& b) {
     for (const ir::Stmt& s : b) {
       if (std::holds_alternative<ir::Continue>(s.node)) return true;
@@ -227,6 +394,13 @@ class Generator {
         if (has_continue(i->then_body) || has_continue(i->else_body)) return true;
     }
     return false;
+  }
+
+  // Past the iteration cap the kernel stops and reports the loop and the
+  // element (in the SPMD form, the first lane still looping).
+  void count_iteration(int number, const std::string& counter, const std::string& element, int depth) {
+    line(depth, "if (++" + counter + " > " + std::to_string(o_.max_loop_iterations) + "L) { if (status[0] == 0) { status[0] = " +
+                    std::to_string(number + 1) + "; status[1] = " + element + "; } return; }");
   }
 
   // for (;;) { count; [header; test]; body; update; [header; test] }.  A
@@ -240,14 +414,13 @@ class Generator {
     line(depth, "long " + counter + " = 0;");
     if (wrapped) line(depth, "int " + flag + " = 0;");
     line(depth, "for (;;) {");
-    line(depth + 1, "if (++" + counter + " > " + std::to_string(o_.max_loop_iterations) + "L) { if (status[0] == 0) { status[0] = " +
-                        std::to_string(number + 1) + "; status[1] = e; } return; }");
+    count_iteration(number, counter, "e", depth + 1);
     auto test = [&] {
       block(l.header, depth + 1);
       line(depth + 1, "if (!" + truthy(l.cond) + ") break;");
     };
     if (l.test_at_top) test();
-    jumps_.push_back({wrapped, flag});
+    exits_.push_back({"", wrapped, flag});
     if (wrapped) {
       line(depth + 1, "do {");
       block(l.body, depth + 2);
@@ -256,9 +429,44 @@ class Generator {
     } else {
       block(l.body, depth + 1);
     }
-    jumps_.pop_back();
+    exits_.pop_back();
     block(l.update, depth + 1);
     if (!l.test_at_top) test();
+    line(depth, "}");
+  }
+
+  // The same loop while any lane loops: the test retires the lanes whose
+  // condition failed, every part runs for the lanes still looping, and
+  // every lane that entered leaves at the end.
+  void masked_loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
+    int number = loops_++;
+    std::string n = std::to_string(number), counter = "iterations" + n, active = "active" + n, entered = "entered" + n;
+    std::string mask = vec("int");
+    line(depth, "// " + ir::print(p_, s));
+    line(depth, "{");
+    line(depth + 1, "const " + mask + " " + entered + " = exec;");
+    line(depth + 1, mask + " " + active + " = exec;");
+    line(depth + 1, "long " + counter + " = 0;");
+    line(depth + 1, "for (;;) {");
+    enter_masked(facts_.live_at_rejoin.at(&s));
+    count_iteration(number, counter, "e + " + first_lane() + "(" + active + ")", depth + 2);
+    auto test = [&] {
+      line(depth + 2, "exec = " + active + ";");
+      block(l.header, depth + 2);
+      line(depth + 2, active + " &= " + lanes_where(l.cond) + ";");
+      line(depth + 2, "if (!any(" + active + ")) break;");
+    };
+    if (l.test_at_top) test();
+    line(depth + 2, "exec = " + active + ";");
+    exits_.push_back({active, false, ""});
+    block(l.body, depth + 2);
+    exits_.pop_back();
+    line(depth + 2, "exec = " + active + ";");
+    block(l.update, depth + 2);
+    if (!l.test_at_top) test();
+    keep_.pop_back();
+    line(depth + 1, "}");
+    line(depth + 1, "exec = " + entered + ";");
     line(depth, "}");
   }
 
@@ -266,31 +474,37 @@ class Generator {
 
   void assign(const ir::Assign& a, int depth) {
     std::string results[4];
+    ir::Scalar to = scalar_of(a.dest);
     if (ir::is_table_read(a.op)) {
-      table_read(a, results);
+      table_read(a, results, depth);
     } else if (a.op == ir::Op::Position) {
       for (int i = 0; i < a.mask.size; ++i) results[i] = std::string("position_") + kComponent[i];
     } else {
-      ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
+      ir::Scalar from = scalar_of(a.args[0].var);
       for (int i = 0; i < a.mask.size; ++i) {
         std::string x[3];
         for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = read(a.args[k], i);
         results[i] = operation(a.op, from, to, x[0], x[1], x[2]);
       }
     }
+    // Under a mask, lanes that do not run the statement keep their values.
+    auto write = [&](ir::VarId v, int c, const std::string& value) {
+      std::string r = reg(v, c);
+      if (!masked() || !varying(v) || !keep_.back()[v]) return r + " = " + value + ";";
+      return r + " = select(" + r + ", " + value + ", " + (std::string(mask_type(to)) == "int" ? "exec" : convert("long", "exec")) +
+             ");";
+    };
     // All components are computed before any is written (v.xy = v.yx).
     if (a.mask.size == 1) {
-      line(depth, reg(a.dest, a.mask[0]) + " = " + results[0] + ";");
+      line(depth, write(a.dest, a.mask[0], results[0]));
       return;
     }
-    std::string t = reg_type(a.dest);
+    std::string t = vec(reg_type(to));
     line(depth, "{");
     for (int i = 0; i < a.mask.size; ++i) line(depth + 1, t + " r" + std::to_string(i) + " = " + results[i] + ";");
-    for (int i = 0; i < a.mask.size; ++i) line(depth + 1, reg(a.dest, a.mask[i]) + " = r" + std::to_string(i) + ";");
+    for (int i = 0; i < a.mask.size; ++i) line(depth + 1, write(a.dest, a.mask[i], "r" + std::to_string(i)));
     line(depth, "}");
   }
-
-  std::string one(ir::Scalar s) const { return number(s, 1.0); }
 
   // One case per row of the op table (ops.def), no default: a new
   // operation does not build until it is generated here.  Signed overflow
@@ -300,14 +514,14 @@ class Generator {
                         const std::string& c) const {
     using ir::Op;
     const bool fp = ir::is_float(from);
-    std::string t = reg_type(from);
-    auto mask = [&](const std::string& bit) { return "(" + t + ")(" + bit + ")"; };
     auto pos = [&](const std::string& x) { return "(" + x + " > 0)"; };
     auto call = [](const char* f, const std::string& x) { return std::string(f) + "(" + x + ")"; };
     auto call2 = [](const char* f, const std::string& x, const std::string& y) {
       return std::string(f) + "(" + x + ", " + y + ")";
     };
-    auto wrap = [&](const char* sym) { return "(int)((uint)" + a + " " + sym + " (uint)" + b + ")"; };
+    auto uint = [&](const std::string& x) { return bits_as("uint", x); };
+    auto wrap = [&](const char* sym) { return bits_as("int", uint(a) + " " + sym + " " + uint(b)); };
+    std::string one = constant(from, 1.0);
     switch (op) {
       case Op::Mov: return a;
       case Op::Cast: return cast(a, from, to);
@@ -316,30 +530,30 @@ class Generator {
       case Op::Mul: return fp ? a + " * " + b : wrap("*");
       // Legal IR divides integers only by divisors that cannot trap.
       case Op::Div: return a + " / " + b;
-      case Op::Mod: return helper("mod", t, floor_remainder_function) + "(" + a + ", " + b + ")";
-      case Op::Neg: return fp ? "-" + a : "(int)(0u - (uint)" + a + ")";
+      case Op::Mod: return floor_remainder(from) + "(" + a + ", " + b + ")";
+      case Op::Neg: return fp ? "-" + a : bits_as("int", "0u - " + uint(a));
       case Op::Min: return call2(fp ? "fmin" : "min", a, b);
       case Op::Max: return call2(fp ? "fmax" : "max", a, b);
       // In uint: abs(INT_MIN) wraps to INT_MIN, where PoCL's abs assumes a
       // result that is not negative.
-      case Op::Abs: return fp ? call("fabs", a) : "(int)(" + a + " < 0 ? 0u - (uint)" + a + " : (uint)" + a + ")";
+      case Op::Abs: return fp ? call("fabs", a) : bits_as("int", choose(a + " < 0", "0u - " + uint(a), uint(a), from));
       case Op::Sign:
-        if (fp) return "(" + a + " > 0 ? " + one(from) + " : (" + a + " < 0 ? -" + one(from) + " : " + a + "))";
-        return "(" + a + " > 0 ? 1 : (" + a + " < 0 ? -1 : 0))";
+        if (fp) return choose(a + " > 0", one, choose(a + " < 0", "-" + one, a, from), from);
+        return choose(a + " > 0", one, choose(a + " < 0", constant(from, -1), constant(from, 0), from), from);
       case Op::Floor: return call("floor", a);
       case Op::Ceil: return call("ceil", a);
-      case Op::Round: return helper("round", t, round_half_up_function) + "(" + a + ")";
+      case Op::Round: return round_half_up(from) + "(" + a + ")";
       case Op::Sqrt: return call("sqrt", a);
-      case Op::Rsqrt: return one(from) + " / sqrt(" + a + ")";
-      case Op::Rcp: return one(from) + " / " + a;
-      case Op::Pow: return call2("pow", a, b);
+      case Op::Rsqrt: return one + " / sqrt(" + a + ")";
+      case Op::Rcp: return one + " / " + a;
+      case Op::Pow: return lane_by_lane("pow", {a, b}, from);
       case Op::Exp: return call("exp", a);
       case Op::Exp2: return call("exp2", a);
       case Op::Log: return call("log", a);
       case Op::Log2: return call("log2", a);
-      case Op::Sin: return call("sin", a);
-      case Op::Cos: return call("cos", a);
-      case Op::Tan: return call("tan", a);
+      case Op::Sin: return lane_by_lane("sin", {a}, from);
+      case Op::Cos: return lane_by_lane("cos", {a}, from);
+      case Op::Tan: return lane_by_lane("tan", {a}, from);
       case Op::Asin: return call("asin", a);
       case Op::Acos: return call("acos", a);
       case Op::Atan: return call("atan", a);
@@ -359,21 +573,25 @@ class Generator {
       case Op::BitNot: return "(~" + a + ")";
       // Legal IR shifts by counts in [0, 31] only; a left shift into the
       // sign bit is defined on uint.
-      case Op::Shl: return "(int)((uint)" + a + " << " + b + ")";
+      case Op::Shl: return bits_as("int", uint(a) + " << " + uint(b));
       case Op::Shr: return "(" + a + " >> " + b + ")";
-      case Op::Lt: return mask(a + " < " + b);
-      case Op::Le: return mask(a + " <= " + b);
-      case Op::Gt: return mask(a + " > " + b);
-      case Op::Ge: return mask(a + " >= " + b);
-      case Op::Eq: return mask(a + " == " + b);
-      case Op::Ne: return mask(a + " != " + b);
-      case Op::And: return mask(pos(a) + " && " + pos(b));
-      case Op::Or: return mask(pos(a) + " || " + pos(b));
-      case Op::Not: return mask("!" + pos(a));
-      case Op::Cond: return pos(a) + " ? " + b + " : " + c;
-      // Each work-item is its own group: OpenCL 1.2 has no vote across
-      // work-items outside a barrier, which divergent code cannot take.
-      case Op::AnyLane: return mask(pos(a));
+      case Op::Lt: return bit(a + " < " + b, to);
+      case Op::Le: return bit(a + " <= " + b, to);
+      case Op::Gt: return bit(a + " > " + b, to);
+      case Op::Ge: return bit(a + " >= " + b, to);
+      case Op::Eq: return bit(a + " == " + b, to);
+      case Op::Ne: return bit(a + " != " + b, to);
+      case Op::And: return bit(pos(a) + " && " + pos(b), to);
+      case Op::Or: return bit(pos(a) + " || " + pos(b), to);
+      case Op::Not: return bit("!" + pos(a), to);
+      case Op::Cond: return choose(pos(a), b, c, to);
+      // The scalar form's work-item is its own group: OpenCL 1.2 has no
+      // vote across work-items outside a barrier, which divergent code
+      // cannot take.  The SPMD form votes over the lanes running.
+      case Op::AnyLane:
+        if (!spmd()) return bit(pos(a), to);
+        return "((" + vec(reg_type(to)) + ")(any(" + exec_mask(pos(a)) + " & exec) ? " + number(to, 1) + " : " +
+               number(to, 0) + "))";
       case Op::Extent: case Op::Load: break;   // table_read()
       case Op::Position: break;                 // assign()
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
@@ -381,20 +599,37 @@ class Generator {
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
   }
 
+  // PoCL's vector forms (3.1) of float sin, cos and tan and of double fmod
+  // and pow lose lanes when another lane is denormal or large; its scalar
+  // forms are right, so those vectors take them lane by lane.
+  std::string lane_by_lane(const std::string& f, const std::vector<std::string>& args, ir::Scalar s) const {
+    std::string type = reg_type(s);
+    bool trig = f == "sin" || f == "cos" || f == "tan";
+    auto call = [&](const std::string& part) {
+      std::string text = f + "(";
+      for (std::size_t i = 0; i < args.size(); ++i) text += (i ? ", " : "") + args[i] + part;
+      return text + ")";
+    };
+    if (!spmd() || type != (trig ? "float" : "double")) return call("");
+    std::string lanes;
+    for (int k = 0; k < lanes_; ++k) lanes += (k ? ", " : "") + call(lane(k));
+    return "(" + vec(type) + ")(" + lanes + ")";
+  }
+
   // NaN gives 0, told by its bits: PoCL's convert_int_sat of a NaN it can
   // see at compile time is undefined, so the store of it vanished, and a
   // float isnan() test was folded the same way.
   std::string float_to_int(const std::string& a, ir::Scalar from) const {
     bool is_double = std::string(reg_type(from)) == "double";
-    std::string nan = is_double ? "(as_ulong(" + a + ") & 0x7fffffffffffffffUL) > 0x7ff0000000000000UL"
-                                : "(as_uint(" + a + ") & 0x7fffffffU) > 0x7f800000U";
-    return "(" + nan + " ? 0 : convert_int_sat(" + a + "))";
+    std::string nan = is_double ? "(" + bits_as("ulong", a) + " & 0x7fffffffffffffffUL) > 0x7ff0000000000000UL"
+                                : "(" + bits_as("uint", a) + " & 0x7fffffffU) > 0x7f800000U";
+    return choose(nan, constant(ir::Scalar::I32, 0), "convert_" + vec("int") + "_sat(" + a + ")", ir::Scalar::I32);
   }
 
   std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const {
-    if (to == ir::Scalar::Bool) return "(int)(" + a + " > 0)";
+    if (to == ir::Scalar::Bool) return bit("(" + a + " > 0)", to);
     if (to == ir::Scalar::I32) return ir::is_float(from) ? float_to_int(a, from) : a;
-    return std::string("(") + reg_type(to) + ")(" + a + ")";
+    return convert(reg_type(to), a);
   }
 
   // The element a read or scatter names (coordinates in range: legal IR).
@@ -403,60 +638,127 @@ class Generator {
     std::string index, stride = "1";
     for (int d = 0; d < p_.tables[table].rank; ++d) {
       std::string dim = name + "_" + kComponent[d];
-      std::string i = "(long)" + read(coord, d);
+      std::string i = convert("long", read(coord, d));
       index += (d ? " + " : "") + i + (d ? " * " + stride : "");
       stride = d ? stride + " * " + dim : "(long)" + dim;
     }
     return "(" + index + ") * " + std::to_string(p_.tables[table].element.width);
   }
 
-  void table_read(const ir::Assign& a, std::string* results) {
+  // In the SPMD form a read into a variable every lane agrees on is one
+  // load and a broadcast; any other is one load per lane (under a mask, of
+  // the lanes running).  Where the table access analysis hints that the
+  // lanes read one element, or consecutive elements of a one-component
+  // table, a test of the lanes' places takes one load and a broadcast, or a
+  // vector load, instead.
+  void table_read(const ir::Assign& a, std::string* results, int depth) {
     const ir::TableDecl& t = p_.tables[a.table];
     std::string name = "table" + std::to_string(a.table);
+    const char* element = reg_type(t.element.scalar);
     if (a.op == ir::Op::Extent) {
-      for (int d = 0; d < t.rank; ++d) results[d] = name + "_" + kComponent[d];
+      for (int d = 0; d < t.rank; ++d) results[d] = spmd() ? "((" + vec("int") + ")" + name + "_" + kComponent[d] + ")" : name + "_" + kComponent[d];
       return;
     }
-    std::string at = flat_index(a.table, a.args[0]);
-    for (int c = 0; c < t.element.width; ++c)
-      results[c] = std::string("(") + reg_type(t.element.scalar) + ")" + name + "[" + at + " + " + std::to_string(c) + "]";
+    std::string index = flat_index(a.table, a.args[0]);
+    if (!spmd()) {
+      for (int c = 0; c < t.element.width; ++c)
+        results[c] = std::string("(") + element + ")" + name + "[" + index + " + " + std::to_string(c) + "]";
+      return;
+    }
+    std::string at = "at" + std::to_string(reads_++), stored = vec(storage_type(t.element.scalar));
+    line(depth, "const " + vec("long") + " " + at + " = " + index + ";");
+    analysis::Access hint = access_.at(&a).hint;
+    for (int c = 0; c < t.element.width; ++c) {
+      std::string lanes, offset = " + " + std::to_string(c);
+      if (!varying(a.dest)) {
+        results[c] = "((" + vec(element) + ")(" + element + ")" + name + "[" + at + ".s0" + offset + "])";
+        continue;
+      }
+      for (int k = 0; k < lanes_; ++k) {
+        std::string load = name + "[" + at + lane(k) + offset + "]";
+        if (masked()) load = "(exec" + lane(k) + " ? " + load + " : 0)";
+        lanes += (k ? ", " : "") + load;
+      }
+      std::string read = "(" + stored + ")(" + lanes + ")";
+      if (hint == analysis::Access::Same)
+        read = "(all(" + at + " == " + at + ".s0) ? (" + stored + ")(" + name + "[" + at + ".s0" + offset + "]) : " + read + ")";
+      else if (hint == analysis::Access::Consecutive && t.element.width == 1)
+        read = "(all(" + at + " == " + at + ".s0 + " + iota("long") + ") ? vload" + std::to_string(lanes_) + "(0, " + name + " + " +
+               at + ".s0) : " + read + ")";
+      results[c] = "convert_" + vec(element) + "(" + read + ")";
+    }
   }
 
-  // OpenCL 1.2 adds ints atomically; floats by compare-and-swap on their bits.
+  // OpenCL 1.2 adds ints atomically; floats by compare-and-swap on their
+  // bits.  The SPMD form adds lane by lane, for the lanes running.
   void scatter(const ir::Scatter& sc, int depth) {
     const ir::TableDecl& t = p_.tables[sc.table];
     bool is_float = ir::is_float(t.element.scalar);
+    const char* add = is_float ? "sh_atomic_add_float(" : "atomic_add(";
+    std::string stored = storage_type(t.element.scalar), table = "table" + std::to_string(sc.table);
     line(depth, "{");
-    line(depth + 1, "const long at = " + flat_index(sc.table, sc.index) + ";");
+    line(depth + 1, "const " + vec("long") + " at = " + flat_index(sc.table, sc.index) + ";");
     for (int c = 0; c < t.element.width; ++c) {
-      std::string place = "table" + std::to_string(sc.table) + " + at + " + std::to_string(c);
-      std::string value = std::string("(") + storage_type(t.element.scalar) + ")" + read(sc.value, c);
-      line(depth + 1, std::string(is_float ? "sh_atomic_add_float(" : "atomic_add(") + place + ", " + value + ");");
+      std::string value = "value" + std::to_string(c);
+      line(depth + 1, "const " + vec(reg_type(t.element.scalar)) + " " + value + " = " + read(sc.value, c) + ";");
+      if (!spmd()) {
+        line(depth + 1, add + table + " + at + " + std::to_string(c) + ", (" + stored + ")" + value + ");");
+        continue;
+      }
+      for (int k = 0; k < lanes_; ++k)
+        line(depth + 1, "if (exec" + lane(k) + ") " + add + table + " + at" + lane(k) + " + " + std::to_string(c) + ", (" +
+                            stored + ")" + value + lane(k) + ");");
     }
     line(depth, "}");
   }
 
-  struct Jump {
+  // A masked loop's active mask, or how a branching loop is left.
+  struct LoopExit {
+    std::string active;
     bool wrapped;
     std::string flag;
   };
 
   const ir::Program& p_;
   const sh::Options& o_;
+  const int lanes_;
+  Prelude& prelude_;
+  std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;
   std::ostringstream body_;
-  bool needs_fp64_ = false;
   mutable bool uses_nan_float_ = false, uses_nan_double_ = false;
-  mutable std::set<std::string> helper_names_;
-  mutable std::string helpers_;
-  int loops_ = 0;
-  std::vector<Jump> jumps_;
+  int loops_ = 0, branches_ = 0, reads_ = 0;
+  analysis::SpmdFacts facts_;
+  std::vector<analysis::VarSet> keep_;  // SPMD: per masked statement around, what a write keeps
+  std::vector<LoopExit> exits_;         // how each loop around is left
 };
+
+bool needs_fp64(const ir::Program& p, const sh::Options& o) {
+  bool needs = o.precision == Precision::F64;
+  for (const ir::Var& v : p.vars) needs = needs || v.type.scalar == ir::Scalar::F64;
+  for (const ir::TableDecl& t : p.tables) needs = needs || t.element.scalar == ir::Scalar::F64;
+  return needs;
+}
+
+bool adds_floats(const ir::Program& p) {
+  for (const ir::TableDecl& t : p.tables)
+    if (t.accumulator && ir::is_float(t.element.scalar)) return true;
+  return false;
+}
 
 }  // namespace
 
-Source generate(const ir::Program& program, const sh::Options& options) {
+Source generate(const ir::Program& program, const sh::Options& options, int lanes) {
   ir::verify_legal(program);
-  return Generator(program, options).run();
+  Prelude prelude;
+  std::string kernels = Generator(program, options, 1, prelude).run(kKernelName);
+  if (lanes > 1) kernels += Generator(program, options, lanes, prelude).run(kLanesKernelName);
+  bool fp64 = needs_fp64(program, options);
+  std::ostringstream head;
+  head << "// program " << program.name << ", generated from its optimised IR\n";
+  if (fp64) head << "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n";
+  if (options.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
+  if (adds_floats(program)) head << kAtomicAddFloat;
+  return Source{head.str() + prelude.text + kernels, fp64};
 }
 
 }  // namespace sh::opencl

@@ -72,11 +72,12 @@ void read_capabilities(cl_device_id id, Device& d) {
   d.cpu = (info<cl_device_type>(id, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_CPU) != 0;
   d.compute_units = info<cl_uint>(id, CL_DEVICE_MAX_COMPUTE_UNITS);
   d.max_group = info<std::size_t>(id, CL_DEVICE_MAX_WORK_GROUP_SIZE);
+  d.float_lanes = info<cl_uint>(id, CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT);
 }
 
 std::string capabilities(const Device& d) {
   return std::string(d.cpu ? "CPU" : "not a CPU") + ", " + std::to_string(d.compute_units) + " compute units, groups up to " +
-         std::to_string(d.max_group) + ", f64 " + (d.fp64 ? "yes" : "no") + ", host memory " +
+         std::to_string(d.max_group) + ", float vectors of " + std::to_string(d.float_lanes) + ", f64 " + (d.fp64 ? "yes" : "no") + ", host memory " +
          (d.unified ? "shared" : "separate") + ", largest buffer " + std::to_string(d.max_alloc >> 20) + " MiB";
 }
 

@@ -25,6 +25,7 @@ struct Device {
   cl_ulong max_alloc = 0;
   cl_uint compute_units = 0;
   std::size_t max_group = 0;  // work-items in a group
+  cl_uint float_lanes = 1;    // the preferred float vector width
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
 };

@@ -7,12 +7,21 @@ namespace sh::opencl {
 Settings Options::settings() const {
   Settings s;
   if (!device.empty()) s["device"] = device;
+  if (width != 0) s["width"] = width == 1 ? "scalar" : std::to_string(width);
   return s;
 }
 
 void Options::set(const std::string& name, const std::string& value) {
-  if (name != "device") throw Error("the opencl backend has no setting '" + name + "' (device)");
-  device = value;
+  if (name == "device") {
+    device = value;
+  } else if (name == "width") {
+    if (value == "auto") width = 0;
+    else if (value == "scalar" || value == "1") width = 1;
+    else if (value == "2" || value == "4" || value == "8" || value == "16") width = std::stoi(value);
+    else throw Error("opencl backend: setting \"width\" is \"" + value + "\"; expected scalar, 2, 4, 8, 16 or auto");
+  } else {
+    throw Error("the opencl backend has no setting '" + name + "' (device, width)");
+  }
 }
 
 }  // namespace sh::opencl

@@ -1,7 +1,9 @@
 #pragma once
-// The OpenCL backend: the optimised IR becomes readable OpenCL C 1.2, one
-// work-item per stream element, built and run through the ICD loader on
-// any OpenCL device; PoCL on the CPU is the default.  Its library registers
+// The OpenCL backend: the optimised IR becomes readable OpenCL C 1.2, built
+// and run through the ICD loader on any OpenCL device; PoCL on the CPU is
+// the default.  A work-item runs one stream element, or on a CPU device
+// `width` consecutive elements in vector registers (SPMD, as the cpu
+// backend's lanes), which the device's compiler turns into SIMD code.  Its library registers
 // it as "opencl" when linked (sh::sh); this header is its own API.
 //
 // Device choice: opencl::Options::device (the setting "device") or the
@@ -21,7 +23,8 @@ namespace sh::opencl {
 struct Options {
   static constexpr const char* backend_name = "opencl";
   std::string device;  // "P:D" or a piece of a device's name; empty: the default
-  // String form: device.
+  int width = 0;       // elements per work-item: 1, 2, 4, 8 or 16; 0 chooses from the device
+  // String form: device, width (scalar, 2, 4, 8, 16 or auto).
   Settings settings() const;
   void set(const std::string& name, const std::string& value);
 };

@@ -1,6 +1,6 @@
-#include "spmd_analysis.hpp"
+#include "sh/analysis.hpp"
 
-namespace sh::cpu {
+namespace sh::analysis {
 namespace {
 
 bool add(VarSet& to, const VarSet& from) {
@@ -186,4 +186,4 @@ SpmdFacts analyse_spmd(const ir::Program& p) {
   return facts;
 }
 
-}  // namespace sh::cpu
+}  // namespace sh::analysis
