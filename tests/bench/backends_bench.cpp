@@ -15,6 +15,7 @@ using namespace sh;
 constexpr std::size_t kSaxpyN = 1 << 22;
 constexpr int kMandelbrotSize = 512;
 constexpr std::size_t kRays = 1 << 16;
+constexpr int kBlurSize = 2048;
 
 struct Case {
   Program program;
@@ -33,6 +34,16 @@ Case make_case(const std::string& kernel) {
     Channel<Attrib2f> c(bench::mandelbrot_coordinates(kMandelbrotSize));
     Channel<Attrib1f> shade;
     return {bench::mandelbrot_program(), {c}, {shade}, static_cast<std::size_t>(kMandelbrotSize * kMandelbrotSize)};
+  }
+  if (kernel == "blur") {
+    static Table2D<Attrib1f> image = [] {
+      Table2D<Attrib1f> t(kBlurSize, kBlurSize);
+      t.assign(bench::blur_image(kBlurSize, kBlurSize));
+      return t;
+    }();
+    Channel<Attrib1f> out;
+    out.shape(kBlurSize, kBlurSize);
+    return {bench::blur_program(image), {}, {out}, static_cast<std::size_t>(kBlurSize) * kBlurSize};
   }
   static bench::TriangleScene scene = bench::triangle_scene(kRays);
   static Table1D<Attrib3f> vertices = [] {
@@ -70,7 +81,7 @@ void build_cached(benchmark::State& state, const std::string& kernel, const std:
 int main(int argc, char** argv) {
   // A cold build means no compiler cache either: PoCL keeps one on disk.
   setenv("POCL_KERNEL_CACHE", "0", 1);
-  for (const char* kernel : {"saxpy", "mandelbrot", "triangles"})
+  for (const char* kernel : {"saxpy", "mandelbrot", "triangles", "blur"})
     for (const char* b : {"cpu", "opencl"}) {
       std::string k = kernel, n = b;
       benchmark::RegisterBenchmark(("run/" + k + "/" + n).c_str(), [k, n](benchmark::State& s) { run_kernel(s, k, n); })

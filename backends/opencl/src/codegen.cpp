@@ -1,5 +1,6 @@
 #include "codegen.hpp"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <set>
@@ -61,7 +62,7 @@ class Generator {
     if (ir::uses(p_, ir::Op::Position)) kernel << position();
     registers();
     load_inputs();
-    block(p_.body, 1);
+    stencil_or_body();
     store_outputs();
     body_ << "}\n";
     return kernel.str() + nan_constants() + body_.str();
@@ -83,12 +84,83 @@ class Generator {
              "  const int position_x = (int)(at % row), position_y = (int)(at / row % rows), position_z = (int)(at / row / "
              "rows);\n";
     std::string i = vec("int"), l = vec("long");
-    return "  const long at = first + e;\n  " + i + " position_x, position_y, position_z;\n  if (at % row + " +
-           std::to_string(lanes_) + " <= row) {\n    position_x = (int)(at % row) + " + iota("int") +
+    return "  const long at = first + e;\n  const int same_row = at % row + " + std::to_string(lanes_) + " <= row;\n  " + i +
+           " position_x, position_y, position_z;\n  if (same_row) {\n    position_x = (int)(at % row) + " + iota("int") +
            ";\n    position_y = (" + i + ")((int)(at / row % rows));\n    position_z = (" + i +
            ")((int)(at / row / rows));\n  } else {\n    const " + l + " lane_at = at + " + iota("long") +
            ";\n    position_x = convert_" + i + "(lane_at % row);\n    position_y = convert_" + i +
            "(lane_at / row % rows);\n    position_z = convert_" + i + "(lane_at / row / rows);\n  }\n";
+  }
+
+  // Where the SPMD form reads tables at position() plus constants (a
+  // stencil's taps), the body is written twice: once for a work-item whose
+  // lanes share a row and whose taps all lie inside their tables, each tap
+  // one vector load with no test, and once with each read tested.  One test
+  // chooses; rows are long and taps short, so nearly every work-item takes
+  // the first.
+  void stencil_or_body() {
+    std::string inside = taps_inside();
+    if (inside.empty()) return block(p_.body, 1);
+    line(1, "if (" + inside + ") {");
+    int loops = loops_;
+    taps_inside_ = true;
+    block(p_.body, 2);
+    taps_inside_ = false;
+    loops_ = loops;  // the loops are numbered as they appear in the program
+    line(1, "} else {");
+    block(p_.body, 2);
+    line(1, "}");
+  }
+
+  // Per table, the taps' smallest and largest offsets against its edges
+  // (empty where the program has no tap).
+  std::string taps_inside() const {
+    if (!spmd()) return "";
+    struct Span {
+      std::array<int, 3> low{}, high{};
+      bool any = false;
+    };
+    std::vector<Span> spans(p_.tables.size());
+    for (const auto& [read, access] : access_) {
+      if (!access.proven_run || !access.offset) continue;
+      Span& s = spans[static_cast<std::size_t>(read->table)];
+      for (int d = 0; d < 3; ++d) {
+        int o = (*access.offset)[d];
+        s.low[d] = s.any ? std::min(s.low[d], o) : o;
+        s.high[d] = s.any ? std::max(s.high[d], o) : o;
+      }
+      s.any = true;
+    }
+    std::string inside;
+    for (std::size_t t = 0; t < spans.size(); ++t) {
+      if (!spans[t].any) continue;
+      for (int d = 0; d < p_.tables[t].rank; ++d) {
+        std::string at = std::string("(long)position_") + kComponent[d] + ".s0";
+        int last = spans[t].high[d] + (d == 0 ? lanes_ - 1 : 0);
+        inside += " && " + at + " + " + std::to_string(spans[t].low[d]) + " >= 0 && " + at + " + " + std::to_string(last) +
+                  " < table" + std::to_string(t) + "_" + kComponent[d];
+      }
+    }
+    return inside.empty() ? "" : "same_row" + inside;
+  }
+
+  // A tap inside its table: its lanes' elements from the first lane's on.
+  std::string tap(const ir::Assign& a, int c) const {
+    const ir::TableDecl& t = p_.tables[a.table];
+    const std::array<int, 3>& offset = *access_.at(&a).offset;
+    std::string name = "table" + std::to_string(a.table), start, stride = "1";
+    for (int d = 0; d < t.rank; ++d) {
+      std::string at = std::string("((long)position_") + kComponent[d] + ".s0 + " + std::to_string(offset[d]) + ")";
+      start += (d ? " + " : "") + at + (d ? " * " + stride : "");
+      stride = d ? stride + " * " + name + "_" + kComponent[d] : "(long)" + name + "_" + kComponent[d];
+    }
+    int w = t.element.width;
+    if (w == 1) return "vload" + std::to_string(lanes_) + "(0, " + name + " + " + start + ")";
+    std::string lanes;
+    for (int k = 0; k < lanes_; ++k)
+      lanes += (k ? ", " : "") + name + "[(" + start + " + " + std::to_string(k) + ") * " + std::to_string(w) + " + " +
+               std::to_string(c) + "]";
+    return "(" + vec(storage_type(t.element.scalar)) + ")(" + lanes + ")";
   }
 
   // ---- text that differs between the forms -----------------------------------------
@@ -160,6 +232,20 @@ class Generator {
                   "(" + t + " a) {\n  " + t + " f = floor(a);\n  return " + choose("a - f >= " + number(s, 0.5), "f + 1", "f", s) +
                       ";\n}\n");
   }
+  // The bits of every lane or-ed together, halving the vector each step:
+  // PoCL's any() and all() take the lanes out one at a time.
+  std::string bits_or(const std::string& scalar) const {
+    std::string body = "(" + vec(scalar) + " m) {\n";
+    std::string from = "m";
+    for (int n = lanes_ / 2; n >= 1; n /= 2) {
+      std::string to = "m" + std::to_string(n);
+      body += "  const " + (n > 1 ? scalar + std::to_string(n) : scalar) + " " + to + " = " + from + ".lo | " + from + ".hi;\n";
+      from = to;
+    }
+    return helper("sh_or_" + vec(scalar), scalar, body + "  return " + from + ";\n}\n");
+  }
+  // Whether a mask has a lane set.
+  std::string any(const std::string& mask) const { return "(" + bits_or("int") + "(" + mask + ") != 0)"; }
   // The first lane set in a mask (the last lane where none is).
   std::string first_lane() const {
     std::string n = std::to_string(lanes_);
@@ -370,7 +456,7 @@ class Generator {
 
   void side(const ir::Block& body, const analysis::VarSet& live, int depth) {
     if (body.empty()) return;
-    line(depth, "if (any(exec)) {");
+    line(depth, "if (" + any("exec") + ") {");
     enter_masked(live);
     block(body, depth + 1);
     keep_.pop_back();
@@ -454,7 +540,7 @@ class Generator {
       line(depth + 2, "exec = " + active + ";");
       block(l.header, depth + 2);
       line(depth + 2, active + " &= " + lanes_where(l.cond) + ";");
-      line(depth + 2, "if (!any(" + active + ")) break;");
+      line(depth + 2, "if (!" + any(active) + ") break;");
     };
     if (l.test_at_top) test();
     line(depth + 2, "exec = " + active + ";");
@@ -590,7 +676,7 @@ class Generator {
       // cannot take.  The SPMD form votes over the lanes running.
       case Op::AnyLane:
         if (!spmd()) return bit(pos(a), to);
-        return "((" + vec(reg_type(to)) + ")(any(" + exec_mask(pos(a)) + " & exec) ? " + number(to, 1) + " : " +
+        return "((" + vec(reg_type(to)) + ")(" + any("(" + exec_mask(pos(a)) + " & exec)") + " ? " + number(to, 1) + " : " +
                number(to, 0) + "))";
       case Op::Extent: case Op::Load: break;   // table_read()
       case Op::Position: break;                 // assign()
@@ -659,34 +745,51 @@ class Generator {
       for (int d = 0; d < t.rank; ++d) results[d] = spmd() ? "((" + vec("int") + ")" + name + "_" + kComponent[d] + ")" : name + "_" + kComponent[d];
       return;
     }
+    if (taps_inside_ && access_.at(&a).offset) {
+      for (int c = 0; c < t.element.width; ++c) results[c] = "convert_" + vec(element) + "(" + tap(a, c) + ")";
+      return;
+    }
     std::string index = flat_index(a.table, a.args[0]);
     if (!spmd()) {
       for (int c = 0; c < t.element.width; ++c)
         results[c] = std::string("(") + element + ")" + name + "[" + index + " + " + std::to_string(c) + "]";
       return;
     }
-    std::string at = "at" + std::to_string(reads_++), stored = vec(storage_type(t.element.scalar));
+    std::string n = std::to_string(reads_++), at = "at" + n, stored = vec(storage_type(t.element.scalar));
     line(depth, "const " + vec("long") + " " + at + " = " + index + ";");
-    analysis::Access hint = access_.at(&a).hint;
-    for (int c = 0; c < t.element.width; ++c) {
-      std::string lanes, offset = " + " + std::to_string(c);
-      if (!varying(a.dest)) {
-        results[c] = "((" + vec(element) + ")(" + element + ")" + name + "[" + at + ".s0" + offset + "])";
-        continue;
-      }
-      for (int k = 0; k < lanes_; ++k) {
-        std::string load = name + "[" + at + lane(k) + offset + "]";
-        if (masked()) load = "(exec" + lane(k) + " ? " + load + " : 0)";
-        lanes += (k ? ", " : "") + load;
-      }
-      std::string read = "(" + stored + ")(" + lanes + ")";
-      if (hint == analysis::Access::Same)
-        read = "(all(" + at + " == " + at + ".s0) ? (" + stored + ")(" + name + "[" + at + ".s0" + offset + "]) : " + read + ")";
-      else if (hint == analysis::Access::Consecutive && t.element.width == 1)
-        read = "(all(" + at + " == " + at + ".s0 + " + iota("long") + ") ? vload" + std::to_string(lanes_) + "(0, " + name + " + " +
-               at + ".s0) : " + read + ")";
-      results[c] = "convert_" + vec(element) + "(" + read + ")";
+    auto component = [&](int c) { return " + " + std::to_string(c); };
+    if (!varying(a.dest)) {
+      for (int c = 0; c < t.element.width; ++c)
+        results[c] = "((" + vec(element) + ")(" + element + ")" + name + "[" + at + ".s0" + component(c) + "])";
+      return;
     }
+    auto gather = [&](int c) {
+      std::string lanes;
+      for (int k = 0; k < lanes_; ++k) {
+        std::string load = name + "[" + at + lane(k) + component(c) + "]";
+        lanes += (k ? ", " : "") + (masked() ? "(exec" + lane(k) + " ? " + load + " : 0)" : load);
+      }
+      return "(" + stored + ")(" + lanes + ")";
+    };
+    analysis::Access hint = access_.at(&a).hint;
+    std::string test, read = "read" + n + "_";
+    if (hint == analysis::Access::Same) test = "!" + bits_or("long") + "(" + at + " ^ " + at + ".s0)";
+    if (hint == analysis::Access::Consecutive && t.element.width == 1)
+      test = "!" + bits_or("long") + "(" + at + " ^ (" + at + ".s0 + " + iota("long") + "))";
+    auto fast = [&](int c) {
+      if (hint == analysis::Access::Same) return "(" + stored + ")(" + name + "[" + at + ".s0" + component(c) + "])";
+      return "vload" + std::to_string(lanes_) + "(0, " + name + " + " + at + ".s0)";
+    };
+    for (int c = 0; c < t.element.width; ++c) {
+      line(depth, stored + " " + read + std::to_string(c) + ";");
+      results[c] = "convert_" + vec(element) + "(" + read + std::to_string(c) + ")";
+    }
+    // A branch, not a choice: both sides of a choice would run.
+    if (!test.empty()) line(depth, "if (" + test + ") {");
+    for (int c = 0; !test.empty() && c < t.element.width; ++c) line(depth + 1, read + std::to_string(c) + " = " + fast(c) + ";");
+    if (!test.empty()) line(depth, "} else {");
+    for (int c = 0; c < t.element.width; ++c) line(depth + !test.empty(), read + std::to_string(c) + " = " + gather(c) + ";");
+    if (!test.empty()) line(depth, "}");
   }
 
   // OpenCL 1.2 adds ints atomically; floats by compare-and-swap on their
@@ -730,6 +833,7 @@ class Generator {
   analysis::SpmdFacts facts_;
   std::vector<analysis::VarSet> keep_;  // SPMD: per masked statement around, what a write keeps
   std::vector<LoopExit> exits_;         // how each loop around is left
+  bool taps_inside_ = false;            // SPMD: writing the body for taps inside their tables
 };
 
 bool needs_fp64(const ir::Program& p, const sh::Options& o) {
