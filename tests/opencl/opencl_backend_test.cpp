@@ -101,3 +101,67 @@ TEST(OpenClBackend, AgreesWithInterpOnTableClampingAndIntegers) {
 }
 
 }  // namespace
+
+Options width(int lanes) {
+  Options o;
+  o.set(opencl::Options{.device = {}, .width = lanes});
+  return o;
+}
+
+// The SPMD kernel beside the scalar one: lanes in vector registers, an
+// if the lanes may disagree on as masks, one on a uniform as a branch.
+TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
+  Attrib1f scale = 2.0f;
+  Program p = SH_BEGIN_PROGRAM("lanes") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x;
+    SH_IF(scale > 1.0f) { r = r * scale; } SH_ENDIF;
+    SH_IF(x > 0.5f) { r = r + 1.0f; } SH_ENDIF;
+  } SH_END;
+  std::string scalar = kernel_for(p, backend("opencl", width(1)))->listing();
+  EXPECT_EQ(scalar.find("sh_kernel_lanes"), std::string::npos) << scalar;
+  std::string lanes = kernel_for(p, backend("opencl", width(8)))->listing();
+  EXPECT_NE(lanes.find("__kernel void sh_kernel_lanes("), std::string::npos) << lanes;
+  EXPECT_NE(lanes.find("vload8(0, in0 + e)"), std::string::npos) << lanes;
+  EXPECT_NE(lanes.find("vstore8("), std::string::npos) << lanes;
+  std::size_t selects = 0;
+  for (auto at = lanes.find("select(", lanes.find("sh_kernel_lanes(")); at != std::string::npos; at = lanes.find("select(", at + 1))
+    ++selects;
+  EXPECT_EQ(selects, 1u) << "only the varying if masks its write: " << lanes;
+  EXPECT_NE(lanes.find(".s0 > 0)"), std::string::npos) << "the uniform if branches on lane 0: " << lanes;
+  std::vector<float> in;
+  for (int i = 0; i < 37; ++i) in.push_back(static_cast<float>(i % 3) * 0.4f);
+  for (int w : {1, 2, 4, 8, 16}) {
+    Channel<Attrib1f> x(in), r;
+    run(p, {x}, {r}, backend("opencl", width(w)));
+    for (std::size_t i = 0; i < in.size(); ++i) ASSERT_EQ(r[i], in[i] * 2.0f + (in[i] > 0.5f ? 1.0f : 0.0f)) << w << " " << i;
+  }
+  EXPECT_THROW(Options().set("opencl.width", "3"), Error);
+}
+
+// The width "auto" keeps one element a work-item where lanes would gather
+// inside loops they leave apart, and takes lanes elsewhere.
+TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoops) {
+  Table1D<Attrib1f> next(4);
+  next.assign(std::vector<float>{3, 0, 1, 2});
+  Program walk = SH_BEGIN_PROGRAM("walk") {
+    InputAttrib1f start;
+    OutputAttrib1f steps;
+    Attrib1f at = start;
+    steps = 0.0f;
+    SH_WHILE(at > 0.5f) {
+      at = next[at.cast<int>()];
+      steps += 1.0f;
+    } SH_ENDWHILE;
+  } SH_END;
+  Program scale = SH_BEGIN_PROGRAM("scale") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x * 3.0f;
+  } SH_END;
+  auto device = opencl::open_device("");
+  bool lanes = device->cpu && device->float_lanes > 1;
+  EXPECT_EQ(kernel_for(walk, backend("opencl"))->listing().find("sh_kernel_lanes"), std::string::npos);
+  EXPECT_EQ(kernel_for(scale, backend("opencl"))->listing().find("sh_kernel_lanes") != std::string::npos, lanes);
+}

@@ -36,7 +36,7 @@ std::string build_options(const sh::Options& o) {
 class OpenClKernel : public Kernel {
  public:
   OpenClKernel(const ir::Program& p, const sh::Options& o)
-      : program_(p), options_(o), device_(open_device(o.get<Options>().device)), lanes_(lanes_for(o, *device_)) {
+      : program_(p), options_(o), device_(open_device(o.get<Options>().device)), lanes_(lanes_for(p, o, *device_)) {
     Source source = generate(p, o, lanes_);
     source_ = std::move(source.text);
     if (source.needs_fp64 && !device_->fp64)
@@ -131,11 +131,12 @@ class OpenClKernel : public Kernel {
 
   // Elements per work-item: the setting, or on a CPU device its preferred
   // float vector width (one on other devices, whose compilers spread
-  // work-items over SIMD lanes themselves).
-  static int lanes_for(const sh::Options& o, const Device& d) {
+  // work-items over SIMD lanes themselves, and for programs whose lanes
+  // would gather in divergent loops).
+  static int lanes_for(const ir::Program& p, const sh::Options& o, const Device& d) {
     int chosen = o.get<Options>().width;
     if (chosen != 0) return chosen;
-    if (!d.cpu) return 1;
+    if (!d.cpu || gathers_in_divergent_loops(p)) return 1;
     int lanes = 1;
     while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes < 16) lanes *= 2;
     return lanes;
@@ -293,7 +294,9 @@ class OpenClBackend : public Backend {
   }
   std::vector<Setting> settings() const override {
     return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
-            {"width", "scalar, 2, 4, 8, 16 or auto: elements per work-item, auto the device's float vector width on a CPU, else 1"}};
+            {"width",
+             "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU, 1 elsewhere "
+             "and for programs that gather in divergent loops"}};
   }
   BackendOptions default_options() const override { return Options{}; }
   std::vector<Variant> variants() const override { return {{"scalar", Options{.device = {}, .width = 1}}, {"w8", Options{.device = {}, .width = 8}}}; }

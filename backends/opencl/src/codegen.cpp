@@ -849,7 +849,25 @@ bool adds_floats(const ir::Program& p) {
   return false;
 }
 
+bool gathers_in(const ir::Block& b, const analysis::SpmdFacts& facts, bool in_divergent_loop) {
+  for (const ir::Stmt& s : b) {
+    if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+      if (in_divergent_loop && a->op == ir::Op::Load && facts.varying[a->dest]) return true;
+    } else if (auto* i = std::get_if<ir::If>(&s.node)) {
+      if (gathers_in(i->then_body, facts, in_divergent_loop) || gathers_in(i->else_body, facts, in_divergent_loop)) return true;
+    } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+      bool d = in_divergent_loop || facts.divergent.at(&s);
+      if (gathers_in(l->header, facts, d) || gathers_in(l->body, facts, d) || gathers_in(l->update, facts, d)) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
+
+bool gathers_in_divergent_loops(const ir::Program& program) {
+  return gathers_in(program.body, analysis::analyse_spmd(program), false);
+}
 
 Source generate(const ir::Program& program, const sh::Options& options, int lanes) {
   ir::verify_legal(program);

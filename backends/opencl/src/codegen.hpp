@@ -23,4 +23,10 @@ struct Source {
 // dimensions; __global long* status.
 Source generate(const ir::Program& program, const sh::Options& options, int lanes);
 
+// Whether lanes would read tables at places of their own inside loops they
+// leave at different iterations (a ray tracer's traversal): there PoCL's
+// code for one element a work-item is faster than the lanes' gathers under
+// masks, so the width "auto" keeps one.
+bool gathers_in_divergent_loops(const ir::Program& program);
+
 }  // namespace sh::opencl
