@@ -104,7 +104,7 @@ TEST(OpenClBackend, AgreesWithInterpOnTableClampingAndIntegers) {
 
 Options width(int lanes) {
   Options o;
-  o.set(opencl::Options{.device = {}, .width = lanes});
+  o.set(opencl::Options{.device = {}, .lanes = lanes});
   return o;
 }
 
@@ -137,7 +137,7 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
     run(p, {x}, {r}, backend("opencl", width(w)));
     for (std::size_t i = 0; i < in.size(); ++i) ASSERT_EQ(r[i], in[i] * 2.0f + (in[i] > 0.5f ? 1.0f : 0.0f)) << w << " " << i;
   }
-  EXPECT_THROW(Options().set("opencl.width", "3"), Error);
+  EXPECT_THROW(Options().set("opencl.lanes", "3"), Error);
 }
 
 // The width "auto" keeps one element a work-item where lanes would gather

@@ -134,7 +134,7 @@ class OpenClKernel : public Kernel {
   // work-items over SIMD lanes themselves, and for programs whose lanes
   // would gather in divergent loops).
   static int lanes_for(const ir::Program& p, const sh::Options& o, const Device& d) {
-    int chosen = o.get<Options>().width;
+    int chosen = o.get<Options>().lanes;
     if (chosen != 0) return chosen;
     if (!d.cpu || gathers_in_divergent_loops(p)) return 1;
     int lanes = 1;
@@ -294,12 +294,12 @@ class OpenClBackend : public Backend {
   }
   std::vector<Setting> settings() const override {
     return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
-            {"width",
+            {"lanes",
              "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU, 1 elsewhere "
              "and for programs that gather in divergent loops"}};
   }
   BackendOptions default_options() const override { return Options{}; }
-  std::vector<Variant> variants() const override { return {{"scalar", Options{.device = {}, .width = 1}}, {"w8", Options{.device = {}, .width = 8}}}; }
+  std::vector<Variant> variants() const override { return {{"scalar", Options{.device = {}, .lanes = 1}}, {"w8", Options{.device = {}, .lanes = 8}}}; }
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);

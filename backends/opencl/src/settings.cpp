@@ -7,20 +7,20 @@ namespace sh::opencl {
 Settings Options::settings() const {
   Settings s;
   if (!device.empty()) s["device"] = device;
-  if (width != 0) s["width"] = width == 1 ? "scalar" : std::to_string(width);
+  if (lanes != 0) s["lanes"] = lanes == 1 ? "scalar" : std::to_string(lanes);
   return s;
 }
 
 void Options::set(const std::string& name, const std::string& value) {
   if (name == "device") {
     device = value;
-  } else if (name == "width") {
-    if (value == "auto") width = 0;
-    else if (value == "scalar" || value == "1") width = 1;
-    else if (value == "2" || value == "4" || value == "8" || value == "16") width = std::stoi(value);
-    else throw Error("opencl backend: setting \"width\" is \"" + value + "\"; expected scalar, 2, 4, 8, 16 or auto");
+  } else if (name == "lanes") {
+    if (value == "auto") lanes = 0;
+    else if (value == "scalar" || value == "1") lanes = 1;
+    else if (value == "2" || value == "4" || value == "8" || value == "16") lanes = std::stoi(value);
+    else throw Error("opencl backend: setting \"lanes\" is \"" + value + "\"; expected scalar, 2, 4, 8, 16 or auto");
   } else {
-    throw Error("the opencl backend has no setting '" + name + "' (device, width)");
+    throw Error("the opencl backend has no setting '" + name + "' (device, lanes)");
   }
 }
 

@@ -2,7 +2,7 @@
 // The OpenCL backend: the optimised IR becomes readable OpenCL C 1.2, built
 // and run through the ICD loader on any OpenCL device; PoCL on the CPU is
 // the default.  A work-item runs one stream element, or on a CPU device
-// `width` consecutive elements in vector registers (SPMD, as the cpu
+// `lanes` consecutive elements in vector registers (SPMD, as the cpu
 // backend's lanes), which the device's compiler turns into SIMD code.  Its library registers
 // it as "opencl" when linked (sh::sh); this header is its own API.
 //
@@ -23,8 +23,8 @@ namespace sh::opencl {
 struct Options {
   static constexpr const char* backend_name = "opencl";
   std::string device;  // "P:D" or a piece of a device's name; empty: the default
-  int width = 0;       // elements per work-item: 1, 2, 4, 8 or 16; 0 chooses from the device
-  // String form: device, width (scalar, 2, 4, 8, 16 or auto).
+  int lanes = 0;       // elements per work-item: 1, 2, 4, 8 or 16; 0 chooses from the device
+  // String form: device, lanes (scalar, 2, 4, 8, 16 or auto).
   Settings settings() const;
   void set(const std::string& name, const std::string& value);
 };
