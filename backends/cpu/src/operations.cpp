@@ -603,29 +603,15 @@ void Lowering::batch_body() {
 // program has no tap).
 Value* Lowering::batch_inside() {
   if (!spmd() || fetches_tables(o_)) return nullptr;
-  struct Span {
-    std::array<int, 3> low{}, high{};
-    bool any = false;
-  };
-  std::vector<Span> spans(p_.tables.size());
-  for (const auto& [read, access] : access_) {
-    if (!access.proven_run || !access.offset) continue;
-    Span& s = spans[static_cast<std::size_t>(read->table)];
-    for (int d = 0; d < 3; ++d) {
-      int o = (*access.offset)[d];
-      s.low[d] = s.any ? std::min(s.low[d], o) : o;
-      s.high[d] = s.any ? std::max(s.high[d], o) : o;
-    }
-    s.any = true;
-  }
+  std::vector<std::optional<analysis::TapSpan>> spans = analysis::tap_spans(p_, access_);
   llvm::Type* i64 = b_.getInt64Ty();
   Value* inside = nullptr;
   for (std::size_t t = 0; t < spans.size(); ++t) {
-    if (!spans[t].any) continue;
+    if (!spans[t]) continue;
     for (int d = 0; d < p_.tables[t].rank; ++d) {
       Value* at = b_.CreateSExt(position_[d], i64);
-      Value* low = b_.CreateAdd(at, b_.getInt64(spans[t].low[d]));
-      Value* high = b_.CreateAdd(at, b_.getInt64(spans[t].high[d]));
+      Value* low = b_.CreateAdd(at, b_.getInt64(spans[t]->low[d]));
+      Value* high = b_.CreateAdd(at, b_.getInt64(spans[t]->high[d]));
       if (d == 0) high = b_.CreateAdd(high, b_.CreateSub(batch_count_, b_.getInt64(1)));
       Value* fits = b_.CreateAnd(b_.CreateICmpSGE(low, b_.getInt64(0)),
                                  b_.CreateICmpSLT(high, b_.CreateZExt(table_dims_[t][d], i64)));

@@ -299,7 +299,9 @@ class OpenClBackend : public Backend {
              "and for programs that gather in divergent loops"}};
   }
   BackendOptions default_options() const override { return Options{}; }
-  std::vector<Variant> variants() const override { return {{"scalar", Options{.device = {}, .lanes = 1}}, {"w8", Options{.device = {}, .lanes = 8}}}; }
+  std::vector<Variant> variants() const override {
+    return {{"scalar", Options{.device = {}, .lanes = 1}}, {"w8", Options{.device = {}, .lanes = 8}}};
+  }
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);

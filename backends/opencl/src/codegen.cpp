@@ -112,32 +112,19 @@ class Generator {
     line(1, "}");
   }
 
-  // Per table, the taps' smallest and largest offsets against its edges
-  // (empty where the program has no tap).
+  // Whether the work-item's lanes share a row and its taps lie inside
+  // their tables, from their smallest and largest offsets (empty where the
+  // program has no tap).
   std::string taps_inside() const {
     if (!spmd()) return "";
-    struct Span {
-      std::array<int, 3> low{}, high{};
-      bool any = false;
-    };
-    std::vector<Span> spans(p_.tables.size());
-    for (const auto& [read, access] : access_) {
-      if (!access.proven_run || !access.offset) continue;
-      Span& s = spans[static_cast<std::size_t>(read->table)];
-      for (int d = 0; d < 3; ++d) {
-        int o = (*access.offset)[d];
-        s.low[d] = s.any ? std::min(s.low[d], o) : o;
-        s.high[d] = s.any ? std::max(s.high[d], o) : o;
-      }
-      s.any = true;
-    }
+    std::vector<std::optional<analysis::TapSpan>> spans = analysis::tap_spans(p_, access_);
     std::string inside;
     for (std::size_t t = 0; t < spans.size(); ++t) {
-      if (!spans[t].any) continue;
+      if (!spans[t]) continue;
       for (int d = 0; d < p_.tables[t].rank; ++d) {
         std::string at = std::string("(long)position_") + kComponent[d] + ".s0";
-        int last = spans[t].high[d] + (d == 0 ? lanes_ - 1 : 0);
-        inside += " && " + at + " + " + std::to_string(spans[t].low[d]) + " >= 0 && " + at + " + " + std::to_string(last) +
+        int last = spans[t]->high[d] + (d == 0 ? lanes_ - 1 : 0);
+        inside += " && " + at + " + " + std::to_string(spans[t]->low[d]) + " >= 0 && " + at + " + " + std::to_string(last) +
                   " < table" + std::to_string(t) + "_" + kComponent[d];
       }
     }
@@ -473,15 +460,6 @@ class Generator {
   }
   bool masked() const { return !keep_.empty(); }
 
-  static bool has_continue(const ir::Block& b) {
-    for (const ir::Stmt& s : b) {
-      if (std::holds_alternative<ir::Continue>(s.node)) return true;
-      if (auto* i = std::get_if<ir::If>(&s.node))
-        if (has_continue(i->then_body) || has_continue(i->else_body)) return true;
-    }
-    return false;
-  }
-
   // Past the iteration cap the kernel stops and reports the loop and the
   // element (in the SPMD form, the first lane still looping).
   void count_iteration(int number, const std::string& counter, const std::string& element, int depth) {
@@ -495,7 +473,7 @@ class Generator {
   void loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
     int number = loops_++;
     std::string n = std::to_string(number), counter = "iterations" + n, flag = "leave" + n;
-    bool wrapped = has_continue(l.body);
+    bool wrapped = analysis::continues(l.body);
     line(depth, "// " + ir::print(p_, s));
     line(depth, "long " + counter + " = 0;");
     if (wrapped) line(depth, "int " + flag + " = 0;");

@@ -77,7 +77,8 @@ void read_capabilities(cl_device_id id, Device& d) {
 
 std::string capabilities(const Device& d) {
   return std::string(d.cpu ? "CPU" : "not a CPU") + ", " + std::to_string(d.compute_units) + " compute units, groups up to " +
-         std::to_string(d.max_group) + ", float vectors of " + std::to_string(d.float_lanes) + ", f64 " + (d.fp64 ? "yes" : "no") + ", host memory " +
+         std::to_string(d.max_group) + ", float vectors of " + std::to_string(d.float_lanes) + ", f64 " +
+         (d.fp64 ? "yes" : "no") + ", host memory " +
          (d.unified ? "shared" : "separate") + ", largest buffer " + std::to_string(d.max_alloc >> 20) + " MiB";
 }
 

@@ -87,6 +87,16 @@ struct ReadAccess {
 // Per table read (`load` of legal IR, `fetch` before it) in the program.
 std::unordered_map<const ir::Assign*, ReadAccess> table_access(const ir::Program& p);
 
+// A table's stencil taps (reads with a proven offset from position()):
+// their smallest and largest offsets, dimension by dimension.  A backend
+// tests a batch of elements against these once, before the body.
+struct TapSpan {
+  std::array<int, 3> low{}, high{};
+};
+// Per table of the program, its taps' span; none where it has no tap.
+std::vector<std::optional<TapSpan>> tap_spans(const ir::Program& p,
+                                              const std::unordered_map<const ir::Assign*, ReadAccess>& access);
+
 // What SPMD code generation (elements side by side in SIMD lanes) needs
 // to know about a program beyond its IR.
 //
@@ -115,5 +125,9 @@ struct SpmdFacts {
 };
 
 SpmdFacts analyse_spmd(const ir::Program& p);
+
+// Whether a loop body continues its loop (a continue not of a loop nested
+// in it).
+bool continues(const ir::Block& body);
 
 }  // namespace sh::analysis

@@ -162,22 +162,21 @@ class RejoinLiveness {
     return top;
   }
 
-  // A continue of this loop (not of one nested in it).
-  static bool continues(const ir::Block& b) {
-    for (const ir::Stmt& s : b) {
-      if (std::holds_alternative<ir::Continue>(s.node)) return true;
-      if (auto* i = std::get_if<ir::If>(&s.node))
-        if (continues(i->then_body) || continues(i->else_body)) return true;
-    }
-    return false;
-  }
-
   const ir::Program& p_;
   SpmdFacts& f_;
   std::vector<Targets> loops_;
 };
 
 }  // namespace
+
+bool continues(const ir::Block& body) {
+  for (const ir::Stmt& s : body) {
+    if (std::holds_alternative<ir::Continue>(s.node)) return true;
+    if (auto* i = std::get_if<ir::If>(&s.node))
+      if (continues(i->then_body) || continues(i->else_body)) return true;
+  }
+  return false;
+}
 
 SpmdFacts analyse_spmd(const ir::Program& p) {
   SpmdFacts facts;

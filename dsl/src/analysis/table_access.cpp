@@ -214,4 +214,19 @@ std::unordered_map<const ir::Assign*, ReadAccess> table_access(const ir::Program
   return out;
 }
 
+std::vector<std::optional<TapSpan>> tap_spans(const ir::Program& p,
+                                              const std::unordered_map<const ir::Assign*, ReadAccess>& access) {
+  std::vector<std::optional<TapSpan>> spans(p.tables.size());
+  for (const auto& [read, a] : access) {
+    if (!a.proven_run || !a.offset) continue;
+    std::optional<TapSpan>& s = spans[static_cast<std::size_t>(read->table)];
+    if (!s) s = TapSpan{*a.offset, *a.offset};
+    for (int d = 0; d < 3; ++d) {
+      s->low[d] = std::min(s->low[d], (*a.offset)[d]);
+      s->high[d] = std::max(s->high[d], (*a.offset)[d]);
+    }
+  }
+  return spans;
+}
+
 }  // namespace sh::analysis
