@@ -141,7 +141,8 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
 }
 
 // The width "auto" keeps one element a work-item where lanes would gather
-// inside loops they leave apart, and takes lanes elsewhere.
+// inside loops they leave apart, at most 8 where those loops keep lanes
+// together by any_lane, and takes the device's width elsewhere.
 TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoops) {
   Table1D<Attrib1f> next(4);
   next.assign(std::vector<float>{3, 0, 1, 2});
@@ -155,6 +156,16 @@ TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoop
       steps += 1.0f;
     } SH_ENDWHILE;
   } SH_END;
+  Program walk_together = SH_BEGIN_PROGRAM("walk together") {
+    InputAttrib1f start;
+    OutputAttrib1f steps;
+    Attrib1f at = start;
+    steps = 0.0f;
+    SH_WHILE(any_lane(at > 0.5f)) {
+      at = next[at.cast<int>()];
+      steps += 1.0f;
+    } SH_ENDWHILE;
+  } SH_END;
   Program scale = SH_BEGIN_PROGRAM("scale") {
     InputAttrib1f x;
     OutputAttrib1f r;
@@ -163,5 +174,12 @@ TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoop
   auto device = opencl::open_device("");
   bool lanes = device->cpu && device->float_lanes > 1;
   EXPECT_EQ(kernel_for(walk, backend("opencl"))->listing().find("sh_kernel_lanes"), std::string::npos);
+  int together = 1;
+  while (together * 2 <= static_cast<int>(device->float_lanes) && together < 8) together *= 2;
+  std::string listing = kernel_for(walk_together, backend("opencl"))->listing();
+  if (device->cpu && together > 1)
+    EXPECT_NE(listing.find("get_global_id(0) * " + std::to_string(together) + ";"), std::string::npos) << listing;
+  else
+    EXPECT_EQ(listing.find("sh_kernel_lanes"), std::string::npos) << listing;
   EXPECT_EQ(kernel_for(scale, backend("opencl"))->listing().find("sh_kernel_lanes") != std::string::npos, lanes);
 }

@@ -130,15 +130,14 @@ class OpenClKernel : public Kernel {
   };
 
   // Elements per work-item: the setting, or on a CPU device its preferred
-  // float vector width (one on other devices, whose compilers spread
-  // work-items over SIMD lanes themselves, and for programs whose lanes
-  // would gather in divergent loops).
+  // float vector width up to what suits the program (one on other devices,
+  // whose compilers spread work-items over SIMD lanes themselves).
   static int lanes_for(const ir::Program& p, const sh::Options& o, const Device& d) {
     int chosen = o.get<Options>().lanes;
     if (chosen != 0) return chosen;
-    if (!d.cpu || gathers_in_divergent_loops(p)) return 1;
-    int lanes = 1;
-    while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes < 16) lanes *= 2;
+    if (!d.cpu) return 1;
+    int lanes = 1, most = most_lanes(p);
+    while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes * 2 <= most) lanes *= 2;
     return lanes;
   }
 
