@@ -183,3 +183,43 @@ TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoop
     EXPECT_EQ(listing.find("sh_kernel_lanes"), std::string::npos) << listing;
   EXPECT_EQ(kernel_for(scale, backend("opencl"))->listing().find("sh_kernel_lanes") != std::string::npos, lanes);
 }
+
+// A run reports the bytes it moved: a table goes to the device once and
+// again only when its contents change; streams are used in place on a
+// device that shares host memory and copied both ways elsewhere.
+TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
+  constexpr std::size_t kElements = 256, kTableBytes = 1000 * sizeof(float);
+  Table1D<Attrib1f> table(1000);
+  table.assign(std::vector<float>(1000, 0.5f));
+  Program p = SH_BEGIN_PROGRAM("bytes") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x + table[x.cast<int>()];
+  } SH_END;
+  Channel<Attrib1f> x(std::vector<float>(kElements, 3.0f)), r;
+  auto moved = [&] {
+    RunStats s = run(p, {x}, {r}, backend("opencl"));
+    const auto* d = s.details_as<opencl::RunDetails>();
+    EXPECT_NE(d, nullptr);
+    return d ? *d : opencl::RunDetails{};
+  };
+  opencl::RunDetails first = moved(), second = moved();
+  EXPECT_EQ(r[0], 3.5f);
+  EXPECT_EQ(first.tables_kept, 0u);
+  EXPECT_EQ(second.tables_kept, kTableBytes);
+  EXPECT_EQ(first.to_device - second.to_device, kTableBytes);
+  table.assign(std::vector<float>(1000, 1.5f));
+  opencl::RunDetails third = moved();
+  EXPECT_EQ(r[0], 4.5f);
+  EXPECT_EQ(third.to_device, first.to_device);
+  constexpr std::size_t kStreamBytes = kElements * sizeof(float);
+  if (opencl::open_device("")->unified) {
+    EXPECT_EQ(second.in_place, 2 * kStreamBytes);
+  } else {
+    EXPECT_GE(second.to_device, kStreamBytes);
+    EXPECT_GE(second.from_device, kStreamBytes);
+  }
+  second.add(third);
+  EXPECT_EQ(second.runs, 2u);
+  EXPECT_NE(second.describe().front().find("2 runs moved"), std::string::npos) << second.describe().front();
+}

@@ -53,8 +53,10 @@ class OpenClKernel : public Kernel {
     if (cl_program_) clReleaseProgram(cl_program_);
   }
 
-  void run(const RunArgs& args, RunStats&) override {
+  void run(const RunArgs& args, RunStats& stats) override {
     std::lock_guard<std::mutex> lock(mutex_);
+    auto moved = std::make_shared<RunDetails>();
+    moved->runs = 1;
     std::vector<Buffer> buffers;
     buffers.reserve(args.inputs.size() + args.outputs.size() + args.tables.size() + 1);
     cl_uint arg = 0;
@@ -70,7 +72,9 @@ class OpenClKernel : public Kernel {
     // overlap.
     for (const BufferView& b : args.inputs) {
       cl_mem_flags where = device_->unified ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR;
-      set_buffer(arg++, buffers, make(bytes(b.type, b.count), CL_MEM_READ_ONLY | where, b.data, "an input"));
+      std::size_t size = bytes(b.type, b.count);
+      (device_->unified ? moved->in_place : moved->to_device) += size;
+      set_buffer(arg++, buffers, make(size, CL_MEM_READ_ONLY | where, b.data, "an input"));
     }
     std::size_t first_output = buffers.size();
     std::vector<bool> in_place;
@@ -87,13 +91,17 @@ class OpenClKernel : public Kernel {
       if (t.sums) {
         set_buffer(arg++, buffers, make(t.bytes(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, t.sums, "an accumulator"));
         sums.emplace_back(&t, buffers.back().mem);
+        moved->to_device += t.bytes();
+        moved->from_device += t.bytes();
       } else {
-        set(arg++, sizeof(cl_mem), &table_buffer(t));
+        set(arg++, sizeof(cl_mem), &table_buffer(t, *moved));
       }
       for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
     }
     cl_long status[2] = {0, 0};
     set_buffer(arg++, buffers, make(sizeof status, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, status, "the status"));
+    moved->to_device += sizeof status;
+    moved->from_device += sizeof status;
 
     launch(args.count, sums.empty());
     for (std::size_t o = 0; o < args.outputs.size(); ++o) {
@@ -102,6 +110,7 @@ class OpenClKernel : public Kernel {
       if (!in_place[o] || size == 0) {
         check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, size, args.outputs[o].data, 0, nullptr, nullptr),
               where("reading an output"));
+        moved->from_device += size;
         continue;
       }
       // Mapping makes the host memory current (a copy only where the
@@ -109,7 +118,9 @@ class OpenClKernel : public Kernel {
       cl_int err = CL_SUCCESS;
       void* mapped = clEnqueueMapBuffer(device_->queue, mem, CL_TRUE, CL_MAP_READ, 0, size, 0, nullptr, nullptr, &err);
       check(err, where("mapping an output"));
-      if (mapped != args.outputs[o].data) std::memcpy(args.outputs[o].data, mapped, size);
+      bool copied = mapped != args.outputs[o].data;
+      if (copied) std::memcpy(args.outputs[o].data, mapped, size);
+      (copied ? moved->from_device : moved->in_place) += size;
       check(clEnqueueUnmapMemObject(device_->queue, mem, mapped, 0, nullptr, nullptr), where("unmapping an output"));
     }
     for (const auto& [t, mem] : sums)
@@ -118,6 +129,7 @@ class OpenClKernel : public Kernel {
     check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
           where("finishing the run"));
     if (status[0] != 0) throw runaway(status[0], status[1]);
+    stats.details = std::move(moved);
   }
 
   std::string listing() const override { return source_; }
@@ -211,11 +223,14 @@ class OpenClKernel : public Kernel {
   }
 
   // Tables stay on the device between runs until their version changes.
-  const cl_mem& table_buffer(const TableView& t) {
+  const cl_mem& table_buffer(const TableView& t, RunDetails& moved) {
     Cached& c = tables_[t.id];
     if (!c.buffer.mem || c.version != t.version) {
       c.buffer = make(t.bytes(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table");
       c.version = t.version;
+      moved.to_device += t.bytes();
+    } else {
+      moved.tables_kept += t.bytes();
     }
     return c.buffer.mem;
   }
@@ -294,8 +309,8 @@ class OpenClBackend : public Backend {
   std::vector<Setting> settings() const override {
     return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
             {"lanes",
-             "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU, 1 elsewhere "
-             "and for programs that gather in divergent loops"}};
+             "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU (at most 8 "
+             "for programs whose divergent loops gather but vote with any_lane, 1 for other such programs), 1 elsewhere"}};
   }
   BackendOptions default_options() const override { return Options{}; }
   std::vector<Variant> variants() const override {

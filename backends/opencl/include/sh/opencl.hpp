@@ -13,9 +13,12 @@
 // kernel_for(p, backend("opencl"))->listing() gives the OpenCL C.
 // OpenCL kernels cannot call back into the host: they read tables from
 // device memory only (no TableSource).
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "sh/backend.hpp"
 #include "sh/options.hpp"
 
 namespace sh::opencl {
@@ -31,5 +34,23 @@ struct Options {
 
 // Every platform and device found, one line each ("P:D name (platform)").
 std::vector<std::string> devices();
+
+// RunStats::details of an opencl run (stats.details_as<opencl::RunDetails>()):
+// the bytes a run moved between host and device, and those it did not have
+// to.  Streams on a device that shares host memory are used in place;
+// elsewhere they are copied both ways.  Tables stay on the device between
+// runs until their contents change.
+class RunDetails : public sh::RunDetails {
+ public:
+  std::size_t runs = 0;
+  std::size_t to_device = 0;    // streams, changed tables, accumulators, the status
+  std::size_t from_device = 0;  // outputs, accumulators, the status
+  std::size_t in_place = 0;     // streams the kernel read or wrote in host memory
+  std::size_t tables_kept = 0;  // table bytes already on the device from an earlier run
+
+  std::unique_ptr<sh::RunDetails> clone() const override;
+  void add(const sh::RunDetails& more) override;
+  std::vector<std::string> describe() const override;
+};
 
 }  // namespace sh::opencl
