@@ -109,7 +109,8 @@ Options width(int lanes) {
 }
 
 // The SPMD kernel beside the scalar one: lanes in vector registers, an
-// if the lanes may disagree on as masks, one on a uniform as a branch.
+// if the lanes may disagree on as masks, one on a uniform as a branch on
+// a scalar.
 TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
   Attrib1f scale = 2.0f;
   Program p = SH_BEGIN_PROGRAM("lanes") {
@@ -129,7 +130,11 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
   for (auto at = lanes.find("select(", lanes.find("sh_kernel_lanes(")); at != std::string::npos; at = lanes.find("select(", at + 1))
     ++selects;
   EXPECT_EQ(selects, 1u) << "only the varying if masks its write: " << lanes;
-  EXPECT_NE(lanes.find(".s0 > 0)"), std::string::npos) << "the uniform if branches on lane 0: " << lanes;
+  std::string kernel = lanes.substr(lanes.find("sh_kernel_lanes("));
+  EXPECT_NE(kernel.find("\n  float v"), std::string::npos) << "the uniform condition is one scalar: " << kernel;
+  std::size_t uniform_if = kernel.find("\n  if (v");
+  ASSERT_NE(uniform_if, std::string::npos) << "the uniform if branches: " << kernel;
+  EXPECT_EQ(kernel.substr(uniform_if, kernel.find('\n', uniform_if + 1) - uniform_if).find(".s0"), std::string::npos) << kernel;
   std::vector<float> in;
   for (int i = 0; i < 37; ++i) in.push_back(static_cast<float>(i % 3) * 0.4f);
   for (int w : {1, 2, 4, 8, 16}) {

@@ -73,6 +73,13 @@ class Generator {
   // SPMD: whether lanes may hold different values of v (otherwise every
   // lane holds lane 0's), and whether an if or loop needs masks.
   bool varying(ir::VarId v) const { return !spmd() || facts_.varying[v]; }
+  // SPMD: a variable every lane agrees on is one scalar, not a vector of
+  // copies, so that the device's compiler sees uniform loops' counters
+  // (their trip counts) and computes uniform values once.
+  bool scalar_register(ir::VarId v) const {
+    ir::VarKind k = p_.var(v).kind;
+    return spmd() && k != ir::VarKind::Const && k != ir::VarKind::Uniform && !facts_.varying[v];
+  }
   bool divergent(const ir::Stmt& s) const { return spmd() && facts_.divergent.at(&s); }
 
   // The element's place in the launch domain (sh::LaunchDomain): the run's
@@ -282,13 +289,14 @@ class Generator {
     return is_double ? text : text + "f";
   }
 
-  // An operand's component; in the SPMD form constants and uniforms are
-  // broadcast, so that every built-in sees vectors.
+  // An operand's component; in the SPMD form constants, uniforms and
+  // scalar registers are broadcast, so that every built-in sees vectors.
   std::string read(const ir::Operand& o, int i) const {
     int c = o.swizzle[o.width() == 1 ? 0 : i];
     const ir::Var& v = p_.var(o.var);
     if (v.kind == ir::VarKind::Const) return constant(v.type.scalar, v.value[c]);
-    if (v.kind == ir::VarKind::Uniform && spmd()) return "((" + vec(reg_type(v.type.scalar)) + ")" + reg(o.var, c) + ")";
+    if (spmd() && (v.kind == ir::VarKind::Uniform || scalar_register(o.var)))
+      return "((" + vec(reg_type(v.type.scalar)) + ")" + reg(o.var, c) + ")";
     return reg(o.var, c);
   }
 
@@ -313,7 +321,8 @@ class Generator {
     for (std::size_t v = 0; v < p_.vars.size(); ++v) {
       const ir::Var& var = p_.vars[v];
       if (var.kind == ir::VarKind::Const || var.kind == ir::VarKind::Uniform) continue;
-      std::string decl = "  " + vec(reg_type(var.type.scalar));
+      const char* type = reg_type(var.type.scalar);
+      std::string decl = "  " + (scalar_register(static_cast<ir::VarId>(v)) ? std::string(type) : vec(type));
       for (int c = 0; c < var.type.width; ++c) decl += (c ? ", " : " ") + reg(static_cast<ir::VarId>(v), c) + " = 0";
       body_ << decl << ";";
       if (!var.name.empty()) body_ << "  // " << var.name;
@@ -408,7 +417,7 @@ class Generator {
     const ir::Var& v = p_.var(o.var);
     int c = o.swizzle[0];
     if (v.kind == ir::VarKind::Const) return "(" + number(v.type.scalar, v.value[c]) + " > 0)";
-    return "(" + reg(o.var, c) + (spmd() && v.kind != ir::VarKind::Uniform ? ".s0" : "") + " > 0)";
+    return "(" + reg(o.var, c) + (spmd() && v.kind != ir::VarKind::Uniform && !scalar_register(o.var) ? ".s0" : "") + " > 0)";
   }
   std::string lanes_where(const ir::Operand& o) const { return exec_mask("(" + read(o, 0) + " > 0)"); }
   // The lanes where a comparison holds, as a mask of the exec mask's type.
@@ -536,7 +545,18 @@ class Generator {
 
   // ---- assignments -------------------------------------------------------------------
 
+  // A scalar register's value is computed in the scalar form: its operands
+  // are scalar registers, uniforms and constants too (any varying operand
+  // makes it varying), and it is never written under a mask.
   void assign(const ir::Assign& a, int depth) {
+    if (!scalar_register(a.dest)) return assign_in_form(a, depth);
+    int lanes = lanes_;
+    lanes_ = 1;
+    assign_in_form(a, depth);
+    lanes_ = lanes;
+  }
+
+  void assign_in_form(const ir::Assign& a, int depth) {
     std::string results[4];
     ir::Scalar to = scalar_of(a.dest);
     if (ir::is_table_read(a.op)) {
@@ -802,7 +822,7 @@ class Generator {
 
   const ir::Program& p_;
   const sh::Options& o_;
-  const int lanes_;
+  int lanes_;  // 1 while a scalar register's value is written (assign)
   Prelude& prelude_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;
   std::ostringstream body_;
