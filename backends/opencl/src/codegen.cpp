@@ -729,12 +729,11 @@ class Generator {
     return "(" + index + ") * " + std::to_string(p_.tables[table].element.width);
   }
 
-  // In the SPMD form a read into a variable every lane agrees on is one
-  // load and a broadcast; any other is one load per lane (under a mask, of
-  // the lanes running).  Where the table access analysis hints that the
-  // lanes read one element, or consecutive elements of a one-component
-  // table, a test of the lanes' places takes one load and a broadcast, or a
-  // vector load, instead.
+  // In the SPMD form a read into a scalar register is the scalar form's one
+  // load (assign); any other is one load per lane.  Where the table access
+  // analysis hints that the lanes read one element, or consecutive elements
+  // of a one-component table, a test of the lanes' places takes one load
+  // and a broadcast, or a vector load, instead.
   void table_read(const ir::Assign& a, std::string* results, int depth) {
     const ir::TableDecl& t = p_.tables[a.table];
     std::string name = "table" + std::to_string(a.table);
@@ -756,17 +755,14 @@ class Generator {
     std::string n = std::to_string(reads_++), at = "at" + n, stored = vec(storage_type(t.element.scalar));
     line(depth, "const " + vec("long") + " " + at + " = " + index + ";");
     auto component = [&](int c) { return " + " + std::to_string(c); };
-    if (!varying(a.dest)) {
-      for (int c = 0; c < t.element.width; ++c)
-        results[c] = "((" + vec(element) + ")(" + element + ")" + name + "[" + at + ".s0" + component(c) + "])";
-      return;
-    }
+    // Every lane loads, those not running too: legal IR's coordinates lie
+    // inside the table in every lane (each a clamp or wrap computed in all
+    // lanes, or the 0 a register starts at, and a table has at least one
+    // element a dimension), and a load per lane without a test is cheaper
+    // than one behind it.
     auto gather = [&](int c) {
       std::string lanes;
-      for (int k = 0; k < lanes_; ++k) {
-        std::string load = name + "[" + at + lane(k) + component(c) + "]";
-        lanes += (k ? ", " : "") + (masked() ? "(exec" + lane(k) + " ? " + load + " : 0)" : load);
-      }
+      for (int k = 0; k < lanes_; ++k) lanes += (k ? ", " : "") + name + "[" + at + lane(k) + component(c) + "]";
       return "(" + stored + ")(" + lanes + ")";
     };
     analysis::Access hint = access_.at(&a).hint;
