@@ -145,10 +145,9 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
   EXPECT_THROW(Options().set("opencl.lanes", "3"), Error);
 }
 
-// The width "auto" keeps one element a work-item where lanes would gather
-// inside loops they leave apart, at most 8 where those loops keep lanes
-// together by any_lane, and takes the device's width elsewhere.
-TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoops) {
+// The width "auto" takes the device's width, at most 8 where lanes would
+// gather inside loops they leave apart.
+TEST(OpenClBackend, AutoWidthTakesAtMostEightLanesWhereLanesGatherInDivergentLoops) {
   Table1D<Attrib1f> next(4);
   next.assign(std::vector<float>{3, 0, 1, 2});
   Program walk = SH_BEGIN_PROGRAM("walk") {
@@ -161,32 +160,29 @@ TEST(OpenClBackend, AutoWidthKeepsOneElementWhereLanesWouldGatherInDivergentLoop
       steps += 1.0f;
     } SH_ENDWHILE;
   } SH_END;
-  Program walk_together = SH_BEGIN_PROGRAM("walk together") {
-    InputAttrib1f start;
-    OutputAttrib1f steps;
-    Attrib1f at = start;
-    steps = 0.0f;
-    SH_WHILE(any_lane(at > 0.5f)) {
-      at = next[at.cast<int>()];
-      steps += 1.0f;
-    } SH_ENDWHILE;
-  } SH_END;
   Program scale = SH_BEGIN_PROGRAM("scale") {
     InputAttrib1f x;
     OutputAttrib1f r;
     r = x * 3.0f;
   } SH_END;
   auto device = opencl::open_device("");
-  bool lanes = device->cpu && device->float_lanes > 1;
-  EXPECT_EQ(kernel_for(walk, backend("opencl"))->listing().find("sh_kernel_lanes"), std::string::npos);
-  int together = 1;
-  while (together * 2 <= static_cast<int>(device->float_lanes) && together < 8) together *= 2;
-  std::string listing = kernel_for(walk_together, backend("opencl"))->listing();
-  if (device->cpu && together > 1)
-    EXPECT_NE(listing.find("get_global_id(0) * " + std::to_string(together) + ";"), std::string::npos) << listing;
-  else
-    EXPECT_EQ(listing.find("sh_kernel_lanes"), std::string::npos) << listing;
-  EXPECT_EQ(kernel_for(scale, backend("opencl"))->listing().find("sh_kernel_lanes") != std::string::npos, lanes);
+  auto lanes_of = [](const Program& p) {
+    std::string listing = kernel_for(p, backend("opencl"))->listing();
+    std::size_t at = listing.find("get_global_id(0) * ", listing.find("sh_kernel_lanes("));
+    return at == std::string::npos ? 1 : std::stoi(listing.substr(at + 19));
+  };
+  auto widest = [&](int most) {
+    int lanes = 1;
+    while (device->cpu && lanes * 2 <= static_cast<int>(device->float_lanes) && lanes * 2 <= most) lanes *= 2;
+    return lanes;
+  };
+  EXPECT_EQ(lanes_of(walk), widest(8));
+  EXPECT_EQ(lanes_of(scale), widest(16));
+  std::vector<float> starts;
+  for (int i = 0; i < 37; ++i) starts.push_back(static_cast<float>(i % 4));
+  Channel<Attrib1f> s(starts), steps;
+  run(walk, {s}, {steps}, backend("opencl"));
+  for (std::size_t i = 0; i < starts.size(); ++i) EXPECT_EQ(steps[i], starts[i]) << "from " << starts[i] << " the walk takes as many steps";
 }
 
 // A run reports the bytes it moved: a table goes to the device once and

@@ -310,7 +310,7 @@ class OpenClBackend : public Backend {
     return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
             {"lanes",
              "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU (at most 8 "
-             "for programs whose divergent loops gather but vote with any_lane, 1 for other such programs), 1 elsewhere"}};
+             "for programs that gather in divergent loops), 1 elsewhere"}};
   }
   BackendOptions default_options() const override { return Options{}; }
   std::vector<Variant> variants() const override {

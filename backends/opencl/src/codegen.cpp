@@ -857,24 +857,10 @@ bool gathers_in(const ir::Block& b, const analysis::SpmdFacts& facts, bool in_di
   return false;
 }
 
-bool votes(const ir::Block& b) {
-  for (const ir::Stmt& s : b) {
-    if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-      if (a->op == ir::Op::AnyLane) return true;
-    } else if (auto* i = std::get_if<ir::If>(&s.node)) {
-      if (votes(i->then_body) || votes(i->else_body)) return true;
-    } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
-      if (votes(l->header) || votes(l->body) || votes(l->update)) return true;
-    }
-  }
-  return false;
-}
-
 }  // namespace
 
 int most_lanes(const ir::Program& program) {
-  if (!gathers_in(program.body, analysis::analyse_spmd(program), false)) return 16;
-  return votes(program.body) ? 8 : 1;
+  return gathers_in(program.body, analysis::analyse_spmd(program), false) ? 8 : 16;
 }
 
 Source generate(const ir::Program& program, const sh::Options& options, int lanes) {

@@ -24,13 +24,10 @@ struct Source {
 Source generate(const ir::Program& program, const sh::Options& options, int lanes);
 
 // The most elements a work-item of the kernel of lanes should take on a CPU
-// device: 16, except where lanes would read tables at places of their own
+// device: 16, except 8 where lanes would read tables at places of their own
 // inside loops they leave at different iterations (a ray tracer's
-// traversal).  There PoCL's code for one element a work-item beats the
-// lanes' gathers under masks, so the cap is 1, unless the loops vote with
-// any_lane, which keeps neighbouring lanes walking together: then 8, where
-// both hosts measured were at least as fast as with one element, and 16 was
-// slower (BENCHMARKS.md, the kernel of lanes).
+// traversal), where 16 lanes wait on each other's walks longer
+// (BENCHMARKS.md, the kernel of lanes).
 int most_lanes(const ir::Program& program);
 
 }  // namespace sh::opencl
