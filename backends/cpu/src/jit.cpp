@@ -6,12 +6,15 @@
 #include <llvm/Analysis/CGSCCPassManager.h>
 #include <llvm/Analysis/LoopAnalysisManager.h>
 #include <llvm/Analysis/TargetLibraryInfo.h>
+#include <llvm/Analysis/ValueTracking.h>
 #include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/IR/InstIterator.h>
+#include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/PassManager.h>
 #include <llvm/IR/Verifier.h>
 #include <llvm/Passes/PassBuilder.h>
@@ -69,6 +72,23 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
   pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3).run(m, mam);
+}
+
+// minnum and maxnum give the operand that is not NaN, which x86's min and
+// max instructions do not, so code generation adds a NaN test and a blend
+// unless the call says no operand is NaN.  After optimisation the operands
+// are plain values: where neither can be NaN (the 1s and 0s of
+// comparisons, whose min and max are Sh's && and ||), the call says so and
+// becomes one instruction.
+void mark_min_max_without_nan(llvm::Module& m) {
+  for (llvm::Function& f : m)
+    for (llvm::Instruction& i : llvm::instructions(f)) {
+      auto* call = llvm::dyn_cast<llvm::IntrinsicInst>(&i);
+      if (!call || (call->getIntrinsicID() != llvm::Intrinsic::minnum && call->getIntrinsicID() != llvm::Intrinsic::maxnum))
+        continue;
+      if (llvm::isKnownNeverNaN(call->getArgOperand(0), nullptr) && llvm::isKnownNeverNaN(call->getArgOperand(1), nullptr))
+        call->setHasNoNaNs(true);
+    }
 }
 
 }  // namespace
@@ -153,6 +173,7 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   clock.end("lowering");
 
   optimise(m, *machine);
+  mark_min_max_without_nan(m);
   // Invalid IR from the optimiser would abort the process in code
   // generation; an error names the program instead.
   if (llvm::verifyModule(m, &os))
