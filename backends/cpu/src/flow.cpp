@@ -39,8 +39,32 @@ void Lowering::leave(bool is_break) {
   }
   // Breaking lanes leave the loop for good; continuing lanes come back at
   // the update, which runs for every lane still looping.
-  if (is_break) b_.CreateStore(b_.CreateAnd(b_.CreateLoad(mask_type(), l.active), b_.CreateNot(exec())), l.active);
-  b_.CreateStore(llvm::Constant::getNullValue(mask_type()), exec_);
+  if (is_break) keep_lanes(l.active, b_.CreateNot(exec()));
+  store_mask(llvm::Constant::getNullValue(mask_type()), exec_);
+}
+
+Value* Lowering::load_mask(llvm::AllocaInst* slot) {
+  Value* held = b_.CreateLoad(mask_slot_type(), slot);
+  return wide_masks_ ? b_.CreateICmpSLT(held, llvm::Constant::getNullValue(held->getType())) : held;
+}
+
+void Lowering::store_mask(Value* mask, llvm::AllocaInst* slot) {
+  b_.CreateStore(wide_masks_ ? b_.CreateSExt(mask, mask_slot_type()) : mask, slot);
+}
+
+// Clears the slot's lanes that are not in `mask`, and gives the lanes
+// left.  Wide slots are and-ed as they are, so that a loop's mask stays in
+// 32-bit lanes from one iteration to the next (the sign extension of an
+// and of i1 lanes would be folded back into an i1 phi).
+Value* Lowering::keep_lanes(llvm::AllocaInst* slot, Value* mask) {
+  if (!wide_masks_) {
+    Value* kept = b_.CreateAnd(b_.CreateLoad(mask_type(), slot), mask);
+    b_.CreateStore(kept, slot);
+    return kept;
+  }
+  Value* kept = b_.CreateAnd(b_.CreateLoad(mask_slot_type(), slot), b_.CreateSExt(mask, mask_slot_type()));
+  b_.CreateStore(kept, slot);
+  return b_.CreateICmpSLT(kept, llvm::Constant::getNullValue(kept->getType()));
 }
 
 Value* Lowering::any(Value* mask) { return b_.CreateOrReduce(mask); }
@@ -91,7 +115,7 @@ void Lowering::masked_branch(const ir::If& i, const ir::Stmt& s) {
        {std::tuple{&i.then_body, b_.CreateAnd(before, cond), &facts_.live_during_then.at(&s)},
         std::tuple{&i.else_body, b_.CreateAnd(before, b_.CreateNot(cond)), &facts_.live_at_rejoin.at(&s)}}) {
     enter_masked(*live);
-    b_.CreateStore(lanes, exec_);
+    store_mask(lanes, exec_);
     if (!body->empty()) {
       BasicBlock* run = BasicBlock::Create(ctx_, "side", fn_);
       BasicBlock* done = BasicBlock::Create(ctx_, "side.done", fn_);
@@ -104,7 +128,7 @@ void Lowering::masked_branch(const ir::If& i, const ir::Stmt& s) {
     finished = finished ? b_.CreateOr(finished, exec()) : exec();
     leave_masked();
   }
-  b_.CreateStore(finished, exec_);
+  store_mask(finished, exec_);
 }
 
 // Each loop counts its iterations: past the cap, the kernel stops and
@@ -138,14 +162,14 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   std::int64_t number = numbered - loops_.begin();
   llvm::AllocaInst* count = entry_alloca(b_.getInt64Ty(), "iterations");
   b_.CreateStore(b_.getInt64(0), count);
-  llvm::AllocaInst* active = masked ? entry_alloca(mask_type(), "active") : nullptr;
+  llvm::AllocaInst* active = masked ? entry_alloca(mask_slot_type(), "active") : nullptr;
   Value* entered = masked ? exec() : nullptr;
   if (masked) {
-    b_.CreateStore(entered, active);
+    store_mask(entered, active);
     enter_masked(facts_.live_at_rejoin.at(&s));
   }
   auto run_active = [&] {
-    if (masked) b_.CreateStore(b_.CreateLoad(mask_type(), active), exec_);
+    if (masked) b_.CreateStore(b_.CreateLoad(mask_slot_type(), active), exec_);
   };
 
   BasicBlock* top = BasicBlock::Create(ctx_, "loop.top", fn_);
@@ -156,16 +180,14 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   b_.CreateBr(top);
 
   b_.SetInsertPoint(top);
-  check_iterations(number, count, masked ? b_.CreateLoad(mask_type(), active) : nullptr, l.test_at_top ? test : body);
+  check_iterations(number, count, masked ? load_mask(active) : nullptr, l.test_at_top ? test : body);
 
   b_.SetInsertPoint(test);
   run_active();
   block(l.header);
   Value* go_on = condition(l.cond);
   if (masked) {
-    Value* staying = b_.CreateAnd(b_.CreateLoad(mask_type(), active), widen(go_on));
-    b_.CreateStore(staying, active);
-    go_on = any(staying);
+    go_on = any(keep_lanes(active, widen(go_on)));
   }
   b_.CreateCondBr(go_on, l.test_at_top ? body : top, exit);
 
@@ -184,7 +206,7 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   b_.SetInsertPoint(exit);
   if (masked) {
     leave_masked();
-    b_.CreateStore(entered, exec_);
+    store_mask(entered, exec_);
   }
 }
 

@@ -23,6 +23,7 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
   reads_position_ = ir::uses(p, ir::Op::Position);
   llvm::StringMap<bool> features;
   fast_gather_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
+  wide_masks_ = !fast_gather_;
 }
 
 Lowered Lowering::run() {
@@ -104,7 +105,7 @@ void Lowering::function() {
   b_.SetInsertPoint(entry);
   element_ = b_.CreateAlloca(i64, nullptr, "element");
   b_.CreateStore(begin, element_);
-  if (spmd()) exec_ = b_.CreateAlloca(mask_type(), nullptr, "exec");
+  if (spmd()) exec_ = b_.CreateAlloca(mask_slot_type(), nullptr, "exec");
   // The buffers do not move during a call: their addresses are loaded
   // once, so stores to outputs cannot make the loop reload them.
   for (std::size_t i = 0; i < p_.inputs.size(); ++i) input_base_.push_back(pointer_at(inputs_, i));
@@ -128,7 +129,7 @@ void Lowering::function() {
   Value* count = spmd() ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(end, e), b_.getInt64(width_)) : nullptr;
   if (reads_position_) count = place_batch(count);
   batch_count_ = count;
-  if (spmd()) b_.CreateStore(live_lanes(count), exec_);
+  if (spmd()) store_mask(live_lanes(count), exec_);
   clear_registers();
   full_or_tail(count, [&](Value* tail) { load_inputs(e, tail); });
   batch_body();

@@ -81,8 +81,17 @@ class Lowering {
   Value* condition(const ir::Operand& cond);  // the i1 (or lanes of i1) an if or loop tests
   Value* any(Value* mask);
   Value* first_lane(Value* mask);
-  Value* exec() { return b_.CreateLoad(mask_type(), exec_); }
+  // Masks wait in stack slots between statements (mem2reg makes them SSA
+  // values).  Without AVX-512's mask registers LLVM keeps a vector of i1
+  // that crosses blocks as packed 16-bit lanes and unpacks it at every
+  // use; there a slot holds 32-bit lanes, all ones or zero, as compares
+  // make them and blends read them.
+  Value* exec() { return load_mask(exec_); }
+  Value* load_mask(llvm::AllocaInst* slot);
+  void store_mask(Value* mask, llvm::AllocaInst* slot);
+  Value* keep_lanes(llvm::AllocaInst* slot, Value* mask);
   llvm::Type* mask_type() const { return lanes(llvm::Type::getInt1Ty(ctx_)); }
+  llvm::Type* mask_slot_type() const { return wide_masks_ ? lanes(llvm::Type::getInt32Ty(ctx_)) : mask_type(); }
   llvm::AllocaInst* entry_alloca(llvm::Type* t, const char* name);
 
   // ---- assignments (operations.cpp) ----------------------------------------
@@ -151,6 +160,7 @@ class Lowering {
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
   Value* batch_count_ = nullptr;  // spmd: the lanes that hold elements (the rest are past the end or the row)
   bool fast_gather_ = false;      // spmd: the host has a gather instruction worth using (AVX-512)
+  bool wide_masks_ = false;       // spmd: masks wait in 32-bit lanes (no AVX-512 mask registers)
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.

@@ -365,14 +365,14 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
     slots[c] = entry_alloca(vector, "fetched");
     b_.CreateStore(llvm::Constant::getNullValue(vector), slots[c]);
   }
-  llvm::AllocaInst* waiting = entry_alloca(mask_type(), "waiting");
-  b_.CreateStore(exec(), waiting);
+  llvm::AllocaInst* waiting = entry_alloca(mask_slot_type(), "waiting");
+  store_mask(exec(), waiting);
   BasicBlock* head = BasicBlock::Create(ctx_, "fetch.rounds", fn_);
   BasicBlock* round = BasicBlock::Create(ctx_, "fetch.round", fn_);
   BasicBlock* done = BasicBlock::Create(ctx_, "fetch.rounds.done", fn_);
   b_.CreateBr(head);
   b_.SetInsertPoint(head);
-  Value* still = b_.CreateLoad(mask_type(), waiting);
+  Value* still = load_mask(waiting);
   b_.CreateCondBr(any(still), round, done);
 
   b_.SetInsertPoint(round);
@@ -394,7 +394,7 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   // fetched_element counted the first lane's read.
   Value* others = b_.CreateSub(b_.CreateAddReduce(b_.CreateZExt(in_window, lanes(i64))), b_.getInt64(1));
   b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), others), access_field(table, 3));
-  b_.CreateStore(b_.CreateAnd(still, b_.CreateNot(in_window)), waiting);
+  keep_lanes(waiting, b_.CreateNot(in_window));
   b_.CreateBr(head);
 
   b_.SetInsertPoint(done);
@@ -587,7 +587,7 @@ void Lowering::batch_body() {
   BasicBlock* done = BasicBlock::Create(ctx_, "batch.done", fn_);
   b_.CreateCondBr(b_.CreateAnd(inside, b_.CreateICmpEQ(batch_count_, b_.getInt64(width_))), fast, edge);
   b_.SetInsertPoint(fast);
-  b_.CreateStore(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
+  store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
   batch_inside_ = true;
   block(p_.body);
   batch_inside_ = false;
