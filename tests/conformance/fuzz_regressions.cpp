@@ -222,5 +222,47 @@ TEST_P(Conformance, FuzzExp2OfAnIntegerOrBoolConvertedToFloat) {
     EXPECT_EQ(out2[i], bs[i] ? 1.0f : 2.0f) << "exp2(!" << bs[i] << ")";
   }
 }
+
+// fuzz_ir seed 10775193567703891886 (opencl, every variant, f64): a
+// remainder by a zero the OpenCL compiler could see (the `not` of a
+// positive constant, in one component of a register) and the floor of it
+// stored nothing instead of NaN.  The zero as a whole temporary, and as a
+// component beside the dividend.
+TEST_P(Conformance, FuzzRemainderByAZeroTheCompilerSeesIsNaN) {
+  if (fast()) GTEST_SKIP() << "fast math gives up NaN";
+  for (Scalar s : {Scalar::F32, Scalar::F64})
+    for (bool in_component : {false, true}) {
+      Ir ir(std::string("fuzz_mod_by_known_zero_") + (s == Scalar::F32 ? "f32" : "f64") + (in_component ? "_component" : ""));
+      VarId x = ir.input({s, 1}), remainder = ir.output({s, 1}), floored = ir.output({s, 1});
+      VarId t = ir.temp({s, 3});
+      Swizzle yz = Swizzle::identity(2), first = Swizzle::identity(1), last = Swizzle::identity(1);
+      yz.index = {1, 2};
+      last.index[0] = in_component ? 2 : 0;
+      VarId zero = in_component ? t : ir.temp({s, 1});
+      Block body = {ir.set(t, Op::Mov, {ir(x)})};
+      body.push_back(in_component ? Stmt{Assign{t, yz, Op::Not, {ir.number(s, 5.562684646268003e-309)}, -1}}
+                                  : ir.set(zero, Op::Not, {ir.number(s, 5.562684646268003e-309)}));
+      body.push_back(ir.set(remainder, Op::Mod, {Operand{t, first}, Operand{zero, last}}));
+      body.push_back(ir.set(floored, Op::Floor, {ir(remainder)}));
+      sh::Program p = ir.program(std::move(body));
+      std::vector<double> xs = {-0.25, 3.75, 9007199254740994.0, -1e-300, 0, 1e300, -7, 0.5, 2};
+      auto check = [&](auto& r, auto& f) {
+        for (std::size_t i = 0; i < xs.size(); ++i)
+          EXPECT_TRUE(std::isnan(r[i]) && std::isnan(f[i]))
+              << p.ir().name << ": mod(" << xs[i] << ", 0) = " << r[i] << ", floored " << f[i];
+      };
+      if (s == Scalar::F32) {
+        std::vector<float> fs(xs.begin(), xs.end()), fill(xs.size(), 12345.f);
+        sh::Channel<sh::Attrib1f> in(fs), r(fill), f(fill);
+        run(p, {in}, {r, f});
+        check(r, f);
+      } else {
+        std::vector<double> fill(xs.size(), 12345.0);
+        sh::Channel<sh::Attrib1d> in(xs), r(fill), f(fill);
+        run(p, {in}, {r, f});
+        check(r, f);
+      }
+    }
+}
 }  // namespace
 }  // namespace conformance

@@ -211,14 +211,24 @@ class Generator {
   // Sh's mod and round, as ir/eval.cpp defines them (the reference says why
   // they are exact): the remainder with the sign of b (C's, plus b where
   // the signs differ), and halves toward +Inf.
+  //
+  // A float remainder by zero is NaN, read from a volatile: where PoCL can
+  // see the zero (a constant folded into the divisor), its fmod gives a NaN
+  // it treats as undefined, and the store of the result, or of what is
+  // computed from it, vanished.
   std::string floor_remainder(ir::Scalar s) const {
     std::string t = vec(reg_type(s));
     bool fp = ir::is_float(s);
     std::string differ = fp ? "(r < 0) != (b < 0)" : "(r ^ b) < 0";
+    std::string result = choose("r != 0 && " + differ, "r + b", "r", s);
+    std::string nan;
+    if (fp) {
+      nan = std::string("  volatile ") + reg_type(s) + " nan = NAN;\n";
+      result = choose("b == 0", "(" + t + ")nan", result, s);
+    }
     return helper("sh_mod_" + t, t,
-                  "(" + t + " a, " + t + " b) {\n  " + t + " r = " + (fp ? lane_by_lane("fmod", {"a", "b"}, s) : "a % b") +
-                      ";\n  return " +
-                      choose("r != 0 && " + differ, "r + b", "r", s) + ";\n}\n");
+                  "(" + t + " a, " + t + " b) {\n" + nan + "  " + t + " r = " + (fp ? lane_by_lane("fmod", {"a", "b"}, s) : "a % b") +
+                      ";\n  return " + result + ";\n}\n");
   }
   std::string round_half_up(ir::Scalar s) const {
     std::string t = vec(reg_type(s));
