@@ -167,9 +167,10 @@ TEST(OpenClBackend, AutoWidthTakesAtMostEightLanesWhereLanesGatherInDivergentLoo
   } SH_END;
   auto device = opencl::open_device("");
   auto lanes_of = [](const Program& p) {
+    const std::string per_work_item = "get_global_id(0) * ";
     std::string listing = kernel_for(p, backend("opencl"))->listing();
-    std::size_t at = listing.find("get_global_id(0) * ", listing.find("sh_kernel_lanes("));
-    return at == std::string::npos ? 1 : std::stoi(listing.substr(at + 19));
+    std::size_t at = listing.find(per_work_item, listing.find("sh_kernel_lanes("));
+    return at == std::string::npos ? 1 : std::stoi(listing.substr(at + per_work_item.size()));
   };
   auto widest = [&](int most) {
     int lanes = 1;

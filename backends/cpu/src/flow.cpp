@@ -43,13 +43,14 @@ void Lowering::leave(bool is_break) {
   store_mask(llvm::Constant::getNullValue(mask_type()), exec_);
 }
 
-Value* Lowering::load_mask(llvm::AllocaInst* slot) {
-  Value* held = b_.CreateLoad(mask_slot_type(), slot);
-  return wide_masks_ ? b_.CreateICmpSLT(held, llvm::Constant::getNullValue(held->getType())) : held;
+Value* Lowering::mask_from_slot(Value* held) {
+  return avx512_ ? held : b_.CreateICmpSLT(held, llvm::Constant::getNullValue(held->getType()));
 }
 
+Value* Lowering::load_mask(llvm::AllocaInst* slot) { return mask_from_slot(b_.CreateLoad(mask_slot_type(), slot)); }
+
 void Lowering::store_mask(Value* mask, llvm::AllocaInst* slot) {
-  b_.CreateStore(wide_masks_ ? b_.CreateSExt(mask, mask_slot_type()) : mask, slot);
+  b_.CreateStore(avx512_ ? mask : b_.CreateSExt(mask, mask_slot_type()), slot);
 }
 
 // Clears the slot's lanes that are not in `mask`, and gives the lanes
@@ -57,14 +58,9 @@ void Lowering::store_mask(Value* mask, llvm::AllocaInst* slot) {
 // 32-bit lanes from one iteration to the next (the sign extension of an
 // and of i1 lanes would be folded back into an i1 phi).
 Value* Lowering::keep_lanes(llvm::AllocaInst* slot, Value* mask) {
-  if (!wide_masks_) {
-    Value* kept = b_.CreateAnd(b_.CreateLoad(mask_type(), slot), mask);
-    b_.CreateStore(kept, slot);
-    return kept;
-  }
-  Value* kept = b_.CreateAnd(b_.CreateLoad(mask_slot_type(), slot), b_.CreateSExt(mask, mask_slot_type()));
+  Value* kept = b_.CreateAnd(b_.CreateLoad(mask_slot_type(), slot), avx512_ ? mask : b_.CreateSExt(mask, mask_slot_type()));
   b_.CreateStore(kept, slot);
-  return b_.CreateICmpSLT(kept, llvm::Constant::getNullValue(kept->getType()));
+  return mask_from_slot(kept);
 }
 
 Value* Lowering::any(Value* mask) { return b_.CreateOrReduce(mask); }

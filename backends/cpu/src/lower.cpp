@@ -22,8 +22,7 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
   if (spmd()) facts_ = analysis::analyse_spmd(p), access_ = analysis::table_access(p);
   reads_position_ = ir::uses(p, ir::Op::Position);
   llvm::StringMap<bool> features;
-  fast_gather_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
-  wide_masks_ = !fast_gather_;
+  avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
 }
 
 Lowered Lowering::run() {

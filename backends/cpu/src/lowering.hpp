@@ -91,7 +91,8 @@ class Lowering {
   void store_mask(Value* mask, llvm::AllocaInst* slot);
   Value* keep_lanes(llvm::AllocaInst* slot, Value* mask);
   llvm::Type* mask_type() const { return lanes(llvm::Type::getInt1Ty(ctx_)); }
-  llvm::Type* mask_slot_type() const { return wide_masks_ ? lanes(llvm::Type::getInt32Ty(ctx_)) : mask_type(); }
+  llvm::Type* mask_slot_type() const { return avx512_ ? mask_type() : lanes(llvm::Type::getInt32Ty(ctx_)); }
+  Value* mask_from_slot(Value* held);
   llvm::AllocaInst* entry_alloca(llvm::Type* t, const char* name);
 
   // ---- assignments (operations.cpp) ----------------------------------------
@@ -159,8 +160,9 @@ class Lowering {
   SpmdFacts facts_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
   Value* batch_count_ = nullptr;  // spmd: the lanes that hold elements (the rest are past the end or the row)
-  bool fast_gather_ = false;      // spmd: the host has a gather instruction worth using (AVX-512)
-  bool wide_masks_ = false;       // spmd: masks wait in 32-bit lanes (no AVX-512 mask registers)
+  // spmd: the host has AVX-512, whose gather instruction is worth using and
+  // whose mask registers hold i1 lanes (without it masks wait in 32-bit lanes)
+  bool avx512_ = false;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.

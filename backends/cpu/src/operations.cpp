@@ -271,7 +271,7 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
 // function per element and index type that loads every lane one after
 // another with no branch.
 Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise) {
-  if (fast_gather_)
+  if (avx512_)
     return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), lanes_read,
                                  otherwise);
   llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, index});

@@ -223,8 +223,8 @@ class Generator {
     std::string result = choose("r != 0 && " + differ, "r + b", "r", s);
     std::string nan;
     if (fp) {
-      nan = std::string("  volatile ") + reg_type(s) + " nan = NAN;\n";
-      result = choose("b == 0", "(" + t + ")nan", result, s);
+      nan = std::string("  volatile ") + reg_type(s) + " sh_nan = NAN;\n";
+      result = choose("b == 0", "(" + t + ")sh_nan", result, s);
     }
     return helper("sh_mod_" + t, t,
                   "(" + t + " a, " + t + " b) {\n" + nan + "  " + t + " r = " + (fp ? lane_by_lane("fmod", {"a", "b"}, s) : "a % b") +
