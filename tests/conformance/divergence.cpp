@@ -2,6 +2,9 @@
 // breaks, continues and table reads, at stream lengths around every SIMD
 // width: what an SPMD backend's masks and stream tail must get right, and
 // every other backend too.
+#include <algorithm>
+#include <limits>
+
 #include "harness.hpp"
 
 namespace conformance {
@@ -68,6 +71,52 @@ TEST_P(Conformance, DivergentNeighboursAtEveryStreamLength) {
       ASSERT_EQ(out[2 * k], e.sum) << "element " << k << " of " << length;
       ASSERT_EQ(out[2 * k + 1], e.steps) << "element " << k << " of " << length;
     }
+  }
+}
+
+// Tests chained with Sh's && (min), || (max) and !, written under a
+// divergent if, steering a loop and read back as numbers: an SPMD backend
+// that holds such values as masks must give the 0 and 1 of the reference,
+// NaN comparing false.
+struct Truths {
+  float both, either, low, count;
+};
+
+Truths truths_reference(float a, float b) {
+  float low = a < b, both = std::min(low, static_cast<float>(a > -2));
+  float either = std::max(static_cast<float>(!(both > 0)), static_cast<float>(b == 3));
+  if (a > 0) both = std::min(either, static_cast<float>(!(low > 0)));
+  float count = 0;
+  while (std::min(static_cast<float>(count < 5), std::max(static_cast<float>(count < b), low)) > 0) count += 1;
+  return {both, either, low, count};
+}
+
+TEST_P(Conformance, TestsChainedWithAndOrNotKeepTheirZeroOneValues) {
+  sh::Program p = SH_BEGIN_PROGRAM("truths") {
+    sh::Input<Attrib2f> v;
+    sh::Output<sh::Attrib4f> r;
+    Attrib1f low = v(0) < v(1);
+    Attrib1f both = low && v(0) > -2.0f;
+    Attrib1f either = !both || v(1) == 3.0f;
+    Attrib1f count = 0.0f;
+    SH_IF(v(0) > 0.0f) { both = either && !low; } SH_ENDIF;
+    SH_WHILE(count < 5.0f && (count < v(1) || low)) { count += 1.0f; } SH_ENDWHILE;
+    r = join(join(both, either), join(low, count));
+  } SH_END;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> values = {-3, -1, 0, 0.5f, 1, 3, 4};
+  if (!fast()) values.push_back(nan);  // fast math assumes no NaN
+  std::vector<float> in;
+  for (float a : values)
+    for (float b : values) in.insert(in.end(), {a, b});
+  sh::Channel<Attrib2f> input(in);
+  sh::Channel<sh::Attrib4f> out;
+  run(p, {input}, {out});
+  for (std::size_t k = 0; k < in.size() / 2; ++k) {
+    Truths t = truths_reference(in[2 * k], in[2 * k + 1]);
+    const float expected[4] = {t.both, t.either, t.low, t.count};
+    for (int c = 0; c < 4; ++c)
+      ASSERT_EQ(out[4 * k + c], expected[c]) << "a " << in[2 * k] << ", b " << in[2 * k + 1] << ", component " << c;
   }
 }
 

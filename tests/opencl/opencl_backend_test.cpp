@@ -145,9 +145,11 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
   EXPECT_THROW(Options().set("opencl.lanes", "3"), Error);
 }
 
-// The width "auto" takes the device's width, at most 8 where lanes would
-// gather inside loops they leave apart.
-TEST(OpenClBackend, AutoWidthTakesAtMostEightLanesWhereLanesGatherInDivergentLoops) {
+// The width "auto" takes the device's float vector width (at most 16).
+// A walk's lanes that still run and agree on the next node read it once:
+// lanes that left the walk hold other places and must not count, and
+// lanes that disagree gather.
+TEST(OpenClBackend, AutoWidthTakesTheDeviceWidthAndRunningLanesThatAgreeReadOnce) {
   Table1D<Attrib1f> next(4);
   next.assign(std::vector<float>{3, 0, 1, 2});
   Program walk = SH_BEGIN_PROGRAM("walk") {
@@ -160,30 +162,22 @@ TEST(OpenClBackend, AutoWidthTakesAtMostEightLanesWhereLanesGatherInDivergentLoo
       steps += 1.0f;
     } SH_ENDWHILE;
   } SH_END;
-  Program scale = SH_BEGIN_PROGRAM("scale") {
-    InputAttrib1f x;
-    OutputAttrib1f r;
-    r = x * 3.0f;
-  } SH_END;
   auto device = opencl::open_device("");
-  auto lanes_of = [](const Program& p) {
-    const std::string per_work_item = "get_global_id(0) * ";
-    std::string listing = kernel_for(p, backend("opencl"))->listing();
-    std::size_t at = listing.find(per_work_item, listing.find("sh_kernel_lanes("));
-    return at == std::string::npos ? 1 : std::stoi(listing.substr(at + per_work_item.size()));
-  };
-  auto widest = [&](int most) {
-    int lanes = 1;
-    while (device->cpu && lanes * 2 <= static_cast<int>(device->float_lanes) && lanes * 2 <= most) lanes *= 2;
-    return lanes;
-  };
-  EXPECT_EQ(lanes_of(walk), widest(8));
-  EXPECT_EQ(lanes_of(scale), widest(16));
-  std::vector<float> starts;
-  for (int i = 0; i < 37; ++i) starts.push_back(static_cast<float>(i % 4));
-  Channel<Attrib1f> s(starts), steps;
-  run(walk, {s}, {steps}, backend("opencl"));
-  for (std::size_t i = 0; i < starts.size(); ++i) EXPECT_EQ(steps[i], starts[i]) << "from " << starts[i] << " the walk takes as many steps";
+  std::string listing = kernel_for(walk, backend("opencl"))->listing();
+  const std::string per_work_item = "get_global_id(0) * ";
+  std::size_t at = listing.find(per_work_item, listing.find("sh_kernel_lanes("));
+  int lanes = 1;
+  while (device->cpu && lanes * 2 <= static_cast<int>(device->float_lanes) && lanes * 2 <= 16) lanes *= 2;
+  EXPECT_EQ(at == std::string::npos ? 1 : std::stoi(listing.substr(at + per_work_item.size())), lanes);
+  for (int w : {4, 8, 16}) {
+    std::vector<float> starts;
+    for (int i = 0; i < 37; ++i) starts.push_back(static_cast<float>(i % 4));
+    for (int i = 0; i < 64; ++i) starts.push_back(i % 5 == 0 ? 0.0f : 3.0f);  // the lanes at 0 never run
+    Channel<Attrib1f> s(starts), steps;
+    run(walk, {s}, {steps}, backend("opencl", width(w)));
+    for (std::size_t i = 0; i < starts.size(); ++i)
+      EXPECT_EQ(steps[i], starts[i]) << w << " lanes: from " << starts[i] << " the walk takes as many steps";
+  }
 }
 
 // A run reports the bytes it moved: a table goes to the device once and

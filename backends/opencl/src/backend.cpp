@@ -36,8 +36,8 @@ std::string build_options(const sh::Options& o) {
 class OpenClKernel : public Kernel {
  public:
   OpenClKernel(const ir::Program& p, const sh::Options& o)
-      : program_(p), options_(o), device_(open_device(o.get<Options>().device)), lanes_(lanes_for(p, o, *device_)) {
-    Source source = generate(p, o, lanes_);
+      : program_(p), options_(o), device_(open_device(o.get<Options>().device)), lanes_(lanes_for(o, *device_)) {
+    Source source = generate(p, o, lanes_, device_->max_alloc);
     source_ = std::move(source.text);
     if (source.needs_fp64 && !device_->fp64)
       throw Error("program '" + p.name + "': needs double precision (f64), which OpenCL device '" + device_->name +
@@ -142,14 +142,14 @@ class OpenClKernel : public Kernel {
   };
 
   // Elements per work-item: the setting, or on a CPU device its preferred
-  // float vector width up to what suits the program (one on other devices,
-  // whose compilers spread work-items over SIMD lanes themselves).
-  static int lanes_for(const ir::Program& p, const sh::Options& o, const Device& d) {
+  // float vector width, up to 16 (one on other devices, whose compilers
+  // spread work-items over SIMD lanes themselves).
+  static int lanes_for(const sh::Options& o, const Device& d) {
     int chosen = o.get<Options>().lanes;
     if (chosen != 0) return chosen;
     if (!d.cpu) return 1;
-    int lanes = 1, most = most_lanes(p);
-    while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes * 2 <= most) lanes *= 2;
+    int lanes = 1;
+    while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes * 2 <= 16) lanes *= 2;
     return lanes;
   }
 
@@ -309,8 +309,8 @@ class OpenClBackend : public Backend {
   std::vector<Setting> settings() const override {
     return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
             {"lanes",
-             "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU (at most 8 "
-             "for programs that gather in divergent loops), 1 elsewhere"}};
+             "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU (at most "
+             "16), 1 elsewhere"}};
   }
   BackendOptions default_options() const override { return Options{}; }
   std::vector<Variant> variants() const override {

@@ -1,7 +1,9 @@
 #include "codegen.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -42,13 +44,15 @@ struct Prelude {
 // in the text of types, choices and the statements that steer lanes.
 class Generator {
  public:
-  Generator(const ir::Program& p, const sh::Options& o, int lanes, Prelude& prelude)
+  Generator(const ir::Program& p, const sh::Options& o, int lanes, std::uint64_t largest_buffer, Prelude& prelude)
       : p_(p),
         o_(o),
         lanes_(lanes),
+        index_type_(largest_buffer / 4 <= INT_MAX ? "int" : "long"),
         prelude_(prelude),
         access_(analysis::table_access(p)),
-        facts_(spmd() ? analysis::analyse_spmd(p) : analysis::SpmdFacts{}) {}
+        facts_(spmd() ? analysis::analyse_spmd(p) : analysis::SpmdFacts{}),
+        truth_(spmd() ? truth_registers() : analysis::VarSet(p.vars.size(), false)) {}
 
   std::string run(const char* name) {
     std::ostringstream kernel;
@@ -81,6 +85,56 @@ class Generator {
     return spmd() && k != ir::VarKind::Const && k != ir::VarKind::Uniform && !facts_.varying[v];
   }
   bool divergent(const ir::Stmt& s) const { return spmd() && facts_.divergent.at(&s); }
+
+  // SPMD: a float register that only ever holds 0 or 1 (a comparison, and
+  // Sh's && and || as min and max of such) is held as a mask, -1 or 0 a
+  // lane, the form a vector comparison gives.  A test such as
+  // `i < n && dot(z, z) < 4` is then two comparisons and an and of masks,
+  // where 0/1 floats took a conversion to float after each comparison and
+  // one back for the loop's mask.  Where a mask is read as a number it
+  // becomes 0 or 1 again (read()).
+  analysis::VarSet truth_registers() const {
+    struct Writes : ir::Visitor {
+      std::vector<std::vector<const ir::Assign*>> of;
+      void visit(const ir::Assign& a) override { of[a.dest].push_back(&a); }
+    } writes;
+    writes.of.resize(p_.vars.size());
+    writes.ir::Visitor::visit(p_.body);
+    analysis::VarSet truth(p_.vars.size(), false);
+    for (std::size_t v = 0; v < truth.size(); ++v) {
+      const ir::Var& var = p_.vars[v];
+      truth[v] = var.kind == ir::VarKind::Temp && ir::is_float(var.type.scalar) && facts_.varying[v] &&
+                 !writes.of[v].empty();
+    }
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t v = 0; v < truth.size(); ++v) {
+        if (!truth[v]) continue;
+        for (const ir::Assign* a : writes.of[v])
+          if (!gives_truth(*a, truth)) {
+            truth[v] = false;
+            changed = true;
+            break;
+          }
+      }
+    }
+    return truth;
+  }
+  // Whether `a` writes only 0 or 1, given the registers that hold only those.
+  bool gives_truth(const ir::Assign& a, const analysis::VarSet& truth) const {
+    using ir::Op;
+    constexpr std::array kTests = {Op::Lt, Op::Le, Op::Gt, Op::Ge, Op::Eq, Op::Ne, Op::And, Op::Or, Op::Not};
+    if (std::find(kTests.begin(), kTests.end(), a.op) != kTests.end()) return true;
+    if (a.op != Op::Mov && a.op != Op::Min && a.op != Op::Max) return false;
+    return std::all_of(a.args.begin(), a.args.end(), [&](const ir::Operand& o) { return truth_operand(o, truth); });
+  }
+  bool truth_operand(const ir::Operand& o, const analysis::VarSet& truth) const {
+    const ir::Var& v = p_.var(o.var);
+    if (v.kind != ir::VarKind::Const) return truth[o.var];
+    for (int i = 0; i < o.width(); ++i)
+      if (v.value[o.swizzle[i]] != 0 && v.value[o.swizzle[i]] != 1) return false;
+    return true;
+  }
 
   // The element's place in the launch domain (sh::LaunchDomain): the run's
   // elements start at `first` of a grid of rows `row` long, `rows` a layer.
@@ -248,6 +302,21 @@ class Generator {
     }
     return helper("sh_or_" + vec(scalar), scalar, body + "  return " + from + ";\n}\n");
   }
+  // The index every running lane holds, or -1 where they differ or none
+  // runs (indices are never negative): lanes that walk a tree together
+  // (any_lane) read one node, one load and a broadcast instead of a gather.
+  std::string same_index() const {
+    std::string t = index_type_, body = "(" + vec(t) + " at, " + vec("int") + " run) {\n";
+    std::string mask = t == "int" ? "run" : "convert_" + vec(t) + "(run)";
+    body += "  const " + vec(t) + " low" + std::to_string(lanes_) + " = select((" + vec(t) + ")(" + (t == "int" ? "INT_MAX" : "LONG_MAX") +
+            "), at, " + mask + "), high" + std::to_string(lanes_) + " = select((" + vec(t) + ")(-1), at, " + mask + ");\n";
+    for (int n = lanes_ / 2; n >= 1; n /= 2) {
+      std::string type = n > 1 ? t + std::to_string(n) : t, from = std::to_string(n * 2), to = std::to_string(n);
+      body += "  const " + type + " low" + to + " = min(low" + from + ".lo, low" + from + ".hi), high" + to + " = max(high" + from +
+              ".lo, high" + from + ".hi);\n";
+    }
+    return helper("sh_same_" + vec(t), t, body + "  return low1 == high1 ? low1 : -1;\n}\n");
+  }
   // Whether a mask has a lane set.
   std::string any(const std::string& mask) const { return "(" + bits_or("int") + "(" + mask + ") != 0)"; }
   // The first lane set in a mask (the last lane where none is).
@@ -305,9 +374,17 @@ class Generator {
     int c = o.swizzle[o.width() == 1 ? 0 : i];
     const ir::Var& v = p_.var(o.var);
     if (v.kind == ir::VarKind::Const) return constant(v.type.scalar, v.value[c]);
+    if (truth_[o.var]) return "select(" + constant(v.type.scalar, 0) + ", " + constant(v.type.scalar, 1) + ", " + reg(o.var, c) + ")";
     if (spmd() && (v.kind == ir::VarKind::Uniform || scalar_register(o.var)))
       return "((" + vec(reg_type(v.type.scalar)) + ")" + reg(o.var, c) + ")";
     return reg(o.var, c);
+  }
+
+  // An operand's component as a mask of its comparison's type: true where
+  // it is > 0.
+  std::string mask_of(const ir::Operand& o, int i) const {
+    if (truth_[o.var]) return reg(o.var, o.swizzle[o.width() == 1 ? 0 : i]);
+    return "(" + read(o, i) + " > " + constant(p_.type_of(o.var).scalar, 0) + ")";
   }
 
   void line(int depth, const std::string& text) { body_ << std::string(2 * depth, ' ') << text << "\n"; }
@@ -331,7 +408,7 @@ class Generator {
     for (std::size_t v = 0; v < p_.vars.size(); ++v) {
       const ir::Var& var = p_.vars[v];
       if (var.kind == ir::VarKind::Const || var.kind == ir::VarKind::Uniform) continue;
-      const char* type = reg_type(var.type.scalar);
+      const char* type = truth_[v] ? mask_type(var.type.scalar) : reg_type(var.type.scalar);
       std::string decl = "  " + (scalar_register(static_cast<ir::VarId>(v)) ? std::string(type) : vec(type));
       for (int c = 0; c < var.type.width; ++c) decl += (c ? ", " : " ") + reg(static_cast<ir::VarId>(v), c) + " = 0";
       body_ << decl << ";";
@@ -427,9 +504,10 @@ class Generator {
     const ir::Var& v = p_.var(o.var);
     int c = o.swizzle[0];
     if (v.kind == ir::VarKind::Const) return "(" + number(v.type.scalar, v.value[c]) + " > 0)";
+    if (truth_[o.var]) return "(" + reg(o.var, c) + ".s0 != 0)";
     return "(" + reg(o.var, c) + (spmd() && v.kind != ir::VarKind::Uniform && !scalar_register(o.var) ? ".s0" : "") + " > 0)";
   }
-  std::string lanes_where(const ir::Operand& o) const { return exec_mask("(" + read(o, 0) + " > 0)"); }
+  std::string lanes_where(const ir::Operand& o) const { return exec_mask(mask_of(o, 0)); }
   // The lanes where a comparison holds, as a mask of the exec mask's type.
   std::string exec_mask(const std::string& comparison) const { return "convert_" + vec("int") + "(" + comparison + ")"; }
 
@@ -571,6 +649,8 @@ class Generator {
     ir::Scalar to = scalar_of(a.dest);
     if (ir::is_table_read(a.op)) {
       table_read(a, results, depth);
+    } else if (truth_[a.dest]) {
+      for (int i = 0; i < a.mask.size; ++i) results[i] = truth_test(a, i);
     } else if (a.op == ir::Op::Position) {
       for (int i = 0; i < a.mask.size; ++i) results[i] = std::string("position_") + kComponent[i];
     } else {
@@ -593,7 +673,7 @@ class Generator {
       line(depth, write(a.dest, a.mask[0], results[0]));
       return;
     }
-    std::string t = vec(reg_type(to));
+    std::string t = vec(truth_[a.dest] ? mask_type(to) : reg_type(to));
     line(depth, "{");
     for (int i = 0; i < a.mask.size; ++i) line(depth + 1, t + " r" + std::to_string(i) + " = " + results[i] + ";");
     for (int i = 0; i < a.mask.size; ++i) line(depth + 1, write(a.dest, a.mask[i], "r" + std::to_string(i)));
@@ -641,8 +721,8 @@ class Generator {
       case Op::Rsqrt: return one + " / sqrt(" + a + ")";
       case Op::Rcp: return one + " / " + a;
       case Op::Pow: return lane_by_lane("pow", {a, b}, from);
-      case Op::Exp: return call("exp", a);
-      case Op::Exp2: return call("exp2", a);
+      case Op::Exp: return nan_through("exp", a, from);
+      case Op::Exp2: return nan_through("exp2", a, from);
       case Op::Log: return call("log", a);
       case Op::Log2: return call("log2", a);
       case Op::Sin: return lane_by_lane("sin", {a}, from);
@@ -654,11 +734,11 @@ class Generator {
       case Op::Atan2: return call2("atan2", a, b);
       case Op::Sinh: return call("sinh", a);
       case Op::Cosh: return call("cosh", a);
-      case Op::Tanh: return call("tanh", a);
+      case Op::Tanh: return nan_through("tanh", a, from);
       case Op::Asinh: return call("asinh", a);
       case Op::Acosh: return call("acosh", a);
       case Op::Atanh: return call("atanh", a);
-      case Op::Exp10: return call("exp10", a);
+      case Op::Exp10: return nan_through("exp10", a, from);
       case Op::Log10: return call("log10", a);
       case Op::Cbrt: return call("cbrt", a);
       case Op::BitAnd: return "(" + a + " & " + b + ")";
@@ -669,12 +749,7 @@ class Generator {
       // sign bit is defined on uint.
       case Op::Shl: return bits_as("int", uint(a) + " << " + uint(b));
       case Op::Shr: return "(" + a + " >> " + b + ")";
-      case Op::Lt: return bit(a + " < " + b, to);
-      case Op::Le: return bit(a + " <= " + b, to);
-      case Op::Gt: return bit(a + " > " + b, to);
-      case Op::Ge: return bit(a + " >= " + b, to);
-      case Op::Eq: return bit(a + " == " + b, to);
-      case Op::Ne: return bit(a + " != " + b, to);
+      case Op::Lt: case Op::Le: case Op::Gt: case Op::Ge: case Op::Eq: case Op::Ne: return bit(compare(op, a, b), to);
       case Op::And: return bit(pos(a) + " && " + pos(b), to);
       case Op::Or: return bit(pos(a) + " || " + pos(b), to);
       case Op::Not: return bit("!" + pos(a), to);
@@ -691,6 +766,25 @@ class Generator {
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
+  }
+
+  // A truth register's component (truth_registers) as a mask.
+  std::string truth_test(const ir::Assign& a, int i) const {
+    using ir::Op;
+    auto m = [&](int k) { return mask_of(a.args[k], i); };
+    if (a.op == Op::And || a.op == Op::Min) return "(" + m(0) + " & " + m(1) + ")";
+    if (a.op == Op::Or || a.op == Op::Max) return "(" + m(0) + " | " + m(1) + ")";
+    if (a.op == Op::Not) return "(~" + m(0) + ")";
+    if (a.op == Op::Mov) return m(0);
+    return compare(a.op, read(a.args[0], i), read(a.args[1], i));
+  }
+
+  static std::string compare(ir::Op op, const std::string& a, const std::string& b) {
+    using ir::Op;
+    constexpr std::array<std::pair<Op, const char*>, 6> kSymbols = {
+        {{Op::Lt, "<"}, {Op::Le, "<="}, {Op::Gt, ">"}, {Op::Ge, ">="}, {Op::Eq, "=="}, {Op::Ne, "!="}}};
+    auto s = std::find_if(kSymbols.begin(), kSymbols.end(), [&](const auto& e) { return e.first == op; });
+    return "(" + a + " " + s->second + " " + b + ")";
   }
 
   // PoCL's vector forms (3.1) of float sin, cos and tan and of double fmod
@@ -710,14 +804,27 @@ class Generator {
     return "(" + vec(type) + ")(" + lanes + ")";
   }
 
-  // NaN gives 0, told by its bits: PoCL's convert_int_sat of a NaN it can
-  // see at compile time is undefined, so the store of it vanished, and a
-  // float isnan() test was folded the same way.
+  // Whether `a` is NaN, told by its bits: PoCL folds a float isnan() of a
+  // NaN it can see at compile time wrongly, as it does the built-ins below.
+  std::string is_nan(const std::string& a, ir::Scalar s) const {
+    return std::string(reg_type(s)) == "double" ? "(" + bits_as("ulong", a) + " & 0x7fffffffffffffffUL) > 0x7ff0000000000000UL"
+                                                : "(" + bits_as("uint", a) + " & 0x7fffffffU) > 0x7f800000U";
+  }
+
+  // NaN gives 0: PoCL's convert_int_sat of a NaN it can see at compile time
+  // is undefined, so the store of it vanished.
   std::string float_to_int(const std::string& a, ir::Scalar from) const {
-    bool is_double = std::string(reg_type(from)) == "double";
-    std::string nan = is_double ? "(" + bits_as("ulong", a) + " & 0x7fffffffffffffffUL) > 0x7ff0000000000000UL"
-                                : "(" + bits_as("uint", a) + " & 0x7fffffffU) > 0x7f800000U";
-    return choose(nan, constant(ir::Scalar::I32, 0), "convert_" + vec("int") + "_sat(" + a + ")", ir::Scalar::I32);
+    return choose(is_nan(a, from), constant(ir::Scalar::I32, 0), "convert_" + vec("int") + "_sat(" + a + ")", ir::Scalar::I32);
+  }
+
+  // f(a), with a NaN passed through untouched: PoCL's exp, exp2, exp10 and
+  // tanh (3.1) turn a NaN they can see at compile time (one its compiler
+  // worked out from constants, such as the remainder of inf) into an
+  // undefined value, and the store of the result vanished.
+  std::string nan_through(const std::string& f, const std::string& a, ir::Scalar s) const {
+    std::string t = vec(reg_type(s));
+    return helper("sh_" + f + "_" + t, t, "(" + t + " a) {\n  return " + choose(is_nan("a", s), "a", f + "(a)", s) + ";\n}\n") +
+           "(" + a + ")";
   }
 
   std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const {
@@ -732,9 +839,9 @@ class Generator {
     std::string index, stride = "1";
     for (int d = 0; d < p_.tables[table].rank; ++d) {
       std::string dim = name + "_" + kComponent[d];
-      std::string i = convert("long", read(coord, d));
+      std::string i = convert(index_type_, read(coord, d));
       index += (d ? " + " : "") + i + (d ? " * " + stride : "");
-      stride = d ? stride + " * " + dim : "(long)" + dim;
+      stride = d ? stride + " * " + dim : std::string("(") + index_type_ + ")" + dim;
     }
     return "(" + index + ") * " + std::to_string(p_.tables[table].element.width);
   }
@@ -763,7 +870,7 @@ class Generator {
       return;
     }
     std::string n = std::to_string(reads_++), at = "at" + n, stored = vec(storage_type(t.element.scalar));
-    line(depth, "const " + vec("long") + " " + at + " = " + index + ";");
+    line(depth, "const " + vec(index_type_) + " " + at + " = " + index + ";");
     auto component = [&](int c) { return " + " + std::to_string(c); };
     // Every lane loads, those not running too: legal IR's coordinates lie
     // inside the table in every lane (each a clamp or wrap computed in all
@@ -775,13 +882,16 @@ class Generator {
       for (int k = 0; k < lanes_; ++k) lanes += (k ? ", " : "") + name + "[" + at + lane(k) + component(c) + "]";
       return "(" + stored + ")(" + lanes + ")";
     };
-    analysis::Access hint = access_.at(&a).hint;
-    std::string test, read = "read" + n + "_";
-    if (hint == analysis::Access::Same) test = "!" + bits_or("long") + "(" + at + " ^ " + at + ".s0)";
-    if (hint == analysis::Access::Consecutive && t.element.width == 1)
-      test = "!" + bits_or("long") + "(" + at + " ^ (" + at + ".s0 + " + iota("long") + "))";
+    bool consecutive = access_.at(&a).hint == analysis::Access::Consecutive;
+    std::string test, read = "read" + n + "_", lead = "lead" + n;
+    if (consecutive && t.element.width == 1) {
+      test = "!" + bits_or(index_type_) + "(" + at + " ^ (" + at + ".s0 + " + iota(index_type_) + "))";
+    } else if (!consecutive) {
+      line(depth, std::string("const ") + index_type_ + " " + lead + " = " + same_index() + "(" + at + ", exec);");
+      test = lead + " >= 0";
+    }
     auto fast = [&](int c) {
-      if (hint == analysis::Access::Same) return "(" + stored + ")(" + name + "[" + at + ".s0" + component(c) + "])";
+      if (!consecutive) return "(" + stored + ")(" + name + "[" + lead + component(c) + "])";
       return "vload" + std::to_string(lanes_) + "(0, " + name + " + " + at + ".s0)";
     };
     for (int c = 0; c < t.element.width; ++c) {
@@ -804,7 +914,7 @@ class Generator {
     const char* add = is_float ? "sh_atomic_add_float(" : "atomic_add(";
     std::string stored = storage_type(t.element.scalar), table = "table" + std::to_string(sc.table);
     line(depth, "{");
-    line(depth + 1, "const " + vec("long") + " at = " + flat_index(sc.table, sc.index) + ";");
+    line(depth + 1, "const " + vec(index_type_) + " at = " + flat_index(sc.table, sc.index) + ";");
     for (int c = 0; c < t.element.width; ++c) {
       std::string value = "value" + std::to_string(c);
       line(depth + 1, "const " + vec(reg_type(t.element.scalar)) + " " + value + " = " + read(sc.value, c) + ";");
@@ -829,12 +939,18 @@ class Generator {
   const ir::Program& p_;
   const sh::Options& o_;
   int lanes_;  // 1 while a scalar register's value is written (assign)
+  // Table elements are numbered in int where no buffer the device allows
+  // holds more than INT_MAX of them (every element is 4 bytes or more): a
+  // CPU device's gathers then take 32-bit indices, twice the lanes of
+  // 64-bit ones a gather instruction.
+  const char* index_type_;
   Prelude& prelude_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;
   std::ostringstream body_;
   mutable bool uses_nan_float_ = false, uses_nan_double_ = false;
   int loops_ = 0, branches_ = 0, reads_ = 0;
   analysis::SpmdFacts facts_;
+  analysis::VarSet truth_;              // SPMD: registers held as masks (truth_registers)
   std::vector<analysis::VarSet> keep_;  // SPMD: per masked statement around, what a write keeps
   std::vector<LoopExit> exits_;         // how each loop around is left
   bool taps_inside_ = false;            // SPMD: writing the body for taps inside their tables
@@ -853,31 +969,13 @@ bool adds_floats(const ir::Program& p) {
   return false;
 }
 
-bool gathers_in(const ir::Block& b, const analysis::SpmdFacts& facts, bool in_divergent_loop) {
-  for (const ir::Stmt& s : b) {
-    if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-      if (in_divergent_loop && a->op == ir::Op::Load && facts.varying[a->dest]) return true;
-    } else if (auto* i = std::get_if<ir::If>(&s.node)) {
-      if (gathers_in(i->then_body, facts, in_divergent_loop) || gathers_in(i->else_body, facts, in_divergent_loop)) return true;
-    } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
-      bool d = in_divergent_loop || facts.divergent.at(&s);
-      if (gathers_in(l->header, facts, d) || gathers_in(l->body, facts, d) || gathers_in(l->update, facts, d)) return true;
-    }
-  }
-  return false;
-}
-
 }  // namespace
 
-int most_lanes(const ir::Program& program) {
-  return gathers_in(program.body, analysis::analyse_spmd(program), false) ? 8 : 16;
-}
-
-Source generate(const ir::Program& program, const sh::Options& options, int lanes) {
+Source generate(const ir::Program& program, const sh::Options& options, int lanes, std::uint64_t largest_buffer) {
   ir::verify_legal(program);
   Prelude prelude;
-  std::string kernels = Generator(program, options, 1, prelude).run(kKernelName);
-  if (lanes > 1) kernels += Generator(program, options, lanes, prelude).run(kLanesKernelName);
+  std::string kernels = Generator(program, options, 1, largest_buffer, prelude).run(kKernelName);
+  if (lanes > 1) kernels += Generator(program, options, lanes, largest_buffer, prelude).run(kLanesKernelName);
   bool fp64 = needs_fp64(program, options);
   std::ostringstream head;
   head << "// program " << program.name << ", generated from its optimised IR\n";

@@ -2,6 +2,7 @@
 // IR -> OpenCL C 1.2 source: a kernel of one work-item per element and,
 // for `lanes` above 1, beside it a kernel of `lanes` consecutive elements per
 // work-item in vector registers (what a CPU device's compiler vectorises).
+#include <cstdint>
 #include <string>
 
 #include "sh/backend.hpp"
@@ -20,14 +21,8 @@ struct Source {
 // work-item 0 runs), long first, row and rows (the launch domain); one __global buffer per
 // input, then per output; one scalar per uniform component; per table a
 // __global buffer (an accumulator's is read and added into) and three int
-// dimensions; __global long* status.
-Source generate(const ir::Program& program, const sh::Options& options, int lanes);
-
-// The most elements a work-item of the kernel of lanes should take on a CPU
-// device: 16, except 8 where lanes would read tables at places of their own
-// inside loops they leave at different iterations (a ray tracer's
-// traversal), where 16 lanes wait on each other's walks longer
-// (BENCHMARKS.md, the kernel of lanes).
-int most_lanes(const ir::Program& program);
+// dimensions; __global long* status.  `largest_buffer`: the device's
+// largest buffer in bytes (what bounds a table's element numbers).
+Source generate(const ir::Program& program, const sh::Options& options, int lanes, std::uint64_t largest_buffer);
 
 }  // namespace sh::opencl
