@@ -86,46 +86,60 @@ class Generator {
   }
   bool divergent(const ir::Stmt& s) const { return spmd() && facts_.divergent.at(&s); }
 
-  // SPMD: a float register that only ever holds 0 or 1 (a comparison, and
-  // Sh's && and || as min and max of such) is held as a mask, -1 or 0 a
-  // lane, the form a vector comparison gives.  A test such as
+  // SPMD: a register that only ever holds 0 or 1 (a comparison, Sh's && and
+  // || as min and max of such, a vote across lanes, a conversion of such)
+  // is held as a mask, -1 or 0 a lane, the form a vector comparison gives.  A test such as
   // `i < n && dot(z, z) < 4` is then two comparisons and an and of masks,
   // where 0/1 floats took a conversion to float after each comparison and
   // one back for the loop's mask.  Where a mask is read as a number it
   // becomes 0 or 1 again (read()).
   analysis::VarSet truth_registers() const {
-    struct Writes : ir::Visitor {
-      std::vector<std::vector<const ir::Assign*>> of;
-      void visit(const ir::Assign& a) override { of[a.dest].push_back(&a); }
-    } writes;
-    writes.of.resize(p_.vars.size());
-    writes.ir::Visitor::visit(p_.body);
+    struct Accesses : ir::Visitor {
+      std::vector<std::vector<const ir::Assign*>> writes, reads;
+      std::vector<bool> scattered;
+      void visit(const ir::Assign& a) override {
+        writes[a.dest].push_back(&a);
+        for (const ir::Operand& o : a.args) reads[o.var].push_back(&a);
+      }
+      void visit(const ir::Scatter& s) override { scattered[s.index.var] = scattered[s.value.var] = true; }
+    } access;
+    access.writes.resize(p_.vars.size());
+    access.reads.resize(p_.vars.size());
+    access.scattered.resize(p_.vars.size());
+    access.ir::Visitor::visit(p_.body);
     analysis::VarSet truth(p_.vars.size(), false);
     for (std::size_t v = 0; v < truth.size(); ++v) {
       const ir::Var& var = p_.vars[v];
-      truth[v] = var.kind == ir::VarKind::Temp && ir::is_float(var.type.scalar) && facts_.varying[v] &&
-                 !writes.of[v].empty();
+      truth[v] = var.kind == ir::VarKind::Temp && facts_.varying[v] && !access.writes[v].empty() && !access.scattered[v];
     }
+    auto keeps = [&](std::size_t v) {
+      bool numbers = !ir::is_float(p_.vars[v].type.scalar);
+      return std::all_of(access.writes[v].begin(), access.writes[v].end(), [&](const ir::Assign* a) { return gives_truth(*a, truth); }) &&
+             (!numbers || std::all_of(access.reads[v].begin(), access.reads[v].end(),
+                                      [&](const ir::Assign* a) { return reads_truth(*a, static_cast<ir::VarId>(v), truth); }));
+    };
     for (bool changed = true; changed;) {
       changed = false;
-      for (std::size_t v = 0; v < truth.size(); ++v) {
-        if (!truth[v]) continue;
-        for (const ir::Assign* a : writes.of[v])
-          if (!gives_truth(*a, truth)) {
-            truth[v] = false;
-            changed = true;
-            break;
-          }
-      }
+      for (std::size_t v = 0; v < truth.size(); ++v)
+        if (truth[v] && !keeps(v)) truth[v] = false, changed = true;
     }
     return truth;
+  }
+  // Whether `a` reads `v` only as a truth value.  Integer registers are held
+  // as masks only where nothing reads them as numbers: a grid walk's steps,
+  // computed from comparisons, would each take a conversion back.
+  bool reads_truth(const ir::Assign& a, ir::VarId v, const analysis::VarSet& truth) const {
+    using ir::Op;
+    if (a.op == Op::And || a.op == Op::Or || a.op == Op::Not || a.op == Op::AnyLane) return true;
+    if (a.op == Op::Cond) return a.args[1].var != v && a.args[2].var != v;
+    return truth[a.dest] && (a.op == Op::Mov || a.op == Op::Min || a.op == Op::Max || a.op == Op::Cast);
   }
   // Whether `a` writes only 0 or 1, given the registers that hold only those.
   bool gives_truth(const ir::Assign& a, const analysis::VarSet& truth) const {
     using ir::Op;
-    constexpr std::array kTests = {Op::Lt, Op::Le, Op::Gt, Op::Ge, Op::Eq, Op::Ne, Op::And, Op::Or, Op::Not};
+    constexpr std::array kTests = {Op::Lt, Op::Le, Op::Gt, Op::Ge, Op::Eq, Op::Ne, Op::And, Op::Or, Op::Not, Op::AnyLane};
     if (std::find(kTests.begin(), kTests.end(), a.op) != kTests.end()) return true;
-    if (a.op != Op::Mov && a.op != Op::Min && a.op != Op::Max) return false;
+    if (a.op != Op::Mov && a.op != Op::Min && a.op != Op::Max && a.op != Op::Cast) return false;
     return std::all_of(a.args.begin(), a.args.end(), [&](const ir::Operand& o) { return truth_operand(o, truth); });
   }
   bool truth_operand(const ir::Operand& o, const analysis::VarSet& truth) const {
@@ -776,6 +790,12 @@ class Generator {
     if (a.op == Op::Or || a.op == Op::Max) return "(" + m(0) + " | " + m(1) + ")";
     if (a.op == Op::Not) return "(~" + m(0) + ")";
     if (a.op == Op::Mov) return m(0);
+    std::string mask = vec(mask_type(scalar_of(a.dest)));
+    if (a.op == Op::Cast) {
+      ir::Scalar from = scalar_of(a.args[0].var);
+      return std::string(mask_type(from)) == mask_type(scalar_of(a.dest)) ? m(0) : "convert_" + mask + "(" + m(0) + ")";
+    }
+    if (a.op == Op::AnyLane) return "((" + mask + ")(" + any("(" + exec_mask(m(0)) + " & exec)") + " ? -1 : 0))";
     return compare(a.op, read(a.args[0], i), read(a.args[1], i));
   }
 
