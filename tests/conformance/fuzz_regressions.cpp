@@ -316,5 +316,38 @@ TEST_P(Conformance, FuzzSpecialValuesTheCompilerSeesReachEveryFloatFunction) {
     }
   }
 }
+// fuzz_ir seed 17039031299875529106 (opencl, and the cpu backend's scalar
+// code): LLVM 15's InstCombine turns `x > 0 ? 0 : x` into `x >= 0 ? 0 : x`
+// (llvm-project issue 57357), which gives +0 for x = -0.  A register that
+// a branch not taken would have set to 0 must keep its -0, so 1 / it is
+// -inf; likewise a choice, and a register written only where x > 0 keeps
+// the +0 it started with.
+TEST_P(Conformance, FuzzMinusZeroSurvivesAZeroChosenOnATestOfIt) {
+  if (fast()) GTEST_SKIP() << "fast math gives up the sign of zero";
+  const std::vector<float> xs = {-0.0f, 0.0f, -0.0f, 2.0f, -4.0f, -0.0f, 0.5f, -0.0f, -0.0f, 1.0f, -0.0f, -0.0f, 3.0f, -0.0f, -2.0f, -0.0f, -0.0f};
+  for (int shape = 0; shape < 3; ++shape) {
+    Ir ir("fuzz_minus_zero_" + std::to_string(shape));
+    VarId x = ir.input({Scalar::F32, 1}), r = ir.output({Scalar::F64, 1});
+    VarId z = ir.temp({Scalar::F64, 1}), wide = ir.temp({Scalar::F64, 1});
+    Block body = {ir.set(wide, Op::Cast, {ir(x)})};
+    if (shape == 0) {
+      body.push_back(ir.set(z, Op::Mov, {ir(wide)}));
+      body.push_back(Stmt{If{ir(wide), {ir.set(z, Op::Mov, {ir.number(Scalar::F64, 0)})}, {}}});
+    } else if (shape == 1) {
+      body.push_back(ir.set(z, Op::Cond, {ir(wide), ir.number(Scalar::F64, 0), ir(wide)}));
+    } else {
+      body.push_back(Stmt{If{ir(wide), {ir.set(z, Op::Mov, {ir(wide)})}, {}}});
+    }
+    body.push_back(ir.set(r, Op::Rcp, {ir(z)}));
+    sh::Program p = ir.program(std::move(body));
+    sh::Channel<sh::Attrib1f> in(xs);
+    sh::Channel<sh::Attrib1d> out(std::vector<double>(xs.size(), 12345.0));
+    run(p, {in}, {out});
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      double x_i = xs[i], z_i = shape == 2 ? (x_i > 0 ? x_i : 0.0) : (x_i > 0 ? 0.0 : x_i);
+      EXPECT_EQ(out[i], 1.0 / z_i) << p.ir().name << ", element " << i << ", x " << x_i;
+    }
+  }
+}
 }  // namespace
 }  // namespace conformance

@@ -1,5 +1,6 @@
 #include "lower.hpp"
 
+#include <cmath>
 #include <string>
 
 #include <llvm/ADT/StringMap.h>
@@ -202,6 +203,7 @@ Value* Lowering::position(int k, bool vary) {
 // stack slot per component (mem2reg makes them SSA again).
 void Lowering::allocate_registers() {
   slots_.resize(p_.vars.size());
+  written_zero_.assign(p_.vars.size(), {});
   ssa_.assign(p_.vars.size(), false);
   for (std::size_t u = 0; u < p_.uniforms.size(); ++u) {
     ir::VarId v = p_.uniforms[u];
@@ -218,11 +220,27 @@ void Lowering::allocate_registers() {
     if (var.kind == ir::VarKind::Uniform) continue;
     if (var.kind == ir::VarKind::Const) {
       ssa_[v] = true;
-      for (int c = 0; c < var.type.width; ++c) slots_[v][c] = constant(var.type.scalar, var.value[c]);
+      for (int c = 0; c < var.type.width; ++c) {
+        slots_[v][c] = constant(var.type.scalar, var.value[c]);
+        if (ir::is_float(var.type.scalar) && var.value[c] == 0)
+          written_zero_[v][c] = hidden_zero(scalar_type(var.type.scalar), std::signbit(var.value[c]));
+      }
       continue;
     }
     for (int c = 0; c < var.type.width; ++c) slots_[v][c] = b_.CreateAlloca(var_type(static_cast<ir::VarId>(v)));
   }
+}
+
+// LLVM 15's InstCombine rewrites `x > 0 ? 0 : x` as `x >= 0 ? 0 : x`
+// (llvm-project issue 57357), which gives +0 where x is -0.  So a float
+// zero that a move or a choice writes is one LLVM cannot see, read once
+// from a volatile, and the rewrite never matches; arithmetic keeps the
+// constant.
+Value* Lowering::hidden_zero(llvm::Type* t, bool negative) {
+  auto* zero = new llvm::GlobalVariable(*module_, t, true, llvm::GlobalValue::PrivateLinkage, llvm::ConstantFP::get(t, 0.0),
+                                        "sh.zero");
+  Value* x = b_.CreateLoad(t, zero, true);
+  return negative ? b_.CreateFNeg(x) : x;
 }
 
 // Every register starts an element at zero.

@@ -48,6 +48,7 @@ class Lowering {
   Value* splat(Value* scalar);                  // a uniform value in every lane
   Value* widen(Value* x) { return x->getType()->isVectorTy() ? x : splat(x); }
   Value* constant(ir::Scalar s, double v);
+  Value* hidden_zero(llvm::Type* t, bool negative);
   Value* from_storage(Value* x, ir::Scalar s);
   Value* to_storage(Value* x, ir::Scalar s);
 
@@ -170,6 +171,7 @@ class Lowering {
   std::vector<Value*> input_base_, output_base_, table_base_;
   std::vector<std::array<Value*, 3>> table_dims_;
   std::vector<std::array<Value*, 4>> slots_;
+  std::vector<std::array<Value*, 4>> written_zero_;  // float constants' zero components, as a move writes them
   std::vector<bool> ssa_;
   std::vector<LoopState> loop_stack_;
   std::vector<const ir::Stmt*> loops_;

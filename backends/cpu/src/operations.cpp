@@ -35,7 +35,13 @@ void Lowering::assign(const ir::Assign& a) {
     ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
     for (int i = 0; i < a.mask.size; ++i) {
       Value* x[3] = {nullptr, nullptr, nullptr};
-      for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = varying(a.dest) ? widen(read(a.args[k], i)) : read(a.args[k], i);
+      for (std::size_t k = 0; k < a.args.size(); ++k) {
+        const ir::Operand& o = a.args[k];
+        Value* zero = written_zero_[o.var][o.swizzle[o.width() == 1 ? 0 : i]];
+        bool written = a.op == ir::Op::Mov || (a.op == ir::Op::Cond && k > 0);
+        x[k] = written && zero ? zero : read(o, i);
+        if (varying(a.dest)) x[k] = widen(x[k]);
+      }
       result[i] = operation(a.op, from, to, x[0], x[1], x[2]);
     }
   }

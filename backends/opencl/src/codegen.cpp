@@ -69,7 +69,7 @@ class Generator {
     stencil_or_body();
     store_outputs();
     body_ << "}\n";
-    return kernel.str() + nan_constants() + body_.str();
+    return kernel.str() + hidden_constants() + body_.str();
   }
 
  private:
@@ -259,13 +259,16 @@ class Generator {
 
   // ---- the source's prelude ------------------------------------------------------
 
-  // A NaN constant is read from a volatile, so that PoCL's compiler never
-  // sees it: given a NaN it knows, some of its built-ins (convert_int_sat,
-  // exp10) give an undefined value and the store of it disappears.
-  std::string nan_constants() const {
+  // The constants read from volatiles, so that PoCL's compiler never sees
+  // them: NaN (given a NaN it knows, some of its built-ins, convert_int_sat
+  // and exp10, give an undefined value and the store of it disappears), and
+  // the zeros moves write (written()).
+  std::string hidden_constants() const {
     std::string decls;
     if (uses_nan_float_) decls += "  volatile float sh_nan_f = NAN;\n";
     if (uses_nan_double_) decls += "  volatile double sh_nan_d = (double)NAN;\n";
+    if (uses_zero_float_) decls += "  volatile float sh_zero_fv = 0.0f;\n  const float sh_zero_f = sh_zero_fv;\n";
+    if (uses_zero_double_) decls += "  volatile double sh_zero_dv = 0.0;\n  const double sh_zero_d = sh_zero_dv;\n";
     return decls;
   }
 
@@ -392,6 +395,21 @@ class Generator {
     if (spmd() && (v.kind == ir::VarKind::Uniform || scalar_register(o.var)))
       return "((" + vec(reg_type(v.type.scalar)) + ")" + reg(o.var, c) + ")";
     return reg(o.var, c);
+  }
+
+  // An operand's component as a move or a choice writes it.  PoCL's LLVM 15
+  // rewrites `x > 0 ? 0 : x` as `x >= 0 ? 0 : x` (llvm-project issue
+  // 57357), which gives +0 where x is -0; a float zero written is therefore
+  // one the compiler cannot see, read once from a volatile, and the rewrite
+  // never matches.  Arithmetic keeps the constant.
+  std::string written(const ir::Operand& o, int i) const {
+    const ir::Var& v = p_.var(o.var);
+    double x = v.value[o.swizzle[o.width() == 1 ? 0 : i]];
+    if (v.kind != ir::VarKind::Const || !ir::is_float(v.type.scalar) || x != 0) return read(o, i);
+    bool is_double = std::string(reg_type(v.type.scalar)) == "double";
+    (is_double ? uses_zero_double_ : uses_zero_float_) = true;
+    std::string zero = std::string(std::signbit(x) ? "-" : "") + (is_double ? "sh_zero_d" : "sh_zero_f");
+    return spmd() ? "((" + vec(reg_type(v.type.scalar)) + ")(" + zero + "))" : "(" + zero + ")";
   }
 
   // An operand's component as a mask of its comparison's type: true where
@@ -671,7 +689,8 @@ class Generator {
       ir::Scalar from = scalar_of(a.args[0].var);
       for (int i = 0; i < a.mask.size; ++i) {
         std::string x[3];
-        for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = read(a.args[k], i);
+        for (std::size_t k = 0; k < a.args.size(); ++k)
+          x[k] = a.op == ir::Op::Mov || (a.op == ir::Op::Cond && k > 0) ? written(a.args[k], i) : read(a.args[k], i);
         results[i] = operation(a.op, from, to, x[0], x[1], x[2]);
       }
     }
@@ -967,7 +986,7 @@ class Generator {
   Prelude& prelude_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;
   std::ostringstream body_;
-  mutable bool uses_nan_float_ = false, uses_nan_double_ = false;
+  mutable bool uses_nan_float_ = false, uses_nan_double_ = false, uses_zero_float_ = false, uses_zero_double_ = false;
   int loops_ = 0, branches_ = 0, reads_ = 0;
   analysis::SpmdFacts facts_;
   analysis::VarSet truth_;              // SPMD: registers held as masks (truth_registers)
