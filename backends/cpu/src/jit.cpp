@@ -107,6 +107,13 @@ Jitted::Jitted(const ir::Program& program, const Options& options) {
   }
 }
 
+const std::string& Jitted::llvm_ir() const {
+  std::call_once(listing_read_, [this] {
+    if (from_cache()) llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
+  });
+  return llvm_ir_;
+}
+
 // Times the phases of a build one after another.
 class PhaseClock {
  public:
@@ -148,7 +155,6 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   if (cache_ && cache_->has_object()) {
     // Machine code from an earlier compile: no lowering, no LLVM.
     loops_ = loop_statements(program);
-    llvm_ir_ = "; machine code loaded from the object cache\n" + cache_->listing().value_or("");
     start_jit(program, builder, nullptr);
     clock.end("JIT setup");
     std::unique_ptr<llvm::MemoryBuffer> object = cache_->getObject(nullptr);

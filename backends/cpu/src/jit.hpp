@@ -4,6 +4,7 @@
 // the same program, its machine code from the object cache, linked without
 // lowering or LLVM.  The result owns the machine code.
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -27,7 +28,7 @@ class Jitted {
   ~Jitted();
   KernelFn entry() const { return entry_; }
   int lanes() const { return lanes_; }  // elements per trip of the stream loop
-  const std::string& llvm_ir() const { return llvm_ir_; }  // after optimisation
+  const std::string& llvm_ir() const;  // after optimisation
   const std::vector<const ir::Stmt*>& loops() const { return loops_; }
   bool from_cache() const { return cache_ && cache_->hit(); }
   const std::vector<CompilePhase>& phases() const { return phases_; }
@@ -41,7 +42,10 @@ class Jitted {
   std::unique_ptr<llvm::orc::LLJIT> jit_;
   KernelFn entry_ = nullptr;
   int lanes_ = 1;
-  std::string llvm_ir_;
+  // On a cache hit the listing is read from the cache when first asked
+  // for: a 16-lane tracer's is a few hundred kilobytes of text.
+  mutable std::once_flag listing_read_;
+  mutable std::string llvm_ir_;
   std::vector<const ir::Stmt*> loops_;
   std::vector<CompilePhase> phases_;
 };
