@@ -180,6 +180,63 @@ TEST(OpenClBackend, AutoWidthTakesTheDeviceWidthAndRunningLanesThatAgreeReadOnce
   }
 }
 
+// streams=copied (what a device without shared memory always does) copies
+// streams in pieces overlapped with the kernel: the same results as streams
+// used in place, at lengths of one piece, of several with a ragged end, and
+// for an in-out channel and an accumulator; every stream byte moves once.
+TEST(OpenClBackend, CopiedStreamsInPiecesGiveTheResultsOfStreamsInPlace) {
+  Accumulator<Attrib1i> counts(4);
+  Program p = SH_BEGIN_PROGRAM("pieces") {
+    InputAttrib3f v;
+    InputAttrib1f k;
+    OutputAttrib1f sum;
+    Output<Attrib2f> steps;
+    Attrib1f n = 0.0f;
+    SH_WHILE(n < k) { n += 1.0f; } SH_ENDWHILE;
+    sum = v(0) + v(1) * v(2) + n;
+    steps = join(n, -k);
+    counts.add(k.cast<int>(), Attrib1i(1));
+  } SH_END;
+  Program twice = SH_BEGIN_PROGRAM("twice") {
+    InOut<Attrib1f> x;
+    x = x * 2.0f;
+  } SH_END;
+  Options copied;
+  copied.set("opencl.streams", "copied");
+  for (std::size_t length : {std::size_t{0}, std::size_t{1}, std::size_t{1000}, (std::size_t{1} << 18) * 3 + 17}) {
+    std::vector<float> v(3 * length), k(length);
+    for (std::size_t i = 0; i < length; ++i) {
+      v[3 * i] = static_cast<float>(i % 97), v[3 * i + 1] = 0.5f, v[3 * i + 2] = static_cast<float>(i % 5);
+      k[i] = static_cast<float>(i % 4);
+    }
+    Channel<Attrib3f> vs(v);
+    Channel<Attrib1f> ks(k), in_place_sum, copied_sum;
+    Channel<Attrib2f> in_place_steps, copied_steps;
+    counts.clear();
+    run(p, {vs, ks}, {in_place_sum, in_place_steps}, backend("opencl"));
+    std::vector<int> in_place_counts = counts.values();
+    counts.clear();
+    RunStats stats = run(p, {vs, ks}, {copied_sum, copied_steps}, backend("opencl", copied));
+    ASSERT_EQ(copied_sum.size(), length);
+    for (std::size_t i = 0; i < length; ++i) {
+      ASSERT_EQ(copied_sum[i], in_place_sum[i]) << length << " elements, element " << i;
+      ASSERT_EQ(copied_steps[2 * i], in_place_steps[2 * i]) << length << " elements, element " << i;
+      ASSERT_EQ(copied_steps[2 * i + 1], -k[i]) << length << " elements, element " << i;
+    }
+    EXPECT_EQ(counts.values(), in_place_counts);
+    if (length == 0) continue;  // an empty stream runs no kernel
+    const auto* moved = stats.details_as<opencl::RunDetails>();
+    ASSERT_NE(moved, nullptr);
+    constexpr std::size_t kAccumulator = 4 * sizeof(int), kStatus = 2 * sizeof(cl_long);
+    EXPECT_EQ(moved->to_device, 4 * length * sizeof(float) + kAccumulator + kStatus) << length;
+    EXPECT_EQ(moved->from_device, 3 * length * sizeof(float) + kAccumulator + kStatus) << length;
+    EXPECT_EQ(moved->in_place, 0u);
+    Channel<Attrib1f> x(k);
+    run(twice, {x}, {x}, backend("opencl", copied));
+    for (std::size_t i = 0; i < length; ++i) ASSERT_EQ(x[i], 2.0f * k[i]) << length << " elements, element " << i;
+  }
+}
+
 // A run reports the bytes it moved: a table goes to the device once and
 // again only when its contents change; streams are used in place on a
 // device that shares host memory and copied both ways elsewhere.

@@ -67,23 +67,37 @@ class OpenClKernel : public Kernel {
                          static_cast<cl_long>(d.extent[1])};
     for (cl_long& k : domain) set(arg++, sizeof k, &k);
     // On a device that shares host memory the streams are used in place;
-    // elsewhere they are copied.  An output that is also an input (an
-    // in-out channel) is copied, since buffers over one host region may not
-    // overlap.
+    // elsewhere (or with the setting streams=copied) they are copied, in
+    // pieces overlapped with the kernel (run_in_pieces).  An output that is
+    // also an input (an in-out channel) is copied, since buffers over one
+    // host region may not overlap.
+    const bool copied = copies_streams();
+    std::vector<cl_mem> streams;  // inputs, then outputs
     for (const BufferView& b : args.inputs) {
-      cl_mem_flags where = device_->unified ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR;
       std::size_t size = bytes(b.type, b.count);
-      (device_->unified ? moved->in_place : moved->to_device) += size;
-      set_buffer(arg++, buffers, make(size, CL_MEM_READ_ONLY | where, b.data, "an input"));
+      if (copied) {
+        streams.push_back(kept(streams.size(), size, CL_MEM_READ_ONLY, "an input"));
+        set(arg++, sizeof(cl_mem), &streams.back());
+        continue;  // counted piece by piece
+      }
+      moved->in_place += size;
+      set_buffer(arg++, buffers, make(size, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, b.data, "an input"));
+      streams.push_back(buffers.back().mem);
     }
-    std::size_t first_output = buffers.size();
     std::vector<bool> in_place;
     for (const BufferView& b : args.outputs) {
       bool shared = std::any_of(args.inputs.begin(), args.inputs.end(), [&](const BufferView& in) { return in.data == b.data; });
-      in_place.push_back(device_->unified && !shared);
+      in_place.push_back(!copied && !shared);
+      std::size_t size = bytes(b.type, b.count);
+      if (copied) {
+        streams.push_back(kept(streams.size(), size, CL_MEM_WRITE_ONLY, "an output"));
+        set(arg++, sizeof(cl_mem), &streams.back());
+        continue;
+      }
       set_buffer(arg++, buffers,
-                 make(bytes(b.type, b.count), CL_MEM_WRITE_ONLY | (in_place.back() ? CL_MEM_USE_HOST_PTR : 0),
-                      in_place.back() ? b.data : nullptr, "an output"));
+                 make(size, CL_MEM_WRITE_ONLY | (in_place.back() ? CL_MEM_USE_HOST_PTR : 0), in_place.back() ? b.data : nullptr,
+                      "an output"));
+      streams.push_back(buffers.back().mem);
     }
     for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
     std::vector<std::pair<const TableView*, cl_mem>> sums;
@@ -103,10 +117,14 @@ class OpenClKernel : public Kernel {
     moved->to_device += sizeof status;
     moved->from_device += sizeof status;
 
-    launch(args.count, sums.empty());
-    for (std::size_t o = 0; o < args.outputs.size(); ++o) {
+    if (copied) {
+      run_in_pieces(args, streams, sums.empty(), *moved);
+    } else {
+      launch(args.count, sums.empty());
+    }
+    for (std::size_t o = 0; o < args.outputs.size() && !copied; ++o) {
       std::size_t size = bytes(args.outputs[o].type, args.outputs[o].count);
-      cl_mem mem = buffers[first_output + o].mem;
+      cl_mem mem = streams[args.inputs.size() + o];
       if (!in_place[o] || size == 0) {
         check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, size, args.outputs[o].data, 0, nullptr, nullptr),
               where("reading an output"));
@@ -162,6 +180,56 @@ class OpenClKernel : public Kernel {
     return l;
   }
 
+  bool copies_streams() const { return !device_->unified || options_.get<Options>().streams == Streams::Copied; }
+
+  // Copied streams go in pieces: each piece's inputs are written on the
+  // copy queue while the kernel runs the piece before on the compute
+  // queue, and its outputs are read back while the kernel runs the piece
+  // after, so that a device which copies (a GPU) moves data and computes
+  // at once.  Streams too short to gain go in one piece.  Pieces do not
+  // rerun the elements before them (launch's whole last group), which
+  // would write outputs a read may be taking.
+  void run_in_pieces(const RunArgs& args, const std::vector<cl_mem>& streams, bool may_repeat, RunDetails& moved) {
+    if (args.count == 0) return;
+    const std::size_t span = static_cast<std::size_t>(lanes_) * std::max<std::size_t>((lanes_ > 1 ? many_ : one_).group, 1);
+    std::size_t piece = std::max(kPieceElements / span, std::size_t{1}) * span;
+    std::size_t pieces = args.count <= piece ? 1 : std::min<std::size_t>(kMostPieces, (args.count + piece - 1) / piece);
+    piece = pieces == 1 ? args.count : ((args.count + pieces - 1) / pieces + span - 1) / span * span;
+    pieces = (args.count + piece - 1) / std::max<std::size_t>(piece, 1);  // every piece holds elements
+    std::vector<cl_event> written(pieces), ran(pieces), read;
+    auto copy = [&](const BufferView& b, cl_mem mem, std::size_t p, bool in, cl_event* wait, cl_event* done) {
+      std::size_t element = bytes(b.type, 1), first = p * piece, count = std::min(piece, args.count - first);
+      count = std::min(count, b.count - std::min(first, b.count));
+      if (count == 0) return;
+      char* host = static_cast<char*>(b.data) + first * element;
+      cl_int err = in ? clEnqueueWriteBuffer(device_->copy_queue, mem, CL_FALSE, first * element, count * element, host,
+                                             wait ? 1 : 0, wait, done)
+                      : clEnqueueReadBuffer(device_->copy_queue, mem, CL_FALSE, first * element, count * element, host,
+                                            wait ? 1 : 0, wait, done);
+      check(err, where(in ? "writing a piece of an input" : "reading a piece of an output"));
+      (in ? moved.to_device : moved.from_device) += count * element;
+    };
+    auto read_back = [&](std::size_t p) {
+      for (std::size_t o = 0; o < args.outputs.size(); ++o) {
+        read.emplace_back();
+        copy(args.outputs[o], streams[args.inputs.size() + o], p, false, &ran[p], &read.back());
+      }
+    };
+    for (std::size_t p = 0; p < pieces; ++p) {
+      for (std::size_t i = 0; i < args.inputs.size(); ++i) copy(args.inputs[i], streams[i], p, true, nullptr, nullptr);
+      check(clEnqueueMarkerWithWaitList(device_->copy_queue, 0, nullptr, &written[p]), where("marking a piece's writes"));
+      std::size_t first = p * piece, count = std::min(piece, args.count - first);
+      launch(count, may_repeat && pieces == 1, first, &written[p]);
+      check(clEnqueueMarkerWithWaitList(device_->queue, 0, nullptr, &ran[p]), where("marking a piece's run"));
+      if (p > 0) read_back(p - 1);
+    }
+    read_back(pieces - 1);
+    check(clFinish(device_->copy_queue), where("finishing the copies"));
+    for (std::vector<cl_event>* events : {&written, &ran, &read})
+      for (cl_event e : *events)
+        if (e) clReleaseEvent(e);
+  }
+
   // Whole work-groups of one size chosen for the kernel, so that the device
   // compiles one work-group function and vectorises it unmasked; the last
   // partial group runs as one more whole group ending at the stream's end
@@ -170,25 +238,25 @@ class OpenClKernel : public Kernel {
   // short stream, and an accumulating program's after its whole
   // work-items) run in the one-element kernel, in one launch of groups the
   // implementation chooses.
-  void launch(std::size_t count, bool may_repeat) {
+  void launch(std::size_t count, bool may_repeat, std::size_t start = 0, const cl_event* wait = nullptr) {
     const Launcher& k = lanes_ > 1 ? many_ : one_;
     std::size_t lanes = static_cast<std::size_t>(lanes_), span = k.group * lanes;
     if (may_repeat && span != 0 && count >= span) {
       std::size_t full = count / span * span;
-      enqueue(k, 0, full / lanes, true);
-      if (full != count) enqueue(k, count - span, k.group, true);
+      enqueue(k, start, full / lanes, true, wait);
+      if (full != count) enqueue(k, start + count - span, k.group, true, wait);
       return;
     }
     std::size_t items = lanes > 1 ? count / lanes : 0;
-    if (items != 0) enqueue(many_, 0, items, false);
-    if (items * lanes != count) enqueue(one_, items * lanes, count - items * lanes, false);
+    if (items != 0) enqueue(many_, start, items, false, wait);
+    if (items * lanes != count) enqueue(one_, start + items * lanes, count - items * lanes, false, wait);
   }
 
-  void enqueue(const Launcher& k, std::size_t base, std::size_t work_items, bool whole_groups) {
+  void enqueue(const Launcher& k, std::size_t base, std::size_t work_items, bool whole_groups, const cl_event* wait) {
     cl_long first = static_cast<cl_long>(base);
     check(clSetKernelArg(k.kernel, 0, sizeof first, &first), where("setting the first element"));
-    check(clEnqueueNDRangeKernel(device_->queue, k.kernel, 1, nullptr, &work_items, whole_groups ? &k.group : nullptr, 0,
-                                 nullptr, nullptr),
+    check(clEnqueueNDRangeKernel(device_->queue, k.kernel, 1, nullptr, &work_items, whole_groups ? &k.group : nullptr,
+                                 wait ? 1 : 0, wait, nullptr),
           where("launching the kernel"));
   }
 
@@ -220,6 +288,19 @@ class OpenClKernel : public Kernel {
     b.mem = clCreateBuffer(device_->context, flags, size == 0 ? 1 : size, size == 0 ? nullptr : host, &err);
     check(err, where(std::string("allocating ") + what + " of " + std::to_string(size) + " bytes"));
     return b;
+  }
+
+  // A copied stream's device buffer, kept for the next run of the same size:
+  // a new buffer's first touch costs the device (and PoCL's host memory) a
+  // page fault per page, which made a copied run of 48 MiB take 145 ms.
+  cl_mem kept(std::size_t slot, std::size_t size, cl_mem_flags flags, const char* what) {
+    if (kept_.size() <= slot) kept_.resize(slot + 1);
+    auto& [buffer, kept_size] = kept_[slot];
+    if (!buffer.mem || kept_size != size) {
+      buffer = make(size, flags, nullptr, what);
+      kept_size = size;
+    }
+    return buffer.mem;
   }
 
   // Tables stay on the device between runs until their version changes.
@@ -293,11 +374,13 @@ class OpenClKernel : public Kernel {
     std::uint64_t version = 0;
   };
   std::map<std::uint64_t, Cached> tables_;
+  std::vector<std::pair<Buffer, std::size_t>> kept_;  // copied streams' buffers and sizes, by argument
   std::string source_;
   int lanes_;  // elements per work-item of many_
   cl_program cl_program_ = nullptr;
   Launcher one_, many_;  // one element per work-item; lanes_ (above 1) per work-item
   std::mutex mutex_;
+  static constexpr std::size_t kPieceElements = std::size_t{1} << 18, kMostPieces = 8;
 };
 
 class OpenClBackend : public Backend {
@@ -310,7 +393,10 @@ class OpenClBackend : public Backend {
     return {{"device", "P:D (platform and device indices) or a piece of a device's name (shtrace info lists them)"},
             {"lanes",
              "scalar, 2, 4, 8, 16 or auto: elements per work-item; auto: the device's float vector width on a CPU (at most "
-             "16), 1 elsewhere"}};
+             "16), 1 elsewhere"},
+            {"streams",
+             "auto or copied: auto uses streams in place on a device that shares host memory; copied (always on other "
+             "devices) copies them in pieces overlapped with the kernel"}};
   }
   BackendOptions default_options() const override { return Options{}; }
   std::vector<Variant> variants() const override {

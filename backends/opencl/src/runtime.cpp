@@ -156,6 +156,8 @@ std::shared_ptr<Device> open_device(const std::string& choice) {
   check(err, "creating an OpenCL context on " + d->name);
   d->queue = clCreateCommandQueue(d->context, f.device, 0, &err);
   check(err, "creating an OpenCL queue on " + d->name);
+  d->copy_queue = clCreateCommandQueue(d->context, f.device, 0, &err);
+  check(err, "creating an OpenCL copy queue on " + d->name);
   open.emplace(f.device, d);
   return d;
 }

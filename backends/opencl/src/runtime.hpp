@@ -27,7 +27,8 @@ struct Device {
   std::size_t max_group = 0;  // work-items in a group
   cl_uint float_lanes = 1;    // the preferred float vector width
   cl_context context = nullptr;
-  cl_command_queue queue = nullptr;
+  cl_command_queue queue = nullptr;       // kernels
+  cl_command_queue copy_queue = nullptr;  // copies of streams in pieces, beside the kernels
 };
 
 // The device `choice` names ("P:D", a piece of a name, or empty for

@@ -23,11 +23,17 @@
 
 namespace sh::opencl {
 
+// Streams on a device that shares host memory are used in place (Auto);
+// elsewhere, or always with Copied, they are copied in pieces overlapped
+// with the kernel.
+enum class Streams { Auto, Copied };
+
 struct Options {
   static constexpr const char* backend_name = "opencl";
   std::string device;  // "P:D" or a piece of a device's name; empty: the default
   int lanes = 0;       // elements per work-item: 1, 2, 4, 8 or 16; 0 chooses from the device
-  // String form: device, lanes (scalar, 2, 4, 8, 16 or auto).
+  Streams streams = Streams::Auto;
+  // String form: device, lanes (scalar, 2, 4, 8, 16 or auto), streams (auto or copied).
   Settings settings() const;
   void set(const std::string& name, const std::string& value);
 };
@@ -38,8 +44,9 @@ std::vector<std::string> devices();
 // RunStats::details of an opencl run (stats.details_as<opencl::RunDetails>()):
 // the bytes a run moved between host and device, and those it did not have
 // to.  Streams on a device that shares host memory are used in place;
-// elsewhere they are copied both ways.  Tables stay on the device between
-// runs until their contents change.
+// elsewhere they are copied both ways, in pieces overlapped with the
+// kernel.  Tables stay on the device between runs until their contents
+// change.
 class RunDetails : public sh::RunDetails {
  public:
   std::size_t runs = 0;
