@@ -203,6 +203,7 @@ TEST(OpenClBackend, CopiedStreamsInPiecesGiveTheResultsOfStreamsInPlace) {
   } SH_END;
   Options copied;
   copied.set("opencl.streams", "copied");
+  EXPECT_THROW(Options().set("opencl.streams", "sometimes"), Error);
   for (std::size_t length : {std::size_t{0}, std::size_t{1}, std::size_t{1000}, (std::size_t{1} << 18) * 3 + 17}) {
     std::vector<float> v(3 * length), k(length);
     for (std::size_t i = 0; i < length; ++i) {

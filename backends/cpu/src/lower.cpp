@@ -236,11 +236,14 @@ void Lowering::allocate_registers() {
 // zero that a move or a choice writes is one LLVM cannot see, read once
 // from a volatile, and the rewrite never matches; arithmetic keeps the
 // constant.
+// One load per type and sign serves every constant.
 Value* Lowering::hidden_zero(llvm::Type* t, bool negative) {
+  Value*& known = hidden_zeros_[{t, negative}];
+  if (known) return known;
   auto* zero = new llvm::GlobalVariable(*module_, t, true, llvm::GlobalValue::PrivateLinkage, llvm::ConstantFP::get(t, 0.0),
                                         "sh.zero");
   Value* x = b_.CreateLoad(t, zero, true);
-  return negative ? b_.CreateFNeg(x) : x;
+  return known = negative ? b_.CreateFNeg(x) : x;
 }
 
 // Every register starts an element at zero.

@@ -13,7 +13,9 @@
 // LLVM's operations take vectors as they take scalars.
 #include <array>
 #include <functional>
+#include <map>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <llvm/IR/IRBuilder.h>
@@ -172,6 +174,7 @@ class Lowering {
   std::vector<std::array<Value*, 3>> table_dims_;
   std::vector<std::array<Value*, 4>> slots_;
   std::vector<std::array<Value*, 4>> written_zero_;  // float constants' zero components, as a move writes them
+  std::map<std::pair<llvm::Type*, bool>, Value*> hidden_zeros_;  // hidden_zero()'s loads, by type and sign
   std::vector<bool> ssa_;
   std::vector<LoopState> loop_stack_;
   std::vector<const ir::Stmt*> loops_;

@@ -121,25 +121,7 @@ class OpenClKernel : public Kernel {
       run_in_pieces(args, streams, sums.empty(), *moved);
     } else {
       launch(args.count, sums.empty());
-    }
-    for (std::size_t o = 0; o < args.outputs.size() && !copied; ++o) {
-      std::size_t size = bytes(args.outputs[o].type, args.outputs[o].count);
-      cl_mem mem = streams[args.inputs.size() + o];
-      if (!in_place[o] || size == 0) {
-        check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, size, args.outputs[o].data, 0, nullptr, nullptr),
-              where("reading an output"));
-        moved->from_device += size;
-        continue;
-      }
-      // Mapping makes the host memory current (a copy only where the
-      // implementation kept its own).
-      cl_int err = CL_SUCCESS;
-      void* mapped = clEnqueueMapBuffer(device_->queue, mem, CL_TRUE, CL_MAP_READ, 0, size, 0, nullptr, nullptr, &err);
-      check(err, where("mapping an output"));
-      bool copied = mapped != args.outputs[o].data;
-      if (copied) std::memcpy(args.outputs[o].data, mapped, size);
-      (copied ? moved->from_device : moved->in_place) += size;
-      check(clEnqueueUnmapMemObject(device_->queue, mem, mapped, 0, nullptr, nullptr), where("unmapping an output"));
+      take_outputs(args, streams, in_place, *moved);
     }
     for (const auto& [t, mem] : sums)
       check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, t->bytes(), t->sums, 0, nullptr, nullptr),
@@ -178,6 +160,31 @@ class OpenClKernel : public Kernel {
     check(err, "program '" + program_.name + "': creating the OpenCL kernel " + name);
     l.group = group_size(l.kernel);
     return l;
+  }
+
+  // Outputs of a run whose streams were not copied in pieces: read back an
+  // output that is also an input; map the others, used in place.
+  void take_outputs(const RunArgs& args, const std::vector<cl_mem>& streams, const std::vector<bool>& in_place,
+                    RunDetails& moved) {
+    for (std::size_t o = 0; o < args.outputs.size(); ++o) {
+      std::size_t size = bytes(args.outputs[o].type, args.outputs[o].count);
+      cl_mem mem = streams[args.inputs.size() + o];
+      if (!in_place[o] || size == 0) {
+        check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, size, args.outputs[o].data, 0, nullptr, nullptr),
+              where("reading an output"));
+        moved.from_device += size;
+        continue;
+      }
+      // Mapping makes the host memory current (a copy only where the
+      // implementation kept its own).
+      cl_int err = CL_SUCCESS;
+      void* mapped = clEnqueueMapBuffer(device_->queue, mem, CL_TRUE, CL_MAP_READ, 0, size, 0, nullptr, nullptr, &err);
+      check(err, where("mapping an output"));
+      bool kept_apart = mapped != args.outputs[o].data;
+      if (kept_apart) std::memcpy(args.outputs[o].data, mapped, size);
+      (kept_apart ? moved.from_device : moved.in_place) += size;
+      check(clEnqueueUnmapMemObject(device_->queue, mem, mapped, 0, nullptr, nullptr), where("unmapping an output"));
+    }
   }
 
   bool copies_streams() const { return !device_->unified || options_.get<Options>().streams == Streams::Copied; }
