@@ -128,5 +128,43 @@ TEST_P(Conformance, StencilReadsNeighboursAndClampsAtTheEdges) {
   }
 }
 
+// Long rows, which a run splits between calls mid-row, so that batches
+// inside the table follow one another and a call's end falls among them;
+// the table narrower, as wide, and wider than the launch domain.  Each
+// element also counts itself into its row's sum: an element run twice (a
+// call going on past its end) would count twice.
+TEST_P(Conformance, StencilAlongLongRowsSplitBetweenCallsReadsEveryNeighbour) {
+  const int w = 1000, h = 23;
+  for (int table_w : {993, 1000, 1009}) {
+    const int table_h = h + 2;
+    sh::Table2D<Attrib1f> image(table_w, table_h);
+    std::vector<float> values;
+    for (int y = 0; y < table_h; ++y)
+      for (int x = 0; x < table_w; ++x) values.push_back(pixel(x, y));
+    image.assign(values);
+    sh::Accumulator<Attrib1i> visits(h, "visits");
+    sh::Program p = SH_BEGIN_PROGRAM("long_rows") {
+      sh::Output<Attrib1f> box;
+      sh::Attrib2i at = sh::position<2>();
+      box = 0.0f;
+      for (int dy = -2; dy <= 1; ++dy)
+        for (int dx = -3; dx <= 2; ++dx) box += image[at + sh::ConstAttrib2i(dx, dy)];
+      visits.add(at(1), sh::ConstAttrib1i(1));
+    } SH_END;
+    sh::Channel<Attrib1f> box;
+    box.shape(static_cast<std::size_t>(w), h);
+    run(p, {}, {box});
+    EXPECT_EQ(visits.values(), std::vector<std::int32_t>(h, w)) << "table width " << table_w;
+    auto clamp = [](int v, int n) { return std::min(std::max(v, 0), n - 1); };
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float sum = 0;
+        for (int dy = -2; dy <= 1; ++dy)
+          for (int dx = -3; dx <= 2; ++dx) sum += pixel(clamp(x + dx, table_w), clamp(y + dy, table_h));
+        ASSERT_EQ(box[static_cast<std::size_t>(y * w + x)], sum) << "table width " << table_w << " at " << x << ", " << y;
+      }
+  }
+}
+
 }  // namespace
 }  // namespace conformance

@@ -129,10 +129,11 @@ void Lowering::function() {
   Value* count = spmd() ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(end, e), b_.getInt64(width_)) : nullptr;
   if (reads_position_) count = place_batch(count);
   batch_count_ = count;
+  inside_batches(e, end, head);
   if (spmd()) store_mask(live_lanes(count), exec_);
   clear_registers();
   full_or_tail(count, [&](Value* tail) { load_inputs(e, tail); });
-  batch_body();
+  block(p_.body);
   full_or_tail(count, [&](Value* tail) { store_outputs(e, tail); });
   Value* step = reads_position_ && spmd() ? count : b_.getInt64(width_);
   if (reads_position_) advance_place(step);
@@ -141,6 +142,68 @@ void Lowering::function() {
 
   b_.SetInsertPoint(exit);
   b_.CreateRetVoid();
+}
+
+// Where the program reads tables at position() plus constants (a
+// stencil's taps), full batches whose taps all lie inside their tables run
+// in a loop of their own along the row, the body lowered a second time for
+// them: each tap one vector load with no test and no mask, and one test
+// per batch, whether the next batch is such a batch too.  Rows are long and
+// taps short, so nearly every batch runs here; the stream loop's body,
+// every tap tested, takes the rows' edges and the stream's tail.
+void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
+  Value* inside = batch_inside();
+  if (!inside) return;
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* count = batch_count_;
+  Value* first_x = batch_place_[0];
+  BasicBlock* from = b_.GetInsertBlock();
+  BasicBlock* run = BasicBlock::Create(ctx_, "batches.inside", fn_);
+  BasicBlock* leave = BasicBlock::Create(ctx_, "batches.left", fn_);
+  BasicBlock* edge = BasicBlock::Create(ctx_, "batch.edge", fn_);
+  Value* step = b_.getInt64(width_);
+  batch_count_ = step;
+  // The last batch's x: full, in this row, its taps inside (each batch
+  // starts past the one before, so only their ends along the row can leave).
+  Value* last_x = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(row_, step),
+                                           b_.CreateAdd(first_x, b_.CreateSub(b_.CreateSub(end, e), step)));
+  last_x = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last_x, last_inside_x());
+  b_.CreateCondBr(b_.CreateAnd(inside, b_.CreateICmpEQ(count, step)), run, edge);
+
+  b_.SetInsertPoint(run);
+  llvm::PHINode* at = b_.CreatePHI(i64, 2);
+  llvm::PHINode* x = b_.CreatePHI(i64, 2);
+  at->addIncoming(e, from);
+  x->addIncoming(first_x, from);
+  b_.CreateStore(at, element_);
+  set_batch_x(x);
+  store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
+  clear_registers();
+  load_inputs(at, nullptr);
+  batch_inside_ = true;
+  block(p_.body);
+  batch_inside_ = false;
+  store_outputs(at, nullptr);
+  Value* next = b_.CreateNSWAdd(at, step);
+  Value* next_x = b_.CreateNSWAdd(x, step);
+  at->addIncoming(next, b_.GetInsertBlock());
+  x->addIncoming(next_x, b_.GetInsertBlock());
+  b_.CreateCondBr(b_.CreateICmpSLE(next_x, last_x), run, leave);
+
+  b_.SetInsertPoint(leave);
+  b_.CreateStore(x, place_[0]);
+  advance_place(step);
+  b_.CreateStore(next, element_);
+  b_.CreateBr(head);
+
+  b_.SetInsertPoint(edge);
+  batch_count_ = count;
+  set_batch_x(first_x);
+}
+
+void Lowering::set_batch_x(Value* x) {
+  batch_place_[0] = x;
+  position_[0] = b_.CreateTrunc(x, b_.getInt32Ty());
 }
 
 // The call's first element's place in the launch domain (signature.hpp):
@@ -168,7 +231,7 @@ Value* Lowering::place_batch(Value* count) {
   llvm::Type* i64 = b_.getInt64Ty();
   std::array<Value*, 3> at{};
   for (int k = 0; k < 3; ++k) {
-    at[k] = b_.CreateLoad(i64, place_[k]);
+    at[k] = batch_place_[k] = b_.CreateLoad(i64, place_[k]);
     position_[k] = b_.CreateTrunc(at[k], b_.getInt32Ty());
   }
   if (!spmd()) return count;

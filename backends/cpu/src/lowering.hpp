@@ -70,6 +70,8 @@ class Lowering {
   void start_place(Value* begin, Value* domain);
   Value* place_batch(Value* count);
   void advance_place(Value* step);
+  void inside_batches(Value* e, Value* end, BasicBlock* head);
+  void set_batch_x(Value* x);
   Value* position(int k, bool vary);
 
   // ---- statements and control flow (flow.cpp) ------------------------------
@@ -131,8 +133,8 @@ class Lowering {
   };
   Run run_of(const ir::Assign& a);
   Value* tap_start(int table, const std::array<int, 3>& offset);
-  void batch_body();
   Value* batch_inside();
+  Value* last_inside_x();
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> masked_run(int table, Value* start);
@@ -159,6 +161,7 @@ class Lowering {
   Value *row_ = nullptr, *rows_ = nullptr;       // the launch domain's (signature.hpp)
   std::array<llvm::AllocaInst*, 3> place_{};  // the next batch's x, y, z
   std::array<Value*, 3> position_{};          // the batch's x (first lane), y, z
+  std::array<Value*, 3> batch_place_{};       // the same in 64 bits, as table indices take them
   llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
   SpmdFacts facts_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read

@@ -572,36 +572,11 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
   Value* start = b_.getInt64(0);
   Value* stride = b_.getInt64(1);
   for (int d = 0; d < p_.tables[table].rank; ++d) {
-    Value* at = b_.CreateNSWAdd(b_.CreateSExt(position_[d], i64), b_.getInt64(offset[d]));
+    Value* at = b_.CreateNSWAdd(batch_place_[d], b_.getInt64(offset[d]));
     start = b_.CreateNSWAdd(start, b_.CreateNSWMul(at, stride));
     stride = b_.CreateNSWMul(stride, b_.CreateZExt(table_dims_[table][d], i64));
   }
   return start;
-}
-
-// The body for one batch.  Where the program reads tables at position()
-// plus constants (a stencil's taps), it is lowered twice: once for a full
-// batch whose taps all lie inside their tables, each tap one vector load
-// with no test and no mask, and once with each tap tested; one test before
-// the body chooses.  Rows are long and taps short, so nearly every batch
-// takes the first.
-void Lowering::batch_body() {
-  Value* inside = batch_inside();
-  if (!inside) return block(p_.body);
-  BasicBlock* fast = BasicBlock::Create(ctx_, "batch.inside", fn_);
-  BasicBlock* edge = BasicBlock::Create(ctx_, "batch.edge", fn_);
-  BasicBlock* done = BasicBlock::Create(ctx_, "batch.done", fn_);
-  b_.CreateCondBr(b_.CreateAnd(inside, b_.CreateICmpEQ(batch_count_, b_.getInt64(width_))), fast, edge);
-  b_.SetInsertPoint(fast);
-  store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
-  batch_inside_ = true;
-  block(p_.body);
-  batch_inside_ = false;
-  b_.CreateBr(done);
-  b_.SetInsertPoint(edge);
-  block(p_.body);
-  b_.CreateBr(done);
-  b_.SetInsertPoint(done);
 }
 
 // Whether every tap of the batch lies inside its table: per table, the
@@ -615,7 +590,7 @@ Value* Lowering::batch_inside() {
   for (std::size_t t = 0; t < spans.size(); ++t) {
     if (!spans[t]) continue;
     for (int d = 0; d < p_.tables[t].rank; ++d) {
-      Value* at = b_.CreateSExt(position_[d], i64);
+      Value* at = batch_place_[d];
       Value* low = b_.CreateAdd(at, b_.getInt64(spans[t]->low[d]));
       Value* high = b_.CreateAdd(at, b_.getInt64(spans[t]->high[d]));
       if (d == 0) high = b_.CreateAdd(high, b_.CreateSub(batch_count_, b_.getInt64(1)));
@@ -625,6 +600,19 @@ Value* Lowering::batch_inside() {
     }
   }
   return inside;
+}
+
+// The largest x at which a full batch's taps end inside every table they
+// read along the row.
+Value* Lowering::last_inside_x() {
+  std::vector<std::optional<analysis::TapSpan>> spans = analysis::tap_spans(p_, access_);
+  Value* last = nullptr;
+  for (std::size_t t = 0; t < spans.size(); ++t) {
+    if (!spans[t]) continue;
+    Value* x = b_.CreateSub(b_.CreateZExt(table_dims_[t][0], b_.getInt64Ty()), b_.getInt64(spans[t]->high[0] + width_));
+    last = last ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last, x) : x;
+  }
+  return last;
 }
 
 // The running lanes' elements from `start` on, one after another: a masked
