@@ -124,8 +124,8 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
   EXPECT_EQ(scalar.find("sh_kernel_lanes"), std::string::npos) << scalar;
   std::string lanes = kernel_for(p, backend("opencl", width(8)))->listing();
   EXPECT_NE(lanes.find("__kernel void sh_kernel_lanes("), std::string::npos) << lanes;
-  EXPECT_NE(lanes.find("vload8(0, in0 + e)"), std::string::npos) << lanes;
-  EXPECT_NE(lanes.find("vstore8("), std::string::npos) << lanes;
+  EXPECT_NE(lanes.find("sh_run_float8(in0 + e)"), std::string::npos) << lanes;
+  EXPECT_NE(lanes.find("sh_store_run_float8("), std::string::npos) << lanes;
   std::size_t selects = 0;
   for (auto at = lanes.find("select(", lanes.find("sh_kernel_lanes(")); at != std::string::npos; at = lanes.find("select(", at + 1))
     ++selects;

@@ -217,7 +217,7 @@ class Generator {
       stride = d ? stride + " * " + name + "_" + kComponent[d] : "(long)" + name + "_" + kComponent[d];
     }
     int w = t.element.width;
-    if (w == 1) return "vload" + std::to_string(lanes_) + "(0, " + name + " + " + start + ")";
+    if (w == 1) return run_load(storage_type(t.element.scalar)) + "(" + name + " + " + start + ")";
     std::string lanes;
     for (int k = 0; k < lanes_; ++k)
       lanes += (k ? ", " : "") + name + "[(" + start + " + " + std::to_string(k) + ") * " + std::to_string(w) + " + " +
@@ -270,6 +270,24 @@ class Generator {
     if (uses_zero_float_) decls += "  volatile float sh_zero_fv = 0.0f;\n  const float sh_zero_f = sh_zero_fv;\n";
     if (uses_zero_double_) decls += "  volatile double sh_zero_dv = 0.0;\n  const double sh_zero_d = sh_zero_dv;\n";
     return decls;
+  }
+
+  // The lanes' elements from p on, one load or store of the vector type
+  // with the element's alignment: PoCL's vloadN assembles an unaligned
+  // vector from pieces (six instructions for a float16 where one would do),
+  // its vstoreN stores it in three.
+  std::string run_load(const std::string& element) const {
+    std::string v = vec(element);
+    return helper("sh_run_" + v, v, "(const __global " + element + "* p) {\n" + unaligned(element) +
+                                        "  return *(const __global unaligned*)p;\n}\n");
+  }
+  std::string run_store(const std::string& element) const {
+    std::string v = vec(element);
+    return helper("sh_store_run_" + v, "void", "(" + v + " x, __global " + element + "* p) {\n" + unaligned(element) +
+                                                   "  *(__global unaligned*)p = x;\n}\n");
+  }
+  std::string unaligned(const std::string& element) const {
+    return "  typedef " + vec(element) + " unaligned __attribute__((aligned(sizeof(" + element + "))));\n";
   }
 
   // A helper function of the source, written once, before the kernels,
@@ -470,7 +488,7 @@ class Generator {
         if (!spmd()) {
           value = at(in, t.width, c, 0);
         } else if (t.width == 1) {
-          value = "convert_" + vec(reg_type(t.scalar)) + "(vload" + std::to_string(lanes_) + "(0, " + in + " + e))";
+          value = "convert_" + vec(reg_type(t.scalar)) + "(" + run_load(storage_type(t.scalar)) + "(" + in + " + e))";
         } else {
           for (int k = 0; k < lanes_; ++k) value += (k ? ", " : "") + at(in, t.width, c, k);
           value = "(" + vec(reg_type(t.scalar)) + ")(" + value + ")";
@@ -490,7 +508,7 @@ class Generator {
         if (!spmd()) {
           line(1, at(out, t.width, c, 0) + " = (" + stored + ")" + reg(v, c) + ";");
         } else if (t.width == 1) {
-          line(1, "vstore" + std::to_string(lanes_) + "(" + convert(stored, reg(v, c)) + ", 0, " + out + " + e);");
+          line(1, run_store(stored) + "(" + convert(stored, reg(v, c)) + ", " + out + " + e);");
         } else {
           for (int k = 0; k < lanes_; ++k)
             line(1, at(out, t.width, c, k) + " = (" + stored + ")" + reg(v, c) + lane(k) + ";");
@@ -935,7 +953,7 @@ class Generator {
     }
     auto fast = [&](int c) {
       if (!consecutive) return "(" + stored + ")(" + name + "[" + lead + component(c) + "])";
-      return "vload" + std::to_string(lanes_) + "(0, " + name + " + " + at + ".s0)";
+      return run_load(storage_type(t.element.scalar)) + "(" + name + " + " + at + ".s0)";
     };
     for (int c = 0; c < t.element.width; ++c) {
       line(depth, stored + " " + read + std::to_string(c) + ";");
