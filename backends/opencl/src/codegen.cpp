@@ -445,11 +445,15 @@ class Generator {
 
   // ---- signature, registers, inputs, outputs -----------------------------------
 
+  // Streams are restrict: no two of a run's buffers overlap (an in-out
+  // channel is copied, backend.cpp), so the compiler may keep an input's
+  // loads ahead of an output's stores.  Tables may share a channel's memory,
+  // and are only const.
   void signature(std::ostringstream& out) {
     for (std::size_t i = 0; i < p_.inputs.size(); ++i)
-      out << ",\n    __global const " << storage_type(scalar_of(p_.inputs[i])) << "* in" << i;
+      out << ",\n    __global const " << storage_type(scalar_of(p_.inputs[i])) << "* restrict in" << i;
     for (std::size_t o = 0; o < p_.outputs.size(); ++o)
-      out << ",\n    __global " << storage_type(scalar_of(p_.outputs[o])) << "* out" << o;
+      out << ",\n    __global " << storage_type(scalar_of(p_.outputs[o])) << "* restrict out" << o;
     for (ir::VarId u : p_.uniforms)
       for (int c = 0; c < p_.type_of(u).width; ++c) out << ",\n    const " << reg_type(scalar_of(u)) << " " << reg(u, c);
     for (std::size_t t = 0; t < p_.tables.size(); ++t)
