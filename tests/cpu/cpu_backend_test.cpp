@@ -69,9 +69,10 @@ std::size_t gathers(const std::string& ir) {
 }
 
 // A stencil's reads at x + c along a row are one vector load each: in a
-// full batch whose taps all lie inside the table, with no test and no mask;
-// elsewhere tested, a masked load or a gather at the edges.  Reads at an
-// input's index are gathers only.
+// full batch whose taps all lie inside the table, with no test and no mask,
+// such batches one after another in a loop of their own; elsewhere tested,
+// a masked load or a gather at the edges.  Reads at an input's index are
+// gathers only.
 TEST(CpuBackend, StencilReadsAreVectorLoads) {
   Table2D<Attrib1f> image(64, 64);
   image.assign(std::vector<float>(64 * 64, 1.0f));
@@ -88,8 +89,9 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   Options o;
   o.set(cpu::Options{.width = cpu::Width::Lanes16});
   std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
-  std::string inside = blocks(ir, "batch.inside:");
+  std::string inside = blocks(ir, "batches.inside:");
   EXPECT_EQ(count(inside, "load <16 x float>"), 2u) << ir;
+  EXPECT_NE(inside.find("preds = %batches.inside.preheader, %batches.inside"), std::string::npos) << "a loop: " << ir;
   EXPECT_EQ(count(inside, "@llvm.masked"), 0u) << ir;
   EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << ir;
   EXPECT_EQ(gathers(ir), 2u) << ir;
@@ -112,7 +114,7 @@ TEST(CpuBackend, EveryEdgeModeKeepsTheVectorLoad) {
     Options o;
     o.set(cpu::Options{.width = cpu::Width::Lanes16});
     std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
-    EXPECT_EQ(count(blocks(ir, "batch.inside:"), "load <16 x float>"), 1u) << ir::edge_name(edge) << ir;
+    EXPECT_EQ(count(blocks(ir, "batches.inside:"), "load <16 x float>"), 1u) << ir::edge_name(edge) << ir;
     EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 1u) << ir::edge_name(edge) << ir;
     // Wrapping divides: only a batch that reaches the edge may.
     EXPECT_EQ(count(blocks(ir, "read.edge"), "srem"), edge == Edge::Repeat ? count(ir, "srem") : 0u) << ir;
