@@ -1,12 +1,14 @@
 // The binned SAH build (see bvh.hpp) into a tree of nodes, then laid out
 // by bvh_layout.cpp.
 #include <algorithm>
+#include <array>
 #include <chrono>
-#include <limits>
 #include <numeric>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
 
 #include "bvh_tree.hpp"
 #include "sh/error.hpp"
@@ -16,10 +18,36 @@ namespace {
 
 // Subtrees over more triangles than this are built as tasks of their own.
 constexpr std::size_t kParallelBuild = 4096;
+// A node over more triangles than this bins them (and finds their box) in
+// parallel too: the top levels would otherwise run on one thread.
+constexpr std::size_t kParallelPass = 16384;
 
 struct Bin {
   Box box = empty_box();
   std::size_t count = 0;
+};
+
+// Each axis's bins of a node's triangles, by centroid.
+struct Bins {
+  std::array<std::array<Bin, kBvhBins>, 3> axis;
+  Bins& operator+=(const Bins& o) {
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < kBvhBins; ++k) {
+        axis[a][k].box = merge(axis[a][k].box, o.axis[a][k].box);
+        axis[a][k].count += o.axis[a][k].count;
+      }
+    return *this;
+  }
+};
+
+// A node's triangles: the union of their boxes and the box of their centroids.
+struct Span {
+  Box box = empty_box(), centres = empty_box();
+  Span& operator+=(const Span& o) {
+    box = merge(box, o.box);
+    centres = merge(centres, o.centres);
+    return *this;
+  }
 };
 
 struct Split {
@@ -29,31 +57,32 @@ struct Split {
 
 class Builder {
  public:
-  Builder(const std::vector<Vec3>& positions, BvhLimits limits) : limits_(limits), boxes_(positions.size() / 3) {
-    ids_.resize(boxes_.size());
+  Builder(const std::vector<Vec3>& positions, BvhLimits limits)
+      : limits_(limits), boxes_(positions.size() / 3), centres_(boxes_.size()), ids_(boxes_.size()) {
     std::iota(ids_.begin(), ids_.end(), 0);
     tbb::parallel_for(std::size_t{0}, boxes_.size(), [&](std::size_t t) {
       const Vec3* p = &positions[3 * t];
       boxes_[t] = {min(min(p[0], p[1]), p[2]), max(max(p[0], p[1]), p[2])};
+      centres_[t] = centre(boxes_[t]);
     });
   }
 
   std::unique_ptr<Node> build(std::size_t begin, std::size_t end, int depth) {
     auto node = std::make_unique<Node>();
-    Box centres = empty_box();
-    for (std::size_t i = begin; i < end; ++i) {
-      node->box = merge(node->box, boxes_[ids_[i]]);
-      centres = grow(centres, centre(boxes_[ids_[i]]));
-    }
+    Span span = pass<Span>(begin, end, [&](Span& s, std::int32_t t) {
+      s.box = merge(s.box, boxes_[t]);
+      s.centres = grow(s.centres, centres_[t]);
+    });
+    node->box = span.box;
     std::size_t n = end - begin;
-    Split split = depth < kBvhSahDepth ? best_split(begin, end, centres, area(node->box)) : Split{};
+    Split split = depth < kBvhSahDepth ? best_split(begin, end, span) : Split{};
     bool small = n <= static_cast<std::size_t>(limits_.max_leaf);
     if (small && (split.axis < 0 || split.cost >= static_cast<double>(n))) {
       node->triangles.assign(ids_.begin() + static_cast<long>(begin), ids_.begin() + static_cast<long>(end));
       std::sort(node->triangles.begin(), node->triangles.end());
       return node;
     }
-    std::size_t middle = split.axis >= 0 ? partition(begin, end, split, centres) : halve(begin, end, centres);
+    std::size_t middle = split.axis >= 0 ? partition(begin, end, split, span.centres) : halve(begin, end, span.centres);
     auto build_child = [&](int k) {
       node->child[k] = k == 0 ? build(begin, middle, depth + 1) : build(middle, end, depth + 1);
     };
@@ -67,40 +96,64 @@ class Builder {
   std::size_t triangles() const { return ids_.size(); }
 
  private:
-  static int bin_of(float c, float lo, float extent) {
-    return std::clamp(static_cast<int>(static_cast<double>(c - lo) / extent * kBvhBins), 0, kBvhBins - 1);
+  // add(t) over the node's triangles into one T, in parallel chunks where
+  // there are many.  Every T here adds by min, max and integer sums, so the
+  // result does not depend on how the chunks fell.
+  template <class T, class Add>
+  T pass(std::size_t begin, std::size_t end, Add add) const {
+    auto run = [&](std::size_t from, std::size_t to, T t) {
+      for (std::size_t i = from; i < to; ++i) add(t, ids_[i]);
+      return t;
+    };
+    if (end - begin <= kParallelPass) return run(begin, end, T{});
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(begin, end, kParallelPass / 4), T{},
+        [&](const tbb::blocked_range<std::size_t>& r, T t) { return run(r.begin(), r.end(), t); },
+        [](T a, const T& b) { return a += b; });
+  }
+
+  // Bins per unit of an axis whose centroids span `extent` > 0: finite in
+  // double for every positive float.
+  static double bin_scale(float extent) { return kBvhBins / static_cast<double>(extent); }
+  static int bin_of(float c, float lo, double scale) {
+    return std::clamp(static_cast<int>(static_cast<double>(c - lo) * scale), 0, kBvhBins - 1);
   }
 
   // The SAH split of least cost over the binned centroids, relative to the
   // cost of testing one triangle: 1 for the box test plus each side's
   // triangles weighted by the chance (its area over the node's) a ray that
   // meets the node meets it.  None (axis -1) where the centroids coincide.
-  Split best_split(std::size_t begin, std::size_t end, const Box& centres, double node_area) const {
-    Split best;
-    for (int axis = 0; axis < 3; ++axis) {
-      float lo = centres.lo[axis], extent = centres.hi[axis] - centres.lo[axis];
-      if (!(extent > 0)) continue;
-      Bin bins[kBvhBins];
-      for (std::size_t i = begin; i < end; ++i) {
-        const Box& b = boxes_[ids_[i]];
-        Bin& bin = bins[bin_of(centre(b)[axis], lo, extent)];
-        bin.box = merge(bin.box, b);
+  // One pass bins every axis.
+  Split best_split(std::size_t begin, std::size_t end, const Span& span) const {
+    Vec3 lo = span.centres.lo, extent = span.centres.hi - span.centres.lo;
+    std::array<double, 3> scale{};
+    for (int axis = 0; axis < 3; ++axis) scale[axis] = extent[axis] > 0 ? bin_scale(extent[axis]) : 0;
+    Bins bins = pass<Bins>(begin, end, [&](Bins& b, std::int32_t t) {
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!(extent[axis] > 0)) continue;
+        Bin& bin = b.axis[axis][bin_of(centres_[t][axis], lo[axis], scale[axis])];
+        bin.box = merge(bin.box, boxes_[t]);
         ++bin.count;
       }
+    });
+    Split best;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(extent[axis] > 0)) continue;
+      const std::array<Bin, kBvhBins>& bin = bins.axis[axis];
       // Right sides swept from the top, left sides from the bottom.
       double right_cost[kBvhBins] = {};
       Box right = empty_box();
       std::size_t right_count = 0;
       for (int k = kBvhBins - 1; k > 0; --k) {
-        right = merge(right, bins[k].box);
-        right_count += bins[k].count;
+        right = merge(right, bin[k].box);
+        right_count += bin[k].count;
         right_cost[k] = right_count ? area(right) * static_cast<double>(right_count) : 0;
       }
       Box left = empty_box();
       std::size_t left_count = 0;
       for (int k = 1; k < kBvhBins; ++k) {
-        left = merge(left, bins[k - 1].box);
-        left_count += bins[k - 1].count;
+        left = merge(left, bin[k - 1].box);
+        left_count += bin[k - 1].count;
         if (left_count == 0 || left_count == end - begin) continue;
         double cost = area(left) * static_cast<double>(left_count) + right_cost[k];
         if (best.axis < 0 || cost < best.cost) best = {axis, k, cost};
@@ -108,16 +161,18 @@ class Builder {
     }
     // A flat node (every triangle in one plane) has no area: then every
     // ray that meets it meets both sides.
+    double node_area = area(span.box);
     if (best.axis >= 0) best.cost = node_area > 0 ? 1 + best.cost / node_area : static_cast<double>(end - begin) + 1;
     return best;
   }
 
+  // The children's sets, not their order, decide the tree, so the
+  // partition need not be stable.
   std::size_t partition(std::size_t begin, std::size_t end, const Split& s, const Box& centres) {
-    float lo = centres.lo[s.axis], extent = centres.hi[s.axis] - centres.lo[s.axis];
-    auto first = ids_.begin() + static_cast<long>(begin);
-    auto middle = std::stable_partition(first, ids_.begin() + static_cast<long>(end), [&](std::int32_t t) {
-      return bin_of(centre(boxes_[t])[s.axis], lo, extent) < s.bin;
-    });
+    float lo = centres.lo[s.axis];
+    double scale = bin_scale(centres.hi[s.axis] - lo);
+    auto middle = std::partition(ids_.begin() + static_cast<long>(begin), ids_.begin() + static_cast<long>(end),
+                                 [&](std::int32_t t) { return bin_of(centres_[t][s.axis], lo, scale) < s.bin; });
     return static_cast<std::size_t>(middle - ids_.begin());
   }
 
@@ -129,7 +184,7 @@ class Builder {
     std::size_t middle = begin + (end - begin) / 2;
     std::nth_element(ids_.begin() + static_cast<long>(begin), ids_.begin() + static_cast<long>(middle),
                      ids_.begin() + static_cast<long>(end), [&](std::int32_t a, std::int32_t b) {
-                       float ca = centre(boxes_[a])[axis], cb = centre(boxes_[b])[axis];
+                       float ca = centres_[a][axis], cb = centres_[b][axis];
                        return ca < cb || (ca == cb && a < b);
                      });
     return middle;
@@ -137,29 +192,11 @@ class Builder {
 
   BvhLimits limits_;
   std::vector<Box> boxes_;
+  std::vector<Vec3> centres_;
   std::vector<std::int32_t> ids_;
 };
 
 }  // namespace
-
-Box empty_box() {
-  constexpr float inf = std::numeric_limits<float>::infinity();
-  return {{inf, inf, inf}, {-inf, -inf, -inf}};
-}
-
-Box merge(const Box& a, const Box& b) { return {min(a.lo, b.lo), max(a.hi, b.hi)}; }
-
-Box grow(const Box& a, Vec3 p) { return {min(a.lo, p), max(a.hi, p)}; }
-
-Vec3 centre(const Box& b) { return (b.lo + b.hi) * 0.5f; }
-
-// In double: coordinates up to the tracer's 1e18 square beyond float.
-double area(const Box& b) {
-  if (!(b.lo.x <= b.hi.x)) return 0;
-  double x = static_cast<double>(b.hi.x) - b.lo.x, y = static_cast<double>(b.hi.y) - b.lo.y,
-         z = static_cast<double>(b.hi.z) - b.lo.z;
-  return 2 * (x * y + y * z + z * x);
-}
 
 std::unique_ptr<Node> build_tree(const Scene& scene, BvhLimits limits) {
   if (limits.max_leaf < 1 || limits.max_leaf > kBvhMaxLeaf)
