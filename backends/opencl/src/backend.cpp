@@ -203,7 +203,21 @@ class OpenClKernel : public Kernel {
     std::size_t pieces = args.count <= piece ? 1 : std::min<std::size_t>(kMostPieces, (args.count + piece - 1) / piece);
     piece = pieces == 1 ? args.count : ((args.count + pieces - 1) / pieces + span - 1) / span * span;
     pieces = (args.count + piece - 1) / std::max<std::size_t>(piece, 1);  // every piece holds elements
-    std::vector<cl_event> written(pieces), ran(pieces), read;
+    // Released however the run ends; on an error, only once both queues
+    // are done with the host memory they were given.
+    struct Events {
+      cl_command_queue queues[2];
+      std::vector<cl_event> written, ran, read;
+      ~Events() {
+        for (cl_command_queue q : queues) clFinish(q);
+        for (std::vector<cl_event>* events : {&written, &ran, &read})
+          for (cl_event e : *events)
+            if (e) clReleaseEvent(e);
+      }
+    } events{{device_->queue, device_->copy_queue}, std::vector<cl_event>(pieces), std::vector<cl_event>(pieces), {}};
+    std::vector<cl_event>& written = events.written;
+    std::vector<cl_event>& ran = events.ran;
+    std::vector<cl_event>& read = events.read;
     auto copy = [&](const BufferView& b, cl_mem mem, std::size_t p, bool in, cl_event* wait, cl_event* done) {
       std::size_t element = bytes(b.type, 1), first = p * piece, count = std::min(piece, args.count - first);
       count = std::min(count, b.count - std::min(first, b.count));
@@ -232,9 +246,6 @@ class OpenClKernel : public Kernel {
     }
     read_back(pieces - 1);
     check(clFinish(device_->copy_queue), where("finishing the copies"));
-    for (std::vector<cl_event>* events : {&written, &ran, &read})
-      for (cl_event e : *events)
-        if (e) clReleaseEvent(e);
   }
 
   // Whole work-groups of one size chosen for the kernel, so that the device
