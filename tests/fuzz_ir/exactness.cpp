@@ -10,9 +10,6 @@ namespace {
 
 using namespace sh::ir;
 
-// Component i of the result reads this component of operand o.
-int component_read(const Operand& o, int i) { return o.swizzle[o.width() == 1 ? 0 : i]; }
-
 // One pass over the assignments: raises each written component to the
 // bound its operation adds or its operands carry.  Returns whether
 // anything rose.
@@ -28,7 +25,7 @@ class Propagate : public Visitor {
       Bound bound{exact ? 0 : op_info(a.op).ulp_precise, exact};
       for (std::size_t k = 0; k < a.args.size(); ++k)
         if (passes_error_through(a.op, static_cast<int>(k))) {
-          const Bound& from = t_[a.args[k].var][component_read(a.args[k], i)];
+          const Bound& from = t_[a.args[k].var][a.args[k].component(i)];
           bound = {std::max(bound.ulps, from.ulps), bound.exact && from.exact};
         }
       Bound& slot = t_[a.dest][a.mask[i]];

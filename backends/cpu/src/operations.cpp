@@ -11,7 +11,7 @@ using llvm::BasicBlock;
 using llvm::Value;
 
 Value* Lowering::read(const ir::Operand& o, int i) {
-  int c = o.swizzle[o.width() == 1 ? 0 : i];
+  int c = o.component(i);
   if (ssa_[o.var]) return slots_[o.var][c];
   return b_.CreateLoad(var_type(o.var), slots_[o.var][c]);
 }
@@ -37,7 +37,7 @@ void Lowering::assign(const ir::Assign& a) {
       Value* x[3] = {nullptr, nullptr, nullptr};
       for (std::size_t k = 0; k < a.args.size(); ++k) {
         const ir::Operand& o = a.args[k];
-        Value* zero = written_zero_[o.var][o.swizzle[o.width() == 1 ? 0 : i]];
+        Value* zero = written_zero_[o.var][o.component(i)];
         bool written = a.op == ir::Op::Mov || (a.op == ir::Op::Cond && k > 0);
         x[k] = written && zero ? zero : read(o, i);
         if (varying(a.dest)) x[k] = widen(x[k]);

@@ -405,12 +405,8 @@ class Generator {
 
   // An operand's component; in the SPMD form constants, uniforms and
   // scalar registers are broadcast, so that every built-in sees vectors.
-  // The register component an operand's component i names (a one-wide
-  // operand stands for every component).
-  static int picked(const ir::Operand& o, int i) { return o.swizzle[o.width() == 1 ? 0 : i]; }
-
   std::string read(const ir::Operand& o, int i) const {
-    int c = picked(o, i);
+    int c = o.component(i);
     const ir::Var& v = p_.var(o.var);
     if (v.kind == ir::VarKind::Const) return constant(v.type.scalar, v.value[c]);
     if (truth_[o.var]) return "select(" + constant(v.type.scalar, 0) + ", " + constant(v.type.scalar, 1) + ", " + reg(o.var, c) + ")";
@@ -426,7 +422,7 @@ class Generator {
   // never matches.  Arithmetic keeps the constant.
   std::string written(const ir::Operand& o, int i) const {
     const ir::Var& v = p_.var(o.var);
-    double x = v.value[picked(o, i)];
+    double x = v.value[o.component(i)];
     if (v.kind != ir::VarKind::Const || !ir::is_float(v.type.scalar) || x != 0) return read(o, i);
     bool is_double = std::string(reg_type(v.type.scalar)) == "double";
     (is_double ? uses_zero_double_ : uses_zero_float_) = true;
@@ -437,7 +433,7 @@ class Generator {
   // An operand's component as a mask of its comparison's type: true where
   // it is > 0.
   std::string mask_of(const ir::Operand& o, int i) const {
-    if (truth_[o.var]) return reg(o.var, picked(o, i));
+    if (truth_[o.var]) return reg(o.var, o.component(i));
     return "(" + read(o, i) + " > " + constant(p_.type_of(o.var).scalar, 0) + ")";
   }
 

@@ -34,7 +34,7 @@ std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
       for (const ir::Operand& o : a->args) {
         int reads = is_table_read(a->op) ? o.width() : 1;
         for (int r = 0; r < reads; ++r) {
-          int c = o.swizzle[is_table_read(a->op) ? r : (o.width() == 1 ? 0 : i)];
+          int c = is_table_read(a->op) ? o.swizzle[r] : o.component(i);
           auto it = producer.find({o.var, c});
           if (it != producer.end()) n.preds.push_back(it->second);
         }

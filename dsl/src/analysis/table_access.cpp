@@ -95,7 +95,7 @@ class Walk : public ir::Visitor {
   }
 
  private:
-  Access of(const ir::Operand& o, int i) const { return kinds_[o.var][o.swizzle[o.width() == 1 ? 0 : i]]; }
+  Access of(const ir::Operand& o, int i) const { return kinds_[o.var][o.component(i)]; }
 
   // Consecutive along x (the first coordinate), the same in the others.
   Access read(const ir::Operand& coords) const {
@@ -111,7 +111,7 @@ class Walk : public ir::Visitor {
     long long constant;
   };
   std::optional<Affine> affine_of(const ir::Operand& o, int i) const {
-    return affine_[o.var][o.swizzle[o.width() == 1 ? 0 : i]];
+    return affine_[o.var][o.component(i)];
   }
 
   static std::optional<Affine> shifted(int base, long long constant) {

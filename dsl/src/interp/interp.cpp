@@ -60,7 +60,7 @@ class Machine {
     }
   }
 
-  double arg(const ir::Operand& o, int i) const { return regs_[o.var][o.swizzle[o.width() == 1 ? 0 : i]]; }
+  double arg(const ir::Operand& o, int i) const { return regs_[o.var][o.component(i)]; }
 
   Flow block(const ir::Block& b) {
     for (const ir::Stmt& s : b) {

@@ -50,7 +50,7 @@ class Folder : public ir::Mutator {
     return true;
   }
   double component(const ir::Operand& o, int i) const {
-    return p_.var(o.var).value[o.swizzle[o.width() == 1 ? 0 : i]];
+    return p_.var(o.var).value[o.component(i)];
   }
 
   ir::Program& p_;

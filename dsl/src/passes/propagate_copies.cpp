@@ -75,7 +75,7 @@ class Propagator {
     const ir::Operand& src = it->second;
     ir::Swizzle s;
     s.size = o.swizzle.size;
-    for (int i = 0; i < s.size; ++i) s.index[i] = src.swizzle[src.width() == 1 ? 0 : o.swizzle[i]];
+    for (int i = 0; i < s.size; ++i) s.index[i] = src.component(o.swizzle[i]);
     o = ir::Operand{src.var, s};
   }
 

@@ -30,6 +30,9 @@ struct Operand {
   VarId var = -1;
   Swizzle swizzle;
   int width() const { return swizzle.size; }
+  // The variable's component that component i of the operand reads: a
+  // one-component operand is the same in every component.
+  int component(int i) const { return swizzle[width() == 1 ? 0 : i]; }
 };
 
 // A table the kernel reads, or an accumulator it adds into (Scatter).  An
