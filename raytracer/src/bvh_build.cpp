@@ -69,7 +69,7 @@ class Builder {
 
   std::unique_ptr<Node> build(std::size_t begin, std::size_t end, int depth) {
     auto node = std::make_unique<Node>();
-    Span span = pass<Span>(begin, end, [&](Span& s, std::int32_t t) {
+    Span span = over_triangles<Span>(begin, end, [&](Span& s, std::int32_t t) {
       s.box = merge(s.box, boxes_[t]);
       s.centres = grow(s.centres, centres_[t]);
     });
@@ -100,7 +100,7 @@ class Builder {
   // there are many.  Every T here adds by min, max and integer sums, so the
   // result does not depend on how the chunks fell.
   template <class T, class Add>
-  T pass(std::size_t begin, std::size_t end, Add add) const {
+  T over_triangles(std::size_t begin, std::size_t end, Add add) const {
     auto run = [&](std::size_t from, std::size_t to, T t) {
       for (std::size_t i = from; i < to; ++i) add(t, ids_[i]);
       return t;
@@ -128,7 +128,7 @@ class Builder {
     Vec3 lo = span.centres.lo, extent = span.centres.hi - span.centres.lo;
     std::array<double, 3> scale{};
     for (int axis = 0; axis < 3; ++axis) scale[axis] = extent[axis] > 0 ? bin_scale(extent[axis]) : 0;
-    Bins bins = pass<Bins>(begin, end, [&](Bins& b, std::int32_t t) {
+    Bins bins = over_triangles<Bins>(begin, end, [&](Bins& b, std::int32_t t) {
       for (int axis = 0; axis < 3; ++axis) {
         if (!(extent[axis] > 0)) continue;
         Bin& bin = b.axis[axis][bin_of(centres_[t][axis], lo[axis], scale[axis])];
@@ -166,8 +166,8 @@ class Builder {
     return best;
   }
 
-  // The children's sets, not their order, decide the tree, so the
-  // partition need not be stable.
+  // The children's sets, not their order, decide the tree (their boxes
+  // up to the sign of a zero bound), so the partition need not be stable.
   std::size_t partition(std::size_t begin, std::size_t end, const Split& s, const Box& centres) {
     float lo = centres.lo[s.axis];
     double scale = bin_scale(centres.hi[s.axis] - lo);

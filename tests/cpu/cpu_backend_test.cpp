@@ -91,7 +91,9 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
   std::string inside = blocks(ir, "batches.inside:");
   EXPECT_EQ(count(inside, "load <16 x float>"), 2u) << ir;
-  EXPECT_NE(inside.find("preds = %batches.inside.preheader, %batches.inside"), std::string::npos) << "a loop: " << ir;
+  std::string label = inside.substr(0, inside.find('\n'));
+  EXPECT_TRUE(label.find("%batches.inside,") != std::string::npos || label.ends_with("%batches.inside"))
+      << "the block is a loop (one of its predecessors): " << ir;
   EXPECT_EQ(count(inside, "@llvm.masked"), 0u) << ir;
   EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << ir;
   EXPECT_EQ(gathers(ir), 2u) << ir;

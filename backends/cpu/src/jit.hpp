@@ -1,6 +1,7 @@
 #pragma once
-// Compiles a program for the host CPU: lowered, the O3 pipeline with the
-// host's features, then ORC LLJIT; or, where an earlier process compiled
+// Compiles a program for the host CPU: lowered, LLVM's O3 pipeline (a
+// short one for the largest kernels, jit.cpp) with the host's features,
+// then ORC LLJIT; or, where an earlier process compiled
 // the same program, its machine code from the object cache, linked without
 // lowering or LLVM.  The result owns the machine code.
 #include <memory>

@@ -163,11 +163,7 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   BasicBlock* edge = BasicBlock::Create(ctx_, "batch.edge", fn_);
   Value* step = b_.getInt64(width_);
   batch_count_ = step;
-  // The last batch's x: full, in this row, its taps inside (each batch
-  // starts past the one before, so only their ends along the row can leave).
-  Value* last_x = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateSub(row_, step),
-                                           b_.CreateAdd(first_x, b_.CreateSub(b_.CreateSub(end, e), step)));
-  last_x = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last_x, last_inside_x());
+  Value* last_x = last_batch_x(e, end, first_x);
   b_.CreateCondBr(b_.CreateAnd(inside, b_.CreateICmpEQ(count, step)), run, edge);
 
   b_.SetInsertPoint(run);
@@ -199,6 +195,18 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   b_.SetInsertPoint(edge);
   batch_count_ = count;
   set_batch_x(first_x);
+}
+
+// The x of the last batch along this row, from the one at first_x
+// (element e), that is full, in the row and the call, and has its taps
+// inside: each batch starts past the one before, so only their ends along
+// the row can leave.
+Value* Lowering::last_batch_x(Value* e, Value* end, Value* first_x) {
+  Value* step = b_.getInt64(width_);
+  Value* in_row = b_.CreateSub(row_, step);
+  Value* in_call = b_.CreateAdd(first_x, b_.CreateSub(b_.CreateSub(end, e), step));
+  Value* last = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, in_row, in_call);
+  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last, last_inside_x());
 }
 
 void Lowering::set_batch_x(Value* x) {

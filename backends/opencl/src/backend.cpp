@@ -206,15 +206,18 @@ class OpenClKernel : public Kernel {
     // Released however the run ends; on an error, only once both queues
     // are done with the host memory they were given.
     struct Events {
-      cl_command_queue queues[2];
-      std::vector<cl_event> written, ran, read;
+      Events(const Device& d, std::size_t pieces) : queues{d.queue, d.copy_queue}, written(pieces), ran(pieces) {}
+      Events(const Events&) = delete;
+      Events& operator=(const Events&) = delete;
       ~Events() {
         for (cl_command_queue q : queues) clFinish(q);
         for (std::vector<cl_event>* events : {&written, &ran, &read})
           for (cl_event e : *events)
             if (e) clReleaseEvent(e);
       }
-    } events{{device_->queue, device_->copy_queue}, std::vector<cl_event>(pieces), std::vector<cl_event>(pieces), {}};
+      cl_command_queue queues[2];
+      std::vector<cl_event> written, ran, read;
+    } events(*device_, pieces);
     std::vector<cl_event>& written = events.written;
     std::vector<cl_event>& ran = events.ran;
     std::vector<cl_event>& read = events.read;

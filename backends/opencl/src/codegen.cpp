@@ -275,7 +275,10 @@ class Generator {
   // The lanes' elements from p on, one load or store of the vector type
   // with the element's alignment: PoCL's vloadN assembles an unaligned
   // vector from pieces (six instructions for a float16 where one would do),
-  // its vstoreN stores it in three.
+  // its vstoreN stores it in three.  A typedef that lowers a type's
+  // alignment is Clang's reading of `aligned` (the OpenCL C compilers of
+  // PoCL and the GPU vendors are Clang's); the kernel of lanes runs on CPU
+  // devices unless the lanes setting asks for it elsewhere.
   std::string run_load(const std::string& element) const {
     std::string v = vec(element);
     return helper("sh_run_" + v, v, "(const __global " + element + "* p) {\n" + unaligned(element) +
@@ -442,9 +445,10 @@ class Generator {
   // ---- signature, registers, inputs, outputs -----------------------------------
 
   // Streams are restrict: no two of a run's buffers overlap (an in-out
-  // channel is copied, backend.cpp), so the compiler may keep an input's
-  // loads ahead of an output's stores.  Tables may share a channel's memory,
-  // and are only const.
+  // channel is copied, backend.cpp; channels over partly overlapping host
+  // memory are outside what buffers over host memory allow anyway), so the
+  // compiler may keep an input's loads ahead of an output's stores.  Tables
+  // may share a channel's memory, and are only const.
   void signature(std::ostringstream& out) {
     for (std::size_t i = 0; i < p_.inputs.size(); ++i)
       out << ",\n    __global const " << storage_type(scalar_of(p_.inputs[i])) << "* restrict in" << i;
