@@ -20,7 +20,11 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
     : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {
   ir::verify_legal(p);
   loops_ = loop_statements(p);
-  if (spmd()) facts_ = analysis::analyse_spmd(p), access_ = analysis::table_access(p);
+  if (spmd()) {
+    facts_ = analysis::analyse_spmd(p);
+    access_ = analysis::table_access(p);
+    tap_spans_ = analysis::tap_spans(p, access_);
+  }
   reads_position_ = ir::uses(p, ir::Op::Position);
   llvm::StringMap<bool> features;
   avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");

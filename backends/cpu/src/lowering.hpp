@@ -166,6 +166,7 @@ class Lowering {
   llvm::AllocaInst* exec_ = nullptr;  // spmd: the lanes running the current statement
   SpmdFacts facts_;
   std::unordered_map<const ir::Assign*, analysis::ReadAccess> access_;  // spmd: per table read
+  std::vector<std::optional<analysis::TapSpan>> tap_spans_;              // spmd: per table, its stencil taps' offsets
   Value* batch_count_ = nullptr;  // spmd: the lanes that hold elements (the rest are past the end or the row)
   // spmd: the host has AVX-512, whose gather instruction is worth using and
   // whose mask registers hold i1 lanes (without it masks wait in 32-bit lanes)

@@ -584,15 +584,14 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
 // program has no tap).
 Value* Lowering::batch_inside() {
   if (!spmd() || fetches_tables(o_)) return nullptr;
-  std::vector<std::optional<analysis::TapSpan>> spans = analysis::tap_spans(p_, access_);
   llvm::Type* i64 = b_.getInt64Ty();
   Value* inside = nullptr;
-  for (std::size_t t = 0; t < spans.size(); ++t) {
-    if (!spans[t]) continue;
+  for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
+    if (!tap_spans_[t]) continue;
     for (int d = 0; d < p_.tables[t].rank; ++d) {
       Value* at = batch_place_[d];
-      Value* low = b_.CreateAdd(at, b_.getInt64(spans[t]->low[d]));
-      Value* high = b_.CreateAdd(at, b_.getInt64(spans[t]->high[d]));
+      Value* low = b_.CreateAdd(at, b_.getInt64(tap_spans_[t]->low[d]));
+      Value* high = b_.CreateAdd(at, b_.getInt64(tap_spans_[t]->high[d]));
       if (d == 0) high = b_.CreateAdd(high, b_.CreateSub(batch_count_, b_.getInt64(1)));
       Value* fits = b_.CreateAnd(b_.CreateICmpSGE(low, b_.getInt64(0)),
                                  b_.CreateICmpSLT(high, b_.CreateZExt(table_dims_[t][d], i64)));
@@ -605,11 +604,10 @@ Value* Lowering::batch_inside() {
 // The largest x at which a full batch's taps end inside every table they
 // read along the row.
 Value* Lowering::last_inside_x() {
-  std::vector<std::optional<analysis::TapSpan>> spans = analysis::tap_spans(p_, access_);
   Value* last = nullptr;
-  for (std::size_t t = 0; t < spans.size(); ++t) {
-    if (!spans[t]) continue;
-    Value* x = b_.CreateSub(b_.CreateZExt(table_dims_[t][0], b_.getInt64Ty()), b_.getInt64(spans[t]->high[0] + width_));
+  for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
+    if (!tap_spans_[t]) continue;
+    Value* x = b_.CreateSub(b_.CreateZExt(table_dims_[t][0], b_.getInt64Ty()), b_.getInt64(tap_spans_[t]->high[0] + width_));
     last = last ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last, x) : x;
   }
   return last;
