@@ -68,12 +68,12 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
 // 10 000 at any width; every other kernel measured is under 5 000) takes a
 // short pipeline: registers to SSA values, the common subexpressions, the
 // instruction combiner and value numbering once each, the CFG simplified
-// before and after.  Its loops run until
-// rays finish, with little for O3's loop passes to hoist or unroll, while
-// O3 spent about 60 % of its compile on them: renders ran at the same
-// speed, with the same images, and compiled in 35-45 % less time.  Small
-// kernels keep O3, which their loops pay for (ray-triangle's 9 % at 16
-// lanes) and whose compile is short anyway.
+// before and after.  Its loops run until rays finish, with little for
+// O3's loop passes to hoist or unroll, while O3 spent about 60 % of its
+// compile on them: renders ran at the same speed, with the same images,
+// and compiled in 35-45 % less time.  Small kernels keep O3, which their
+// loops pay for (ray-triangle's 9 % at 16 lanes) and whose compile is
+// short anyway.
 constexpr unsigned kLargeKernel = 6000;
 
 llvm::FunctionPassManager short_pipeline() {
