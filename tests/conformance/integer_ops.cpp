@@ -127,9 +127,10 @@ TEST_P(Conformance, ConversionsAreDefinedForEveryValue) {
     to_double = x.cast<double>();
   } SH_END;
   const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
-  std::vector<float> xs = {0.f, -0.f, 1.9f, -1.9f, 2147483648.f, -2147483904.f, 1e20f, -1e20f, inf, -inf, nan, 0.5f};
+  std::vector<float> xs = {0.f, -0.f, 1.9f, -1.9f, 2147483648.f, -2147483904.f, 1e20f, -1e20f, inf, -inf, nan, 0.5f,
+                           2147483520.f, -2147483648.f};
   std::vector<std::int32_t> is = {0, 1, -1, 16777217, std::numeric_limits<std::int32_t>::max(),
-                                  std::numeric_limits<std::int32_t>::min(), 7, -7, 3, 5, 9, 11};
+                                  std::numeric_limits<std::int32_t>::min(), 7, -7, 3, 5, 9, 11, 123456789, -123456789};
   sh::Channel<sh::Attrib1f> cx(xs), from_int, bool_back;
   sh::Channel<sh::Attrib1i> ci(is), to_int;
   sh::Channel<sh::Attrib1b> to_bool;
@@ -148,6 +149,32 @@ TEST_P(Conformance, ConversionsAreDefinedForEveryValue) {
       EXPECT_EQ(ulp_distance(to_double[k], static_cast<double>(x)), 0u);
     }
     EXPECT_EQ(from_int[k], static_cast<float>(is[k])) << "float(" << is[k] << ")";
+  }
+}
+
+// Doubles hold every int and the halves between them: the edges of the
+// range are exact, and truncation toward 0 keeps 2^31 - 0.5 inside it.
+TEST_P(Conformance, DoubleToIntTruncatesInsideTheRangeAndSaturatesBeyond) {
+  sh::Program p = SH_BEGIN_PROGRAM("double_to_int") {
+    sh::Input<sh::Attrib1d> x;
+    sh::Output<sh::Attrib1i> to_int;
+    to_int = x.cast<std::int32_t>();
+  } SH_END;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> xs = {2147483647.5, 2147483647.0, 2147483648.0, -2147483648.5, -2147483648.0, -2147483649.0,
+                            -1.5,         1e300,        -1e300,       inf,           -inf,          std::nan("")};
+  sh::Channel<sh::Attrib1d> cx(xs);
+  sh::Channel<sh::Attrib1i> to_int;
+  sh::run(p, {cx}, {to_int}, choice());
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    double x = xs[k];
+    std::int32_t want = std::isnan(x) ? 0
+                        : x >= 2147483648.0 ? std::numeric_limits<std::int32_t>::max()
+                        : x <= -2147483649.0 ? std::numeric_limits<std::int32_t>::min()
+                                             : static_cast<std::int32_t>(x);
+    if (!fast() || std::isfinite(x)) {
+      EXPECT_EQ(to_int[k], want) << "int(" << x << ")";
+    }
   }
 }
 

@@ -111,6 +111,7 @@ class Lowering {
   Value* libm(const char* name, std::initializer_list<Value*> args);
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
+  Value* saturating_to_i32(Value* a, llvm::Type* t);
   Value* any_lane(Value* a, ir::Scalar from);
   Value* sign(Value* a, bool fp);
   Value* floor_remainder(Value* a, Value* b, bool fp);
@@ -139,7 +140,8 @@ class Lowering {
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> masked_run(int table, Value* start);
-  Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise);
+  Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise,
+                      Value* readable);
   llvm::Function* lane_loads(llvm::Type* scalar, llvm::Type* index_type);
 
   struct LoopState {

@@ -3,7 +3,9 @@
 // value's own type, so they are splats where the value is a vector.
 #include "lowering.hpp"
 
+#include <cstdint>
 #include <functional>
+#include <limits>
 
 namespace sh::cpu {
 
@@ -173,13 +175,27 @@ Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {
   if (to == ir::Scalar::Bool) return mask(truthy(a, from), t);
   if (to == ir::Scalar::I32) {
     if (!ir::is_float(from)) return a;
-    // NaN gives 0 and out-of-range values saturate, by definition.
-    llvm::Function* f = llvm::Intrinsic::getDeclaration(module_.get(), llvm::Intrinsic::fptosi_sat, {t, a->getType()});
-    return b_.CreateCall(f, {a});
+    return saturating_to_i32(a, t);
   }
   if (!ir::is_float(from)) return b_.CreateSIToFP(a, t);
   if (a->getType() == t) return a;
   return t->getScalarType()->isDoubleTy() ? b_.CreateFPExt(a, t) : b_.CreateFPTrunc(a, t);
+}
+
+// Truncation toward 0 where the value fits, NaN to 0, and INT_MIN or
+// INT_MAX beyond, by definition.  LLVM's fptosi.sat says the same, but x86
+// code generation splits a vector of it into two compares and a conversion
+// per lane (a hundred instructions at 16 lanes, nine times in the tracer);
+// the compares on the whole vector are five instructions.
+Value* Lowering::saturating_to_i32(Value* a, llvm::Type* t) {
+  Value* low = llvm::ConstantFP::get(a->getType(), -2147483648.0);
+  Value* high = llvm::ConstantFP::get(a->getType(), 2147483648.0);
+  Value* below = b_.CreateFCmpOLT(a, low);
+  Value* above = b_.CreateFCmpOGE(a, high);
+  Value* fits = b_.CreateAnd(b_.CreateFCmpOGE(a, low), b_.CreateFCmpOLT(a, high));  // not NaN
+  Value* truncated = b_.CreateFPToSI(b_.CreateSelect(fits, a, llvm::ConstantFP::get(a->getType(), 0.0)), t);
+  Value* saturated = b_.CreateSelect(below, llvm::ConstantInt::getSigned(t, std::numeric_limits<std::int32_t>::min()), truncated);
+  return b_.CreateSelect(above, llvm::ConstantInt::get(t, std::numeric_limits<std::int32_t>::max()), saturated);
 }
 
 // -1, 0 or 1; a float's ±0 and NaN pass through.
@@ -247,9 +263,9 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
       llvm::Type* flat_type = flat_index->getType();
       Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_type, t.element.width)),
                                   llvm::ConstantInt::get(flat_type, c));
-      if (as_gather)  // a lane that does not run reads element 0
-        values[c] = gather_lanes(scalar, base, b_.CreateSelect(exec(), index, llvm::Constant::getNullValue(index->getType())),
-                                 exec(), llvm::Constant::getNullValue(lanes(scalar)));
+      if (as_gather)  // a lane that does not run reads element 0 if it reads at all
+        values[c] = gather_lanes(scalar, base, index, exec(), llvm::Constant::getNullValue(lanes(scalar)),
+                                 llvm::Constant::getNullValue(index->getType()));
       else
         values[c] = b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, base, index));
     }
@@ -270,16 +286,21 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
 }
 
 // The elements of `base` at `index` in the lanes of `lanes_read`,
-// `otherwise` in the others (whose indices must still be readable).  A
-// target without a fast gather instruction (AVX2 without AVX-512) has
-// LLVM split a masked gather into a branch and a block per lane, which
-// multiplies the code generator's work; there a gather is a call of one
-// function per element and index type that loads every lane one after
-// another with no branch.
-Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise) {
+// `otherwise` in the others.  AVX-512's masked gather reads only the
+// lanes read, whatever the others' indices hold, and takes the index
+// as it is: a select for those lanes would hide the index's sign
+// extension from x86 code generation, which then splits 16 lanes into two
+// gathers of 64-bit indices.  A target without a fast gather instruction
+// (AVX2 without AVX-512) has LLVM split a masked gather into a branch and
+// a block per lane, which multiplies the code generator's work; there a
+// gather is a call of one function per element and index type that loads
+// every lane one after another with no branch, the others at `readable`.
+Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise,
+                              Value* readable) {
   if (avx512_)
     return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), lanes_read,
                                  otherwise);
+  index = b_.CreateSelect(lanes_read, index, readable);
   llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, index});
   values->setCallingConv(llvm::CallingConv::Fast);
   return b_.CreateSelect(lanes_read, values, otherwise);
@@ -389,13 +410,14 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
   Value* in_window = b_.CreateAnd(still, b_.CreateICmpULT(offset, splat(span)));
   Value* window = b_.CreateLoad(b_.getPtrTy(), access_field(table, 0));
-  // In scalars from the window's start; a lane not reading in this round
-  // reads the leading lane's element, which the window holds.
-  Value* at = b_.CreateMul(b_.CreateSelect(in_window, offset, splat(b_.CreateExtractElement(offset, leader))),
-                           splat(b_.getInt64(t.element.width)));
+  // In scalars from the window's start, in 32 bits as the table's own
+  // indices are; a lane not reading in this round reads the leading lane's
+  // element, which the window holds, if it reads at all.
+  Value* at = b_.CreateMul(b_.CreateTrunc(offset, lanes(b_.getInt32Ty())), splat(b_.getInt32(t.element.width)));
+  Value* leader_at = splat(b_.CreateExtractElement(at, leader));
   for (int c = 0; c < t.element.width; ++c) {
     Value* component = b_.CreateConstInBoundsGEP1_64(scalar, window, static_cast<std::uint64_t>(c));
-    b_.CreateStore(gather_lanes(scalar, component, at, in_window, b_.CreateLoad(vector, slots[c])), slots[c]);
+    b_.CreateStore(gather_lanes(scalar, component, at, in_window, b_.CreateLoad(vector, slots[c]), leader_at), slots[c]);
   }
   // fetched_element counted the first lane's read.
   Value* others = b_.CreateSub(b_.CreateAddReduce(b_.CreateZExt(in_window, lanes(i64))), b_.getInt64(1));
