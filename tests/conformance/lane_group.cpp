@@ -75,5 +75,55 @@ TEST_P(Conformance, AnyLaneIsTheElementsAnswerOrItsNeighboursAndOnlyRunningOnes)
     }
 }
 
+// Inside a varying if, the lanes that took it walk a chain together: its
+// node and step count are the same in each of them (one value, not a
+// vector) and die with the if; what each lane picks up on the way, what
+// it writes beside the if, and a count some lanes stop early are its own.
+TEST_P(Conformance, LanesInsideADivergentIfAgreeOnWhatOnlyTheyRead) {
+  constexpr int kChain = 7;
+  sh::Table1D<sh::Attrib1i> next(kChain + 1);
+  sh::Table1D<Attrib1f> value(kChain + 1);
+  std::vector<std::int32_t> links;
+  std::vector<float> values;
+  for (int n = 0; n <= kChain; ++n) {
+    links.push_back(n == 5 ? -1 : (n + 3) % (kChain + 1));  // 0 3 6 1 4 7 2 5, then the end
+    values.push_back(static_cast<float>(10 * n + 1));
+  }
+  next.assign(links);
+  value.assign(values);
+  sh::Program p = SH_BEGIN_PROGRAM("together") {
+    sh::Input<Attrib2f> in;  // taken, depth
+    sh::Output<sh::Attrib3f> out;  // value at the depth, tag, count
+    Attrib1f picked = -1.0f, tag = 0.0f, count = 0.0f;
+    SH_IF(in(0) > 0.0f) {
+      sh::Attrib1i node = 0, steps = 0;
+      SH_WHILE(node >= 0) {
+        SH_IF(steps.cast<float>() == in(1)) { picked = value[node]; } SH_ENDIF;
+        node = next[node];
+        steps += 1;
+      } SH_ENDWHILE;
+      tag = 7.0f;
+      SH_WHILE(count < in(1)) { count += 1.0f; } SH_ENDWHILE;
+    } SH_ENDIF;
+    out = join(join(picked, tag), count);
+  } SH_END;
+  std::vector<int> chain;  // the nodes from 0 on
+  for (int n = 0; n >= 0; n = links[static_cast<std::size_t>(n)]) chain.push_back(n);
+  std::vector<float> ins;
+  for (std::size_t e = 0; e < 100; ++e) ins.insert(ins.end(), {e % 3 == 0 ? 0.0f : 1.0f, static_cast<float>(e * 5 % 13)});
+  sh::Channel<Attrib2f> input(ins);
+  sh::Channel<sh::Attrib3f> out;
+  run(p, {input}, {out});
+  ASSERT_EQ(out.size(), 100u);
+  for (std::size_t e = 0; e < 100; ++e) {
+    bool taken = ins[2 * e] > 0;
+    auto depth = static_cast<std::size_t>(ins[2 * e + 1]);
+    float picked = taken && depth < chain.size() ? values[static_cast<std::size_t>(chain[depth])] : -1.0f;
+    EXPECT_EQ(out[3 * e], picked) << "element " << e << " at depth " << depth;
+    EXPECT_EQ(out[3 * e + 1], taken ? 7.0f : 0.0f) << "element " << e;
+    EXPECT_EQ(out[3 * e + 2], taken ? static_cast<float>(depth) : 0.0f) << "element " << e;
+  }
+}
+
 }  // namespace
 }  // namespace conformance

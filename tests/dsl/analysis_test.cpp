@@ -148,4 +148,67 @@ TEST(Analysis, TableAccessProvesNothingWrittenInsideAnIf) {
   EXPECT_FALSE(reads.begin()->second.proven_run);
 }
 
+// Ifs and loops in the order they begin, nested ones after their parent.
+void collect_branches(const ir::Block& b, std::vector<const ir::Stmt*>& out) {
+  for (const ir::Stmt& s : b) {
+    if (auto* i = std::get_if<ir::If>(&s.node)) {
+      out.push_back(&s);
+      collect_branches(i->then_body, out);
+      collect_branches(i->else_body, out);
+    } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+      out.push_back(&s);
+      collect_branches(l->header, out);
+      collect_branches(l->body, out);
+      collect_branches(l->update, out);
+    }
+  }
+}
+
+TEST(Analysis, AVoteAcrossLanesIsUniformAndSteersABranch) {
+  Program p = SH_BEGIN_PROGRAM("vote") {
+    InputAttrib1f x;
+    OutputAttrib1f out;
+    out = 0.0f;
+    SH_IF(any_lane(x)) { out = 1.0f; } SH_ENDIF;
+  } SH_END;
+  ir::Program legal = passes::legalize(optimize(p.ir()));
+  analysis::SpmdFacts facts = analysis::analyse_spmd(legal);
+  std::vector<const ir::Stmt*> branches;
+  collect_branches(legal.body, branches);
+  ASSERT_EQ(branches.size(), 1u);
+  EXPECT_FALSE(facts.divergent.at(branches[0])) << "every lane that voted takes the same side";
+  EXPECT_FALSE(facts.varying[std::get<ir::If>(branches[0]->node).cond.var]);
+}
+
+// Under a varying if: a walk whose node only the lanes inside read stays
+// uniform, so its loop branches; a count read after the if, and one whose
+// loop lanes leave at different times, vary.
+TEST(Analysis, ValuesOnlyTheLanesInsideADivergentIfReadStayUniform) {
+  Table1D<Attrib1i> next(4);
+  Program p = SH_BEGIN_PROGRAM("inside") {
+    InputAttrib2f in;
+    OutputAttrib2f out;
+    Attrib1f tag = 0.0f, count = 0.0f;
+    SH_IF(in(0) > 0.0f) {
+      Attrib1i node = 0, steps = 0;
+      SH_WHILE(node >= 0) {
+        node = next[node];
+        steps += 1;
+      } SH_ENDWHILE;
+      tag = steps.cast<float>();
+      SH_WHILE(count < in(1)) { count += 1.0f; } SH_ENDWHILE;
+    } SH_ENDIF;
+    out = join(tag, count);
+  } SH_END;
+  ir::Program legal = passes::legalize(optimize(p.ir()));
+  analysis::SpmdFacts facts = analysis::analyse_spmd(legal);
+  std::vector<const ir::Stmt*> branches;
+  collect_branches(legal.body, branches);
+  ASSERT_EQ(branches.size(), 3u);
+  EXPECT_TRUE(facts.divergent.at(branches[0]));
+  EXPECT_FALSE(facts.divergent.at(branches[1])) << "the walk: its lanes agree on the node";
+  EXPECT_FALSE(facts.varying[std::get<ir::Loop>(branches[1]->node).cond.var]);
+  EXPECT_TRUE(facts.divergent.at(branches[2])) << "lanes stop counting at their own bound";
+}
+
 }  // namespace

@@ -27,6 +27,7 @@
 #include <llvm/Transforms/Scalar/SROA.h>
 #include <llvm/Transforms/Scalar/SimplifyCFG.h>
 
+#include "sh/analysis.hpp"
 #include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
@@ -162,10 +163,13 @@ class PhaseClock {
 
 // The cache key: the program as this backend gets it (structure only:
 // names change no machine code), everything the machine code depends on
-// besides, and this library's build, whose lowering made it.
+// besides, and the builds of this library, whose lowering made it, and of
+// the language's, whose analyses (which values are uniform, which reads
+// run along a row) steered the lowering.
 std::string cache_key(const ir::Program& program, const Options& options, int lanes,
                       const llvm::orc::JITTargetMachineBuilder& builder) {
-  static const std::string library = detail::build_id(reinterpret_cast<const void*>(&lane_count));
+  static const std::string library = detail::build_id(reinterpret_cast<const void*>(&lane_count)) + "+" +
+                                     detail::build_id(reinterpret_cast<const void*>(&analysis::analyse_spmd));
   return ir::serialize(program, {.names = false}) + "|" + options.key() + "|" + std::to_string(lanes) + "|" +
          builder.getCPU() + "|" + builder.getFeatures().getString() + "|" + LLVM_VERSION_STRING + "|" + library;
 }

@@ -45,6 +45,7 @@ void Lowering::assign(const ir::Assign& a) {
         if (varying(a.dest)) x[k] = widen(x[k]);
       }
       result[i] = operation(a.op, from, to, x[0], x[1], x[2]);
+      if (varying(a.dest)) result[i] = widen(result[i]);  // a vote is one value
     }
   }
   for (int i = 0; i < a.mask.size; ++i) write(a.dest, a.mask[i], result[i]);
@@ -161,13 +162,13 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
   throw Error(std::string("cpu backend: ") + ir::op_name(op) + " reached the arithmetic lowering");
 }
 
-// The lanes running this statement are the group: their answers or'd, in
-// every lane.  A uniform value (and scalar code) is its own answer.
+// The lanes running this statement are the group: their answers or'd, one
+// value for all of them.  A uniform value (and scalar code) is its own
+// answer.
 Value* Lowering::any_lane(Value* a, ir::Scalar from) {
   llvm::Type* t = a->getType();
   if (!t->isVectorTy()) return mask(truthy(a, from), t);
-  Value* running = b_.CreateAnd(truthy(a, from), exec());
-  return mask(b_.CreateVectorSplat(static_cast<unsigned>(width_), any(running)), t);
+  return mask(any(b_.CreateAnd(truthy(a, from), exec())), t->getScalarType());
 }
 
 Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {

@@ -693,13 +693,23 @@ class Generator {
 
   // A scalar register's value is computed in the scalar form: its operands
   // are scalar registers, uniforms and constants too (any varying operand
-  // makes it varying), and it is never written under a mask.
+  // makes it varying, but for a vote across lanes), and no lane that may
+  // read it keeps an older value, so a mask never guards its write.
   void assign(const ir::Assign& a, int depth) {
     if (!scalar_register(a.dest)) return assign_in_form(a, depth);
+    if (ir::is_lane_group(a.op)) return vote_once(a, depth);
     int lanes = lanes_;
     lanes_ = 1;
     assign_in_form(a, depth);
     lanes_ = lanes;
+  }
+
+  // A vote into a scalar register: the lanes' tests, one answer.
+  void vote_once(const ir::Assign& a, int depth) {
+    ir::Scalar to = scalar_of(a.dest);
+    for (int i = 0; i < a.mask.size; ++i)
+      line(depth, reg(a.dest, a.mask[i]) + " = " + voted(mask_of(a.args[0], i)) + " ? " + number(to, 1) + " : " +
+                      number(to, 0) + ";");
   }
 
   void assign_in_form(const ir::Assign& a, int depth) {
@@ -818,14 +828,16 @@ class Generator {
       // cannot take.  The SPMD form votes over the lanes running.
       case Op::AnyLane:
         if (!spmd()) return bit(pos(a), to);
-        return "((" + vec(reg_type(to)) + ")(" + any("(" + exec_mask(pos(a)) + " & exec)") + " ? " + number(to, 1) + " : " +
-               number(to, 0) + "))";
+        return "((" + vec(reg_type(to)) + ")(" + voted(pos(a)) + " ? " + number(to, 1) + " : " + number(to, 0) + "))";
       case Op::Extent: case Op::Load: break;   // table_read()
       case Op::Position: break;                 // assign()
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
   }
+
+  // Whether `test` holds in a running lane: a vote across the lanes.
+  std::string voted(const std::string& test) const { return any("(" + exec_mask(test) + " & exec)"); }
 
   // A truth register's component (truth_registers) as a mask.
   std::string truth_test(const ir::Assign& a, int i) const {
@@ -840,7 +852,7 @@ class Generator {
       ir::Scalar from = scalar_of(a.args[0].var);
       return std::string(mask_type(from)) == mask_type(scalar_of(a.dest)) ? m(0) : "convert_" + mask + "(" + m(0) + ")";
     }
-    if (a.op == Op::AnyLane) return "((" + mask + ")(" + any("(" + exec_mask(m(0)) + " & exec)") + " ? -1 : 0))";
+    if (a.op == Op::AnyLane) return "((" + mask + ")(" + voted(m(0)) + " ? -1 : 0))";
     return compare(a.op, read(a.args[0], i), read(a.args[1], i));
   }
 

@@ -100,10 +100,14 @@ std::vector<std::optional<TapSpan>> tap_spans(const ir::Program& p,
 // What SPMD code generation (elements side by side in SIMD lanes) needs
 // to know about a program beyond its IR.
 //
-// Uniform values are the same in every lane: they stay scalars (a loop over
-// a table's triangles reads each one once, not by a gather), and an `if` or
-// a loop steered by them is a plain branch.  Everything an input reaches,
-// or that is written where lanes may disagree, is varying.
+// Uniform values are the same in every lane that reads them: they stay
+// scalars (a loop over a table's triangles reads each one once, not by a
+// gather), and an `if` or a loop steered by them is a plain branch.
+// Everything an input reaches is varying, but for a vote across lanes
+// (any_lane), which is one answer for the lanes that vote.  So is a write
+// where lanes may disagree (under a varying `if`, in a loop lanes leave at
+// different iterations) of a variable live where the lanes that did not
+// write it wait; one that only the writing lanes read stays uniform.
 //
 // A varying write under a mask must keep the inactive lanes' old values
 // only where some lane may read them: where the variable is live at a point

@@ -13,7 +13,12 @@ bool add(VarSet& to, const VarSet& from) {
 // ---- uniformity ---------------------------------------------------------------
 
 // A forward walk repeated until no variable turns varying: a write is
-// varying if an operand is, or if it happens where lanes may disagree.
+// varying if an operand is, or if it happens where lanes may disagree and
+// the variable is live where lanes that did not write it wait.  Lanes that
+// run a statement together agree on what they compute from uniform values:
+// a variable only those lanes read before it is written again (a tree
+// walk's node inside a varying `if`) stays one value for all of them.  A
+// vote across lanes (any_lane) is the same in every lane that votes.
 class Uniformity {
  public:
   Uniformity(const ir::Program& p, SpmdFacts& facts) : p_(p), f_(facts) {}
@@ -22,7 +27,8 @@ class Uniformity {
     f_.varying.assign(p_.vars.size(), false);
     for (ir::VarId v : p_.inputs) f_.varying[v] = true;
     for (ir::VarId v : p_.outputs) f_.varying[v] = true;
-    do changed_ = false, block(p_.body, false);
+    VarSet nobody_waits(p_.vars.size(), false);
+    do changed_ = false, block(p_.body, nobody_waits);
     while (changed_);
   }
 
@@ -33,28 +39,36 @@ class Uniformity {
     if (!f_.varying[v]) changed_ = f_.varying[v] = true;
   }
 
-  void block(const ir::Block& b, bool divergent) {
+  // `waiting`: what is live where lanes outside this block wait, for
+  // each divergent if and loop the block lies in.
+  void block(const ir::Block& b, const VarSet& waiting) {
     for (const ir::Stmt& s : b) {
       if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-        bool any = divergent || a->op == ir::Op::Position;  // x differs in every lane
-        for (const ir::Operand& o : a->args) any = any || varying(o);
+        bool any = waiting[a->dest] || a->op == ir::Op::Position;  // x differs in every lane
+        if (!ir::is_lane_group(a->op))
+          for (const ir::Operand& o : a->args) any = any || varying(o);
         if (any) mark(a->dest);
       } else if (auto* i = std::get_if<ir::If>(&s.node)) {
-        bool d = divergent || varying(i->cond);
-        f_.divergent[&s] = varying(i->cond);
-        block(i->then_body, d);
-        block(i->else_body, d);
+        bool d = varying(i->cond);
+        f_.divergent[&s] = d;
+        block(i->then_body, d ? joined(waiting, f_.live_during_then.at(&s)) : waiting);
+        block(i->else_body, d ? joined(waiting, f_.live_at_rejoin.at(&s)) : waiting);
       } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
         // Lanes leave at different iterations if the test differs between
         // them or a break or continue is taken by some lanes only.
-        bool d = divergent || varying(l->cond) || jumps_under_varying_if(l->body, false) ||
-                 jumps_under_varying_if(l->update, false);
+        bool d = varying(l->cond) || jumps_under_varying_if(l->body, false) || jumps_under_varying_if(l->update, false);
         f_.divergent[&s] = d;
-        block(l->header, d);
-        block(l->body, d);
-        block(l->update, d);
+        VarSet inside = d ? joined(waiting, f_.live_at_rejoin.at(&s)) : waiting;
+        block(l->header, inside);
+        block(l->body, inside);
+        block(l->update, inside);
       }
     }
+  }
+
+  static VarSet joined(VarSet a, const VarSet& b) {
+    add(a, b);
+    return a;
   }
 
   // Breaks and continues of this loop (not of loops nested in it).
@@ -180,8 +194,8 @@ bool continues(const ir::Block& body) {
 
 SpmdFacts analyse_spmd(const ir::Program& p) {
   SpmdFacts facts;
-  Uniformity(p, facts).run();
   RejoinLiveness(p, facts).run();
+  Uniformity(p, facts).run();
   return facts;
 }
 
