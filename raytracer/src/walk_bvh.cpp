@@ -39,7 +39,13 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
   const BvhTables& b = *s.bvh;
   Attrib1i base = walk_order(r).cast<std::int32_t>() * b.nodes;
   Attrib1i node = 0;
-  SH_WHILE(node >= 0) {
+  // A ray that found any hit is done and leaves; the others walk on
+  // together, still agreeing on the node.
+  auto walking = [&]() -> Attrib1i {
+    if (!any_hit) return node >= 0;
+    return node >= 0 && (best >= t_limit).cast<std::int32_t>();
+  };
+  SH_WHILE(walking()) {
     // Boxes up to the next leaf to test, then its triangles: the box walk
     // stays a short loop of its own.
     Attrib1i leaf = -1;
@@ -52,8 +58,6 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
       node = cond(met && link(0) >= 0, link(0), link(1));
     } SH_ENDWHILE;
     SH_IF(leaf >= 0) { test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv); } SH_ENDIF;
-    // A ray that found any hit is done; the others walk on together.
-    if (any_hit) node = cond(best < t_limit, ConstAttrib1i(-1), node);
   } SH_ENDWHILE;
 }
 
