@@ -72,7 +72,7 @@ double filled_share(const Scene& scene) {
   return static_cast<double>(count) / static_cast<double>(std::min<std::size_t>(filled.size(), scene.mesh.triangles()));
 }
 
-Accel choose_accel(double share) { return share >= 0.5 ? Accel::Grid : Accel::Bvh; }
+Accel choose_accel(double share, int lanes) { return lanes == 1 && share >= 0.5 ? Accel::Grid : Accel::Bvh; }
 
 bool triangle_overlaps_box(Vec3 a, Vec3 b, Vec3 c, Vec3 box_lo, Vec3 box_hi) {
   Vec3 centre = (box_lo + box_hi) * 0.5f, h = (box_hi - box_lo) * 0.5f;

@@ -41,7 +41,8 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   validate(scene_, scene_.name);
   if (settings_.accel == Accel::Auto) {
     chosen_share_ = filled_share(scene_);
-    settings_.accel = choose_accel(*chosen_share_);
+    chosen_lanes_ = lanes_of(backend(settings_.backend, settings_.options));
+    settings_.accel = choose_accel(*chosen_share_, chosen_lanes_);
   }
   switch (settings_.accel) {
     case Accel::Grid:
@@ -213,7 +214,8 @@ std::string Renderer::describe_accelerator() const {
   }
   std::string out = line;
   if (chosen_share_) {
-    std::snprintf(line, sizeof line, " (auto: the triangles fill %.2f of the cells they could)", *chosen_share_);
+    std::snprintf(line, sizeof line, " (auto: the backend runs %d element%s side by side, the triangles fill %.2f of the cells they could)",
+                  chosen_lanes_, chosen_lanes_ == 1 ? "" : "s", *chosen_share_);
     out += line;
   }
   std::string warning = accelerator_warning();

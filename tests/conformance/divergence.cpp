@@ -120,5 +120,43 @@ TEST_P(Conformance, TestsChainedWithAndOrNotKeepTheirZeroOneValues) {
   }
 }
 
+// Every lane of a batch may leave a loop while its body goes on (a break
+// under an if the lanes agree on, or one every lane takes): a loop further
+// down the body, steered by values the lanes agree on, must not run then,
+// as no lane holds the values it would test.  Here it would never end.
+TEST_P(Conformance, NoLoopRunsAfterEveryLaneLeft) {
+  sh::Program p = SH_BEGIN_PROGRAM("all_left") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib2f> out;
+    Attrib1f acc = 0.0f, votes = 0.0f;
+    sh::Attrib1i i = 0;
+    SH_WHILE(i.cast<float>() < x) {
+      SH_BREAK(i >= 2);
+      sh::Attrib1i k = 0;
+      SH_WHILE(k != 1 - i) { k += 1; } SH_ENDWHILE;
+      acc += k.cast<float>();
+      i += 1;
+    } SH_ENDWHILE;
+    SH_WHILE(x > 0.0f) {
+      SH_BREAK(x > 1.0f);
+      Attrib1f j = x;
+      SH_DO { j += 1.0f; } SH_UNTIL(sh::any_lane(j > 3.0f));
+      votes += j;
+      SH_BREAK();
+    } SH_ENDWHILE;
+    out = join(acc, votes);
+  } SH_END;
+  std::vector<float> xs;
+  for (std::size_t e = 0; e < 37; ++e) xs.push_back(5.0f + static_cast<float>(e % 3));
+  sh::Channel<Attrib1f> in(xs);
+  sh::Channel<Attrib2f> out;
+  run(p, {in}, {out});
+  ASSERT_EQ(out.size(), xs.size());
+  for (std::size_t e = 0; e < xs.size(); ++e) {
+    EXPECT_EQ(out[2 * e], 1.0f) << "element " << e;
+    EXPECT_EQ(out[2 * e + 1], 0.0f) << "element " << e;
+  }
+}
+
 }  // namespace
 }  // namespace conformance

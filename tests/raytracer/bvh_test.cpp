@@ -201,24 +201,34 @@ TEST(Bvh, TheSameTreeOnOneThreadAndOnTwo) {
   EXPECT_EQ(one.triangles, both.triangles);
 }
 
-// auto builds the grid where the triangles fill the box evenly (procedural's
-// soup), the BVH where they leave most of it empty; the renderer says so.
-TEST(AutoAccelerator, TheGridForAnEvenSoupTheBvhElsewhere) {
+// auto builds the BVH where the backend's lanes walk it together; where
+// each element runs alone, the grid where the triangles fill the box evenly
+// (procedural's soup) and the BVH where they leave most of it empty.  The
+// renderer asks the backend and says what it chose from.
+TEST(AutoAccelerator, TheBvhInLanesAndAloneTheGridForAnEvenSoup) {
   EXPECT_EQ(sh::rt::parse_accel("auto"), sh::rt::Accel::Auto);
   sh::rt::Scene soup = sh::rt::builtin_scene("procedural", 20000);
   EXPECT_GE(sh::rt::filled_share(soup), 0.5);
-  EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(soup)), sh::rt::Accel::Grid);
+  EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(soup), 1), sh::rt::Accel::Grid);
+  EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(soup), 8), sh::rt::Accel::Bvh);
   for (std::string name : {"cornell", "spheres", "soft", "magg-glass"}) {
     sh::rt::Scene s = sh::rt::builtin_scene(name);
     EXPECT_LT(sh::rt::filled_share(s), 0.5) << name;
-    EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(s)), sh::rt::Accel::Bvh) << name;
+    for (int lanes : {1, 16}) EXPECT_EQ(sh::rt::choose_accel(sh::rt::filled_share(s), lanes), sh::rt::Accel::Bvh) << name;
   }
-  sh::rt::RenderSettings settings;
-  settings.accel = sh::rt::Accel::Auto;
-  sh::rt::Renderer r(sh::rt::builtin_scene("cornell"), settings);
-  EXPECT_EQ(r.accel(), sh::rt::Accel::Bvh);
-  EXPECT_NE(r.bvh(), nullptr);
-  EXPECT_NE(r.describe_accelerator().find("auto: the triangles fill"), std::string::npos) << r.describe_accelerator();
+  auto chosen = [&](const std::string& backend, const std::string& width) {
+    sh::rt::RenderSettings settings;
+    settings.accel = sh::rt::Accel::Auto;
+    settings.backend = backend;
+    if (!width.empty()) settings.options.set("cpu.width", width);
+    sh::rt::Renderer r(soup, settings);
+    EXPECT_NE(r.describe_accelerator().find("auto: the backend runs"), std::string::npos) << r.describe_accelerator();
+    return r.accel();
+  };
+  EXPECT_EQ(chosen("interp", ""), sh::rt::Accel::Grid);
+  EXPECT_EQ(chosen("cpu", "scalar"), sh::rt::Accel::Grid);
+  EXPECT_EQ(chosen("cpu", "8"), sh::rt::Accel::Bvh);
+  EXPECT_EQ(chosen("opencl", ""), sh::lanes_of(sh::backend("opencl")) > 1 ? sh::rt::Accel::Bvh : sh::rt::Accel::Grid);
 }
 
 TEST(Bvh, ASceneWithoutTrianglesIsAnError) {

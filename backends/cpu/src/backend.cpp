@@ -133,6 +133,7 @@ class CpuBackend : public Backend {
             {"scalar_fetched", Options{.width = Width::Scalar, .tables = Tables::Fetched}},
             {"w16_fetched", Options{.width = Width::Lanes16, .tables = Tables::Fetched}}};
   }
+  int lanes(const sh::Options& o) const override { return lane_count(o); }
   // Fetched reads on one thread: a TableSource is called from one at a time.
   bool read_through_sources(sh::Options& o) const override {
     Options mine = o.get<Options>();

@@ -173,10 +173,19 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   BasicBlock* body = BasicBlock::Create(ctx_, "loop.body", fn_);
   BasicBlock* update = BasicBlock::Create(ctx_, "loop.update", fn_);
   BasicBlock* exit = BasicBlock::Create(ctx_, "loop.exit", fn_);
-  b_.CreateBr(top);
+  // A branching loop inside masked code runs for the lanes running there,
+  // which agree on its test; every one of them may have left already (a
+  // break under a uniform if empties the mask and goes on): then it is
+  // skipped, as its test would be on values no lane holds.
+  bool inside_masks = !masked && !keep_.empty();
+  if (inside_masks)
+    b_.CreateCondBr(any(exec()), top, exit);
+  else
+    b_.CreateBr(top);
 
   b_.SetInsertPoint(top);
-  check_iterations(number, count, masked ? load_mask(active) : nullptr, l.test_at_top ? test : body);
+  Value* looping = masked ? load_mask(active) : inside_masks ? exec() : nullptr;
+  check_iterations(number, count, looping, l.test_at_top ? test : body);
 
   b_.SetInsertPoint(test);
   run_active();

@@ -18,6 +18,9 @@ class MpiBackend : public Backend {
   }
 
   std::vector<Setting> settings() const override { return mpi::settings(); }
+  int lanes(const sh::Options& o) const override {
+    return find_backend(local_backend_name(o.get<Options>())).lanes(local_options(o));
+  }
   BackendOptions default_options() const override { return Options{}; }
 
   std::vector<std::string> describe() const override {

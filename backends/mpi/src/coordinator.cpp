@@ -38,12 +38,11 @@ class Coordinator : public Kernel {
  public:
   // The local backend gets `o` without the mpi backend's own options.
   Coordinator(const ir::Program& p, const sh::Options& o)
-      : program_(p), mine_(o.get<Options>()), split_(split_settings(mine_)), local_name_(local_backend_of(mine_)) {
+      : program_(p), mine_(o.get<Options>()), split_(split_settings(mine_)), local_name_(local_backend_name(mine_)) {
     static std::uint64_t next_id = 1;
     id_ = next_id++;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
-    sh::Options local = o;
-    local.backends.erase(Options::backend_name);
+    sh::Options local = local_options(o);
     Backend& backend = find_backend(local_name_);
     if (split_.enabled) ask_to_read_split_tables(backend, local);
     local_ = backend.compile(p, local);
@@ -358,12 +357,6 @@ class Coordinator : public Kernel {
     }
   }
 
-  static std::string local_backend_of(const Options& o) {
-    std::string name = o.local.empty() ? preferred_backend_name(Options::backend_name) : o.local;
-    if (name == Options::backend_name) throw Error("mpi backend: the local backend cannot be mpi itself");
-    return name;
-  }
-
   ir::Program program_;
   Options mine_;
   SplitSettings split_;
@@ -375,6 +368,18 @@ class Coordinator : public Kernel {
 };
 
 }  // namespace
+
+std::string local_backend_name(const Options& o) {
+  std::string name = o.local.empty() ? preferred_backend_name(Options::backend_name) : o.local;
+  if (name == Options::backend_name) throw Error("mpi backend: the local backend cannot be mpi itself");
+  return name;
+}
+
+sh::Options local_options(const sh::Options& o) {
+  sh::Options local = o;
+  local.backends.erase(Options::backend_name);
+  return local;
+}
 
 std::unique_ptr<Kernel> coordinator(const ir::Program& program, const sh::Options& options) {
   return std::make_unique<Coordinator>(program, options);

@@ -33,6 +33,18 @@ std::string build_options(const sh::Options& o) {
   return "-cl-fp32-correctly-rounded-divide-sqrt";
 }
 
+// Elements per work-item: the setting, or on a CPU device its preferred
+// float vector width, up to 16 (one on other devices, whose compilers
+// spread work-items over SIMD lanes themselves).
+int lanes_for(const sh::Options& o, const Device& d) {
+  int chosen = o.get<Options>().lanes;
+  if (chosen != 0) return chosen;
+  if (!d.cpu) return 1;
+  int lanes = 1;
+  while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes * 2 <= 16) lanes *= 2;
+  return lanes;
+}
+
 class OpenClKernel : public Kernel {
  public:
   OpenClKernel(const ir::Program& p, const sh::Options& o)
@@ -140,18 +152,6 @@ class OpenClKernel : public Kernel {
     cl_kernel kernel = nullptr;
     std::size_t group = 0;  // 0: none chosen, the implementation chooses
   };
-
-  // Elements per work-item: the setting, or on a CPU device its preferred
-  // float vector width, up to 16 (one on other devices, whose compilers
-  // spread work-items over SIMD lanes themselves).
-  static int lanes_for(const sh::Options& o, const Device& d) {
-    int chosen = o.get<Options>().lanes;
-    if (chosen != 0) return chosen;
-    if (!d.cpu) return 1;
-    int lanes = 1;
-    while (lanes * 2 <= static_cast<int>(d.float_lanes) && lanes * 2 <= 16) lanes *= 2;
-    return lanes;
-  }
 
   Launcher make_kernel(const char* name) {
     cl_int err = CL_SUCCESS;
@@ -423,6 +423,7 @@ class OpenClBackend : public Backend {
   std::vector<Variant> variants() const override {
     return {{"scalar", Options{.device = {}, .lanes = 1}}, {"w8", Options{.device = {}, .lanes = 8}}};
   }
+  int lanes(const sh::Options& o) const override { return lanes_for(o, *open_device(o.get<Options>().device)); }
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);

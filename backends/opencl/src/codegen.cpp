@@ -556,8 +556,8 @@ class Generator {
     }
   }
 
-  // A branch's condition: the SPMD form branches only where every lane
-  // agrees, so lane 0 speaks for all.
+  // A branch's condition: the SPMD form branches only where the running
+  // lanes agree, on a scalar register or a uniform.
   std::string truthy(const ir::Operand& o) const {
     const ir::Var& v = p_.var(o.var);
     int c = o.swizzle[0];
@@ -625,7 +625,18 @@ class Generator {
   // for (;;) { count; [header; test]; body; update; [header; test] }.  A
   // body with `continue` runs inside do { } while (0), where `continue`
   // reaches the update and `break` needs a flag to leave the loop.
+  // A branching loop inside masked code runs for the lanes running there,
+  // which agree on its test; every one of them may have left already (a
+  // break under a uniform if empties exec and goes on): then it is
+  // skipped, as its test would be on values no lane holds.
   void loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
+    if (!masked()) return branching_loop(l, s, depth, "e");
+    line(depth, "if " + any("exec") + " {");
+    branching_loop(l, s, depth + 1, "e + " + first_lane() + "(exec)");
+    line(depth, "}");
+  }
+
+  void branching_loop(const ir::Loop& l, const ir::Stmt& s, int depth, const std::string& element) {
     int number = loops_++;
     std::string n = std::to_string(number), counter = "iterations" + n, flag = "leave" + n;
     bool wrapped = analysis::continues(l.body);
@@ -633,7 +644,7 @@ class Generator {
     line(depth, "long " + counter + " = 0;");
     if (wrapped) line(depth, "int " + flag + " = 0;");
     line(depth, "for (;;) {");
-    count_iteration(number, counter, "e", depth + 1);
+    count_iteration(number, counter, element, depth + 1);
     auto test = [&] {
       block(l.header, depth + 1);
       line(depth + 1, "if (!" + truthy(l.cond) + ") break;");
@@ -697,7 +708,7 @@ class Generator {
   // read it keeps an older value, so a mask never guards its write.
   void assign(const ir::Assign& a, int depth) {
     if (!scalar_register(a.dest)) return assign_in_form(a, depth);
-    if (ir::is_lane_group(a.op)) return vote_once(a, depth);
+    if (a.op == ir::Op::AnyLane) return vote_once(a, depth);
     int lanes = lanes_;
     lanes_ = 1;
     assign_in_form(a, depth);

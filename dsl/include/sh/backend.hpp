@@ -180,6 +180,15 @@ class Backend {
   };
   virtual std::vector<Variant> variants() const { return {{}}; }
 
+  // How many elements a kernel compiled with `options` runs side by side
+  // (SIMD lanes that step together); 1 where each element runs alone.  A
+  // program may pick its data structure by it: lanes that walk a tree
+  // together (any_lane) read each node once.
+  virtual int lanes(const Options& options) const {
+    (void)options;
+    return 1;
+  }
+
   // Makes `options` ask for kernels that read a table whose TableView::data
   // is null through its TableSource, from one thread at a time; false, and
   // `options` unchanged, where this backend's kernels cannot call back into
@@ -226,6 +235,8 @@ struct BackendChoice {
   Options options;
 };
 BackendChoice backend(const std::string& name, Options options = {});
+// Backend::lanes of the chosen backend (the default one where none is named).
+int lanes_of(const BackendChoice& choice);
 
 // Runs `program` over the streams: every input the same length, every
 // output that length (an empty output channel is sized to it).

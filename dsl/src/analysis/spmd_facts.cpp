@@ -45,7 +45,7 @@ class Uniformity {
     for (const ir::Stmt& s : b) {
       if (auto* a = std::get_if<ir::Assign>(&s.node)) {
         bool any = waiting[a->dest] || a->op == ir::Op::Position;  // x differs in every lane
-        if (!ir::is_lane_group(a->op))
+        if (a->op != ir::Op::AnyLane)
           for (const ir::Operand& o : a->args) any = any || varying(o);
         if (any) mark(a->dest);
       } else if (auto* i = std::get_if<ir::If>(&s.node)) {

@@ -273,6 +273,8 @@ void use_backend(const std::string& name) {
 
 BackendChoice backend(const std::string& name, Options options) { return BackendChoice{name, std::move(options)}; }
 
+int lanes_of(const BackendChoice& choice) { return find_backend(resolve(choice)).lanes(choice.options); }
+
 std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& choice) {
   RunStats ignored;
   return cached_kernel(program, resolve(choice), choice.options, ignored);

@@ -14,17 +14,20 @@ enum class Accel { Grid, Octree, LazyOctree, Bvh, Auto };
 Accel parse_accel(const std::string& name);  // grid, octree, lazy-octree, bvh or auto; throws sh::Error
 const char* accel_name(Accel a);
 
-// What `auto` builds for a scene: the grid where the triangles fill the
+// What `auto` builds for a scene and a backend running `lanes` elements
+// side by side (Backend::lanes): the BVH where lanes walk it together;
+// where each element runs alone, the grid where the triangles fill the
 // scene's box evenly, the BVH elsewhere.  Evenly: their centres lie in at
 // least half of the cells of a kFillLattice^3 lattice over the box that
-// they could fill (as many cells as triangles, at most all).  On the
-// built-in scenes it picks whichever renders faster (BENCHMARKS.md, issue
-// 24): the grid on procedural's soup of triangles (0.77 of the cells), the
+// they could fill (as many cells as triangles, at most all).  It picks
+// whichever renders faster (BENCHMARKS.md, issue 24): in lanes the BVH on
+// every scene measured, the soup of procedural's triangles and the engine
+// model included; alone, the grid on that soup (0.77 of the cells) and the
 // BVH on spheres, cornell and the seeds' scenes (0.03-0.21), whose
 // triangles leave most of the box empty, as models' surfaces do.
 inline constexpr int kFillLattice = 16;
 double filled_share(const Scene& scene);
-Accel choose_accel(double filled_share);  // never Auto
+Accel choose_accel(double filled_share, int lanes);  // never Auto
 
 struct Box {
   Vec3 lo, hi;

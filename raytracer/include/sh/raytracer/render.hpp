@@ -111,7 +111,9 @@ class Renderer {
   std::optional<Grid> grid_;
   std::shared_ptr<Octree> octree_;
   std::optional<Bvh> bvh_;
-  std::optional<double> chosen_share_;  // where auto chose: filled_share() of the scene
+  // Where auto chose: filled_share() of the scene, and the backend's lanes.
+  std::optional<double> chosen_share_;
+  int chosen_lanes_ = 0;
   std::unique_ptr<SceneTables> tables_;
   std::unique_ptr<OctreeRefiner> refiner_;  // a lazy octree's
   Features features_;
