@@ -76,9 +76,10 @@ TEST_P(Conformance, AnyLaneIsTheElementsAnswerOrItsNeighboursAndOnlyRunningOnes)
 }
 
 // Inside a varying if, the lanes that took it walk a chain together: its
-// node and step count are the same in each of them (one value, not a
-// vector) and die with the if; what each lane picks up on the way, what
-// it writes beside the if, and a count some lanes stop early are its own.
+// node and step count are the same in each of them and die with the if
+// (SPMD code keeps them as one value); what each lane picks up on the way,
+// what it writes beside the if, and a count some lanes stop early are its
+// own.
 TEST_P(Conformance, LanesInsideADivergentIfAgreeOnWhatOnlyTheyRead) {
   constexpr int kChain = 7;
   sh::Table1D<sh::Attrib1i> next(kChain + 1);

@@ -211,4 +211,39 @@ TEST(Analysis, ValuesOnlyTheLanesInsideADivergentIfReadStayUniform) {
   EXPECT_TRUE(facts.divergent.at(branches[2])) << "lanes stop counting at their own bound";
 }
 
+// The lanes that wait while a then side runs read what it writes on their
+// else side, and continuing lanes read at the update what the others
+// write after the continue: both writes vary, though their values do not.
+TEST(Analysis, AWriteThatWaitingLanesReadVaries) {
+  Program p = SH_BEGIN_PROGRAM("waiting") {
+    InputAttrib1f x;
+    OutputAttrib2f out;
+    Attrib1f a = 0.0f, b = 0.0f, seen = 0.0f;
+    SH_IF(x > 0.0f) { a = 2.0f; } SH_ELSE { b = a + 1.0f; } SH_ENDIF;
+    Attrib1f late = 0.0f;
+    SH_FOR(Attrib1f i = 0.0f, i < 4.0f, i += late) {
+      late = 1.0f;
+      SH_CONTINUE(x > i);
+      late = 2.0f;
+    } SH_ENDFOR;
+    seen = late;
+    out = join(b, seen);
+  } SH_END;
+  ir::Program legal = passes::legalize(optimize(p.ir()));
+  analysis::SpmdFacts facts = analysis::analyse_spmd(legal);
+  std::vector<const ir::Stmt*> branches;
+  collect_branches(legal.body, branches);
+  ASSERT_GE(branches.size(), 2u);
+  const auto& split = std::get<ir::If>(branches[0]->node);
+  ASSERT_FALSE(split.then_body.empty());
+  EXPECT_TRUE(facts.varying[std::get<ir::Assign>(split.then_body.back().node).dest]) << "the else side reads it";
+  const ir::Stmt* loop = nullptr;
+  for (const ir::Stmt* s : branches)
+    if (std::holds_alternative<ir::Loop>(s->node)) loop = s;
+  ASSERT_NE(loop, nullptr);
+  const ir::Block& body = std::get<ir::Loop>(loop->node).body;
+  EXPECT_TRUE(facts.divergent.at(loop));
+  EXPECT_TRUE(facts.varying[std::get<ir::Assign>(body.back().node).dest]) << "the update reads it";
+}
+
 }  // namespace

@@ -187,7 +187,7 @@ Value* Lowering::cast(Value* a, ir::Scalar from, ir::Scalar to) {
 // INT_MAX beyond, by definition.  LLVM's fptosi.sat says the same, but x86
 // code generation splits a vector of it into two compares and a conversion
 // per lane (a hundred instructions at 16 lanes, nine times in the tracer);
-// the compares on the whole vector are five instructions.
+// here the compares and selects work on the whole vector.
 Value* Lowering::saturating_to_i32(Value* a, llvm::Type* t) {
   Value* low = llvm::ConstantFP::get(a->getType(), -2147483648.0);
   Value* high = llvm::ConstantFP::get(a->getType(), 2147483648.0);
