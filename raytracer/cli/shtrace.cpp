@@ -44,6 +44,7 @@ struct Common {
   int threads = 0;
   std::vector<std::string> settings;  // KEY=VALUE: a backend's own option (Options::set)
   bool bidirectional = false;
+  bool wavefront = false;
   LightPassSettings light_pass;
   LoadLimits load;
 };
@@ -80,6 +81,9 @@ void add_common(CLI::App* app, Common& c) {
   app->add_flag("--bidirectional", c.bidirectional,
                 "a light pass first (rays from the point lights to every element, through mirrors and glass), whose "
                 "luminance gives the diffuse light");
+  app->add_flag("--wavefront", c.wavefront,
+                "paths one bounce a run, each run after the first holding only the paths still going (not over a lazy "
+                "octree)");
   app->add_option("--elements", c.light_pass.subdivision, "light pass: elements per triangle side (k: k*k per triangle)")
       ->capture_default_str()->check(CLI::Range(1, 64));
   app->add_option("--light-samples", c.light_pass.samples, "light pass: rays per light and element")
@@ -135,6 +139,7 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.octree = c.octree;
   s.bvh = c.bvh;
   s.bidirectional = c.bidirectional;
+  s.wavefront = c.wavefront;
   s.light_pass = c.light_pass;
   s.light_pass.depth = c.reflections;
   return s;
@@ -246,6 +251,10 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   print_details("light pass", report.light.details);
   print_details("render", report.details);
   shtrace::print_lazy_builds(report);
+  if (report.lanes)
+    std::printf("wavefront: %zu waves after the first, %zu path runs in them; lanes busy in the bounce loop: %.0f %% as one "
+                "kernel, %.0f %% in waves (batches of %d)\n",
+                report.waves, report.resumed, 100 * report.lanes->whole(), 100 * report.lanes->waves(), report.lanes->lanes);
   return 0;
 }
 

@@ -41,8 +41,8 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
   validate(scene_, scene_.name);
   if (settings_.accel == Accel::Auto) {
     chosen_share_ = filled_share(scene_);
-    chosen_lanes_ = lanes_of(backend(settings_.backend, settings_.options));
-    settings_.accel = choose_accel(*chosen_share_, chosen_lanes_);
+    lanes_ = lanes_of(backend(settings_.backend, settings_.options));
+    settings_.accel = choose_accel(*chosen_share_, lanes_);
   }
   switch (settings_.accel) {
     case Accel::Grid:
@@ -76,8 +76,13 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
         k, std::vector<float>(scene_.mesh.triangles() * lattice_slots(k) * 3, 0.0f));
     features_.luminance = true;
   }
-  if (refiner_) {
-    program_ = tracer_program(*tables_, features_);
+  if (settings_.wavefront && refiner_)
+    throw Error("a wavefront render cannot run over a lazy octree, which runs in waves of its own: use --accel bvh, "
+                "grid or octree");
+  wavefront_ = settings_.wavefront && (features_.reflections || features_.refractions);
+  if (wavefront_ && lanes_ == 0) lanes_ = lanes_of(backend(settings_.backend, settings_.options));
+  if (refiner_ || wavefront_) {
+    program_ = tracer_program(*tables_, features_, wavefront_);
     path_start_ = path_start_program() << raygen_program(*tables_);
   } else {
     program_ = tracer_program(*tables_, features_) << raygen_program(*tables_);
@@ -143,18 +148,35 @@ void Renderer::count(const RunStats& s, RenderReport& r) const {
   add_details(r.details, s.details);
 }
 
+void LaneUse::count(const std::vector<int>& bounces) {
+  auto lane_slots = [this](std::size_t paths) { return (paths + lanes - 1) / lanes * lanes; };
+  for (std::size_t first = 0; first < bounces.size(); first += lanes) {
+    auto end = bounces.begin() + static_cast<long>(std::min(bounces.size(), first + lanes));
+    slots_whole += static_cast<std::size_t>(*std::max_element(bounces.begin() + static_cast<long>(first), end)) * lanes;
+  }
+  for (int bounce = 0;; ++bounce) {
+    auto going = static_cast<std::size_t>(std::count_if(bounces.begin(), bounces.end(), [&](int b) { return b > bounce; }));
+    if (going == 0) break;
+    busy += going;
+    slots_waves += lane_slots(going);
+  }
+}
+
 // Over a lazy octree the tracer runs in waves, each pixel's path carried
-// from one to the next.
+// from one to the next; so it does in a wavefront, one bounce a wave.
 void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& color, Channel<Attrib1f>& distance,
                           Channel<Attrib1i>& triangle, const BackendChoice& choice, RenderReport& r) {
   Channel<Attrib2f> in(centres);
-  if (!refiner_) {
+  if (!refiner_ && !wavefront_) {
     count(run(program_, {in}, {color, distance, triangle}, choice), r);
     return;
   }
   Channel<Attrib2f> pixel;
   PathChannels path, path_out;
-  std::vector<std::shared_ptr<detail::Buffer>> inputs = {pixel}, outputs = {color, distance, triangle, Channel<Attrib4i>()};
+  // A lazy octree's requests name a node; a wavefront's say only "again".
+  std::shared_ptr<detail::Buffer> request = Channel<Attrib1i>();
+  if (refiner_) request = Channel<Attrib4i>();
+  std::vector<std::shared_ptr<detail::Buffer>> inputs = {pixel}, outputs = {color, distance, triangle, request};
   for (const auto& channel : path.all()) inputs.push_back(channel);
   count(run(path_start_, {in}, inputs, choice), r);
   Waves waves{refiner_.get(), 3, {}};
@@ -163,6 +185,12 @@ void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& c
     outputs.push_back(channel);
   }
   count(run(program_, inputs, outputs, waves, choice), r);
+  if (wavefront_) {
+    if (!r.lanes) r.lanes = LaneUse{lanes_};
+    std::vector<int> bounces(path_out.origin_bounce.size());
+    for (std::size_t k = 0; k < bounces.size(); ++k) bounces[k] = static_cast<int>(path_out.origin_bounce[4 * k + 3]);
+    r.lanes->count(bounces);
+  }
 }
 
 Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<float>& directions,
@@ -215,7 +243,7 @@ std::string Renderer::describe_accelerator() const {
   std::string out = line;
   if (chosen_share_) {
     std::snprintf(line, sizeof line, " (auto: the backend runs %d element%s side by side, the triangles fill %.2f of the cells they could)",
-                  chosen_lanes_, chosen_lanes_ == 1 ? "" : "s", *chosen_share_);
+                  lanes_, lanes_ == 1 ? "" : "s", *chosen_share_);
     out += line;
   }
   std::string warning = accelerator_warning();

@@ -4,6 +4,7 @@
 // shading with barycentric normals and colours, and a recorded loop of
 // reflections to a set depth.
 #include "sh/raytracer/kernels.hpp"
+#include "sh/error.hpp"
 #include "elements.hpp"
 #include "sh/raytracer/bidirectional.hpp"
 #include "shading.hpp"
@@ -127,9 +128,13 @@ void write_path(const Path& p) {
 
 // Follows the path to its end: shade each hit, or add the background and
 // stop.  Over a lazy octree the path stops where a ray meets an unbuilt
-// node, as it was when that bounce began (its ray's walk kept).
-void trace(const SceneTables& s, const Features& f, Intersector& intersect, const Attrib2f& turn, Path& p) {
-  auto bounce = [&](bool in_loop) {
+// node, as it was when that bounce began (its ray's walk kept).  With
+// `one_bounce` (a wavefront) it takes one bounce and returns 1 where the
+// path has more to go.
+Attrib1f trace(const SceneTables& s, const Features& f, Intersector& intersect, const Attrib2f& turn, Path& p,
+               bool one_bounce) {
+  // Returns 1 where the path ends with this bounce (however many are left).
+  auto bounce = [&](bool in_loop) -> Attrib1f {
     Attrib1f hit = intersect.resume(p.o, p.d, p.walk);
     // A stopped walk's nearest triangle so far is not a hit yet: no shading.
     if (intersect.may_stop()) hit = hit && !intersect.stopped();
@@ -170,13 +175,17 @@ void trace(const SceneTables& s, const Features& f, Intersector& intersect, cons
     } else {
       advance();
     }
-    if (in_loop) SH_BREAK(!hit || max_component(p.weight) <= 0.0f);
+    Attrib1f ends = !hit || max_component(p.weight) <= 0.0f;
+    if (in_loop) SH_BREAK(ends);
+    return ends;
   };
-  if (f.reflections || f.refractions) {
-    SH_WHILE(p.bounce <= s.max_bounces) { bounce(true); } SH_ENDWHILE;
-  } else {
+  if (!f.reflections && !f.refractions) {
     bounce(false);
+    return 0.0f;
   }
+  if (one_bounce) return !bounce(false) && p.bounce <= s.max_bounces;
+  SH_WHILE(p.bounce <= s.max_bounces) { bounce(true); } SH_ENDWHILE;
+  return 0.0f;
 }
 
 }  // namespace
@@ -196,12 +205,15 @@ Program raygen_program(const SceneTables& s) {
   } SH_END;
 }
 
-Program tracer_program(const SceneTables& s, Features f) {
+Program tracer_program(const SceneTables& s, Features f, bool one_bounce) {
   bool lazy = s.octree && s.octree->lazy;
+  if (lazy && one_bounce)
+    throw Error("the tracer over a lazy octree runs in waves of its own (a ray stops where the tree is unbuilt), "
+                "not one bounce a wave");
   return SH_BEGIN_PROGRAM("tracer") {
     Path p;
     Attrib2f at;
-    if (lazy) {
+    if (lazy || one_bounce) {
       InputAttrib2f pixel;
       PathInputs in;
       at = pixel;
@@ -217,13 +229,18 @@ Program tracer_program(const SceneTables& s, Features f) {
     OutputAttrib1f distance;
     OutputAttrib1i triangle;
     Intersector intersect(s);
-    trace(s, f, intersect, f.soft_shadows ? pixel_turn(at) : Attrib2f(1.0f, 0.0f), p);
+    Attrib1f goes_on = trace(s, f, intersect, f.soft_shadows ? pixel_turn(at) : Attrib2f(1.0f, 0.0f), p, one_bounce);
     color = p.color;
     distance = p.distance;
     triangle = p.triangle;
     if (lazy) {
       OutputAttrib4i request;
       request = intersect.request();
+      write_path(p);
+    }
+    if (one_bounce) {
+      OutputAttrib1i request;  // 0: another wave, -1: done
+      request = goes_on.cast<std::int32_t>() - 1;
       write_path(p);
     }
   } SH_END;

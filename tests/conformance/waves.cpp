@@ -123,6 +123,41 @@ TEST_P(Conformance, WavesResumeStoppedElementsUntilTheTableHasWhatTheyNeed) {
   for (std::size_t i = 0; i < 3 * n; ++i) ASSERT_EQ(state2[i], state[i]);
 }
 
+// Without a refiner, waves are a wavefront: each element takes one step a
+// wave and asks for another while it has steps to go; each wave runs only
+// those, gathered side by side, from their carried state.
+TEST_P(Conformance, WavesWithoutARefinerRunTheElementsStillGoingOneStepAWave) {
+  constexpr int kLongest = 6;
+  sh::Program p = SH_BEGIN_PROGRAM("steps") {
+    sh::InputAttrib1i steps;  // this element's: 1..kLongest
+    sh::InputAttrib2i resume;  // steps taken, sum of the step numbers so far
+    sh::OutputAttrib1i request;
+    sh::OutputAttrib2i state;
+    sh::Attrib1i taken = resume(0) + 1;
+    state = sh::join(taken, resume(1) + taken * steps);
+    request = (taken < steps) - 1;  // 0: another wave, -1: done
+  } SH_END;
+
+  const std::size_t n = 1000;
+  std::vector<std::int32_t> counts(n), zeros(2 * n, 0);
+  std::size_t more = 0;  // runs after an element's first
+  for (std::size_t i = 0; i < n; ++i) {
+    counts[i] = 1 + static_cast<std::int32_t>((i * 7 + i / 13) % kLongest);
+    more += counts[i] - 1;
+  }
+  sh::Channel<sh::Attrib1i> steps(counts), request;
+  sh::Channel<sh::Attrib2i> resume(zeros), state;
+  sh::RunStats stats = sh::run(p, {steps, resume}, {request, state}, sh::Waves{nullptr, 0, {{1, 1}}}, choice());
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(request[i], -1) << "element " << i;
+    ASSERT_EQ(state[2 * i], counts[i]) << "element " << i << " took another number of steps";
+    EXPECT_EQ(state[2 * i + 1], counts[i] * counts[i] * (counts[i] + 1) / 2) << "element " << i;
+  }
+  EXPECT_EQ(stats.resumed, more) << "each wave runs only the elements still going";
+  EXPECT_GE(stats.waves, static_cast<std::size_t>(kLongest - 1));
+  EXPECT_TRUE(stats.refined.empty());
+}
+
 TEST_P(Conformance, WavesRefuseARequestOutputThatIsNotAnInt) {
   sh::Program p = SH_BEGIN_PROGRAM("bad waves") {
     sh::InputAttrib1f x;

@@ -2,7 +2,8 @@
 // bidirectional images agree with cpu's at this rank count, with whole
 // tables and with tables split over the ranks and read through caches; a
 // lazy octree that each rank builds for its own share gives cpu's image,
-// and a second render of the view builds nothing on any rank.
+// and a second render of the view builds nothing on any rank; so does a
+// wavefront.
 #include <gtest/gtest.h>
 
 #include <numeric>
@@ -88,6 +89,28 @@ TEST(RaytracerOnRanks, LazyOctreeBuiltPerRankForItsShareAndKeptForTheNextRender)
   std::vector<sh::rt::OctreeSummary> again = summaries(second);
   ASSERT_EQ(again.size(), built.size());
   for (std::size_t r = 0; r < built.size(); ++r) EXPECT_EQ(again[r].built.size(), built[r].built.size()) << "rank " << r;
+}
+
+// Each rank runs the waves of its own chunks, with no refiner to make:
+// the image is cpu's, and every path's later bounces ran in waves.
+TEST(RaytracerOnRanks, WavefrontGivesCpusImage) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("spheres");
+  sh::rt::RenderSettings s;
+  s.width = 64;
+  s.height = 48;
+  s.accel = sh::rt::Accel::Bvh;
+  s.backend = "cpu";
+  sh::rt::Image want = sh::rt::Renderer(scene, s).render();
+  s.backend = "mpi";
+  s.wavefront = true;
+  sh::rt::RenderReport report;
+  sh::rt::Image got = sh::rt::Renderer(scene, s).render(&report);
+  EXPECT_EQ(got.rgb, want.rgb);
+  EXPECT_EQ(got.triangle, want.triangle);
+  EXPECT_GT(report.resumed, 0u);
+  EXPECT_TRUE(report.refined.empty());
+  ASSERT_TRUE(report.lanes.has_value());
+  EXPECT_EQ(report.lanes->busy, 64u * 48u + report.resumed);
 }
 
 }  // namespace

@@ -163,7 +163,7 @@ class Coordinator : public Kernel {
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
-    if (waves) {
+    if (waves && waves->refiner) {
       stats.refined = {waves->refiner->summary()};
       for (std::string& summary : summaries)
         if (!summary.empty()) stats.refined.push_back(std::move(summary));
@@ -297,8 +297,10 @@ class Coordinator : public Kernel {
   }
 
   static void pack_waves(Packer& p, const Waves& w) {
-    p.put(w.refiner->id());
-    bool fresh = refiners_sent().insert(w.refiner->id()).second;
+    // Refiners' ids start at 1: 0 says there is none (a wavefront).
+    std::uint64_t id = w.refiner ? w.refiner->id() : 0;
+    p.put(id);
+    bool fresh = id != 0 && refiners_sent().insert(id).second;
     p.put(fresh);
     if (fresh) p.put(w.refiner->kind()).put(w.refiner->seed());
     p.put(w.request_output).put(w.max_waves).put(static_cast<std::uint64_t>(w.carried.size()));

@@ -102,8 +102,9 @@ class Worker {
     stats.bytes_sent = t.sent;
     stats.bytes_received = t.received;
     Packer p;
-    p.put(stats).put(waves.has_value() && refusal.empty());
-    if (waves && refusal.empty()) p.put(waves->refiner->summary());
+    bool refined = waves && refusal.empty() && waves->refiner;
+    p.put(stats).put(refined);
+    if (refined) p.put(waves->refiner->summary());
     for (const TableView& table : args.tables)
       if (table.sums) p.raw(table.sums, table.bytes());
     for (SplitTable* table : split) p.put(table->take_counts());
@@ -124,7 +125,7 @@ class Worker {
       }
     }
     auto it = refiners_.find(id);
-    if (it == refiners_.end() && refusal.empty()) refusal = "no refiner for this run";
+    if (id != 0 && it == refiners_.end() && refusal.empty()) refusal = "no refiner for this run";
     w.refiner = it == refiners_.end() ? nullptr : it->second.get();
     w.request_output = u.get<int>();
     w.max_waves = u.get<int>();

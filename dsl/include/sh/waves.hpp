@@ -9,6 +9,11 @@
 // element resumes where it stopped; without them it starts over.  An
 // element that finished writes a first request component of -1.
 //
+// Without a refiner, waves are a wavefront: an element that is not done
+// (a path with bounces to go) writes a request >= 0, and the next wave runs
+// only such elements, gathered side by side, so that SIMD lanes are not
+// left idle beside elements that finished early.
+//
 // Every backend runs waves: run() drives them on one process; the mpi
 // backend gives each rank its own refiner (made from the first one's seed)
 // so that each rank builds only what its own chunks need.
@@ -61,7 +66,7 @@ std::unique_ptr<Refiner> make_refiner(const std::string& kind, const std::string
 std::uint64_t refined_table_id();
 
 struct Waves {
-  Refiner* refiner = nullptr;
+  Refiner* refiner = nullptr;               // none: stopped elements run again as they are
   int request_output = 0;                    // an int output of 1 to 4 components
   std::vector<std::pair<int, int>> carried;  // (output, input) pairs of equal types
   int max_waves = 1 << 16;                   // a refiner that never satisfies a request ends here

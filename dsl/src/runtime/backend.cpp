@@ -283,7 +283,6 @@ std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& 
 namespace {
 
 void check_waves(const ir::Program& p, const Waves& w) {
-  if (!w.refiner) throw Error("program '" + p.name + "': running in waves needs a refiner");
   if (ir::uses(p, ir::Op::Position))
     throw Error("program '" + p.name + "' reads position(), which waves cannot keep: a later wave runs its elements "
                 "gathered out of their places");

@@ -94,6 +94,14 @@ RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_
   return c;
 }
 
+void refine(Refiner& refiner, const Stopped& stopped) {
+  std::vector<std::int32_t> requests = stopped.requests();
+  if (refiner.refine(requests, stopped.width()) == 0)
+    throw Error("running in waves: the " + refiner.kind() + " refiner built nothing for request " +
+                std::to_string(requests.front()) + " (element " + std::to_string(stopped.positions().front()) +
+                "), which would stop it forever");
+}
+
 void scatter(const RunArgs& part, const RunArgs& full, const std::vector<std::size_t>& at) {
   for (std::size_t o = 0; o < full.outputs.size(); ++o) {
     std::size_t n = element_bytes(full.outputs[o]);
@@ -134,21 +142,17 @@ std::uint64_t refined_table_id() {
 
 void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats& stats) {
   RunArgs all = args;
-  w.refiner->bind(all.tables);
+  if (w.refiner) w.refiner->bind(all.tables);
   kernel.run(all, stats);
   Stopped stopped;
   stopped.collect(all, w.request_output, {});
   Scratch scratch;
   while (!stopped.empty()) {
-    std::vector<std::int32_t> requests = stopped.requests();
-    if (w.refiner->refine(requests, stopped.width()) == 0)
-      throw Error("running in waves: the " + w.refiner->kind() + " refiner built nothing for request " +
-                  std::to_string(requests.front()) + " (element " + std::to_string(stopped.positions().front()) +
-                  "), which would stop it forever");
+    if (w.refiner) refine(*w.refiner, stopped);
     if (++stats.waves > static_cast<std::size_t>(w.max_waves))
       throw Error("running in waves: still " + std::to_string(stopped.positions().size()) + " elements stopped after " +
                   std::to_string(w.max_waves) + " waves");
-    w.refiner->bind(all.tables);
+    if (w.refiner) w.refiner->bind(all.tables);
     std::vector<std::size_t> at = stopped.positions();
     RunArgs part = gather(all, w, at, scratch);
     kernel.run(part, stats);
@@ -160,7 +164,7 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
 
 void Kernel::run_waves(const RunArgs& args, const Waves& waves, RunStats& stats) {
   run_in_waves(*this, args, waves, stats);
-  stats.refined = {waves.refiner->summary()};
+  if (waves.refiner) stats.refined = {waves.refiner->summary()};
 }
 
 }  // namespace sh

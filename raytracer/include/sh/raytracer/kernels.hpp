@@ -181,12 +181,15 @@ Program occlusion_program(const SceneTables& s, bool any_hit = true);
 // origin, direction, pixel -> colour, t, triangle.  Over a lazy octree:
 // pixel, path -> colour, t, triangle, request, path, where `path` is the
 // seven channels of PathChannels: a pixel that stops resumes the bounce it
-// stopped in, its ray's walk where it stopped.
-Program tracer_program(const SceneTables& s, Features f);
-// origin, direction, pixel -> pixel, path: where the lazy tracer starts.
+// stopped in, its ray's walk where it stopped.  With `one_bounce` (a
+// wavefront; not over a lazy octree) the same inputs and outputs, the
+// request an int: each run takes every path one bounce on, and the request
+// is 0 where the path goes on, -1 where it ended.
+Program tracer_program(const SceneTables& s, Features f, bool one_bounce = false);
+// origin, direction, pixel -> pixel, path: where a carried path starts.
 Program path_start_program();
 
-// The lazy tracer's path state, as channels.
+// A carried path's state, as channels.
 struct PathChannels {
   Channel<Attrib4f> origin_bounce, direction_distance, color_best, weight_u, cell_v;
   Channel<Attrib1i> triangle, walk_triangle;

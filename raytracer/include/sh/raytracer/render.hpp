@@ -44,6 +44,25 @@ struct RenderSettings {
   // the view pass's diffuse term reads.
   bool bidirectional = false;
   LightPassSettings light_pass;
+  // A wavefront: the tracer takes every path one bounce a run, and each
+  // run after the first holds only the paths still going, side by side
+  // (not over a lazy octree, which runs in waves of its own).
+  bool wavefront = false;
+};
+
+// How busy a render's SIMD lanes were in the bounce loop, counted from its
+// paths' bounces (a wavefront render's): batches of `lanes` neighbouring
+// elements of each run's stream, as one kernel (a batch loops as long as its
+// longest path, lanes of finished paths idle) and in waves (each wave's
+// paths side by side).  busy / slots is the share of lanes at work.
+struct LaneUse {
+  int lanes = 1;
+  std::size_t busy = 0;          // bounces taken, one lane each
+  std::size_t slots_whole = 0;   // lane slots as one kernel
+  std::size_t slots_waves = 0;   // lane slots in waves
+  void count(const std::vector<int>& bounces);  // one band's paths, in stream order
+  double whole() const { return slots_whole ? static_cast<double>(busy) / slots_whole : 1.0; }
+  double waves() const { return slots_waves ? static_cast<double>(busy) / slots_waves : 1.0; }
 };
 
 struct RenderReport {
@@ -53,10 +72,12 @@ struct RenderReport {
   std::vector<CompilePhase> compile_phases;  // where compile_ms went
   double render_ms = 0;
   std::size_t rays = 0;   // primary rays
-  // A lazy octree: waves after the first, element runs they took, time
-  // spent building nodes (inside render_ms), and what each part (rank 0
-  // first) holds afterwards (OctreeSummary).
+  // A lazy octree or a wavefront: waves after the first and element runs
+  // they took; a lazy octree's time spent building nodes (inside
+  // render_ms), and what each part (rank 0 first) holds afterwards
+  // (OctreeSummary).
   std::size_t waves = 0, resumed = 0;
+  std::optional<LaneUse> lanes;  // a wavefront render's
   double build_ms = 0;
   std::vector<std::string> refined;
   LightPassReport light;  // bidirectional: the light pass, when this render ran it
@@ -111,14 +132,15 @@ class Renderer {
   std::optional<Grid> grid_;
   std::shared_ptr<Octree> octree_;
   std::optional<Bvh> bvh_;
-  // Where auto chose: filled_share() of the scene, and the backend's lanes.
+  // Where auto chose: filled_share() of the scene.
   std::optional<double> chosen_share_;
-  int chosen_lanes_ = 0;
+  int lanes_ = 0;  // the backend's, where auto chose or for a wavefront's LaneUse
   std::unique_ptr<SceneTables> tables_;
   std::unique_ptr<OctreeRefiner> refiner_;  // a lazy octree's
   Features features_;
+  bool wavefront_ = false;  // asked for, and the paths have bounces to take
   Program program_;
-  Program path_start_;  // a lazy octree's: pixel centre -> where its path starts
+  Program path_start_;  // carried paths' (lazy octree, wavefront): pixel centre -> where its path starts
   std::unique_ptr<LightPass> light_pass_;
   std::optional<ElementLight> light_;
 };
