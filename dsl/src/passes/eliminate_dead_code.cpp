@@ -40,28 +40,30 @@ class Liveness {
  private:
   bool mark(ir::VarId v) { return live_.insert(v).second; }
 
-  // One sweep; true if anything new became live.
+  // One sweep; true if anything new became live.  It runs backwards, as
+  // liveness flows: a chain of assignments in a block becomes live in one
+  // sweep, not one link a sweep; only loops need further sweeps.
   bool grow(const ir::Block& b, bool in_live_loop = false) {
     bool changed = false;
-    for (const ir::Stmt& s : b) {
-      if (auto* a = std::get_if<ir::Assign>(&s.node)) {
+    for (auto s = b.rbegin(); s != b.rend(); ++s) {
+      if (auto* a = std::get_if<ir::Assign>(&s->node)) {
         if (live(a->dest))
           for (const ir::Operand& o : a->args) changed |= mark(o.var);
-      } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
+      } else if (auto* sc = std::get_if<ir::Scatter>(&s->node)) {
         changed |= mark(sc->index.var);
         changed |= mark(sc->value.var);
-      } else if (auto* f = std::get_if<ir::If>(&s.node)) {
+      } else if (auto* f = std::get_if<ir::If>(&s->node)) {
+        changed |= grow(f->else_body, in_live_loop);
+        changed |= grow(f->then_body, in_live_loop);
         bool needed = has_live_assign(f->then_body) || has_live_assign(f->else_body) ||
                       (in_live_loop && (has_jump(f->then_body) || has_jump(f->else_body)));
         if (needed) changed |= mark(f->cond.var);
-        changed |= grow(f->then_body, in_live_loop);
-        changed |= grow(f->else_body, in_live_loop);
-      } else if (auto* l = std::get_if<ir::Loop>(&s.node)) {
+      } else if (auto* l = std::get_if<ir::Loop>(&s->node)) {
         bool needed = has_live_assign(*l);
-        if (needed) changed |= mark(l->cond.var);
-        changed |= grow(l->header, false);
-        changed |= grow(l->body, needed);
         changed |= grow(l->update, false);
+        changed |= grow(l->body, needed);
+        changed |= grow(l->header, false);
+        if (needed) changed |= mark(l->cond.var);
       }
     }
     return changed;
