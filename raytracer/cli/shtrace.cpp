@@ -194,9 +194,20 @@ int ir_command(const std::string& path, bool optimized) {
   return 0;
 }
 
+// Where a first render's compile went, phase by phase over its kernels.
+void print_phases(const RenderReport& r) {
+  std::printf("  compile phases:");
+  const char* separator = " ";
+  for (const CompilePhase& phase : r.compile_phases) {
+    std::printf("%s%s %.1f", separator, phase.name.c_str(), phase.ms);
+    separator = ", ";
+  }
+  std::printf(" ms; CPU time %.1f ms\n", r.compile_cpu_ms);
+}
+
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
-                   const std::string& dump_ir_bytes, bool general, bool analyze, int frames) {
+                   const std::string& dump_ir_bytes, bool general, bool analyze, int frames, bool phases) {
   Scene scene = scene_for(c);
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
@@ -239,6 +250,7 @@ int render_command(const Common& c, const std::string& backend_name, const std::
               image.width, image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
               frames > 1 ? " (best warm frame)" : "", report.rays / (report.render_ms * 1e3), 1000.0 / report.render_ms,
               std::filesystem::absolute(written).c_str());
+  if (phases && report.compile_ms > 0) print_phases(report);
   if (!aov.empty()) std::printf("aov: %s_distance.pfm, %s_triangle.pfm\n", aov.c_str(), aov.c_str());
   if (report.light.rays > 0) {
     Vec3 e = r.element_light()->total();
@@ -269,17 +281,6 @@ double intersect_rate(sh::rt::Renderer& r, const BackendChoice& b, const std::ve
     ms += s.run_ms;
   }
   return origins.size() / 3.0 * repeats / (ms * 1e3);
-}
-
-// Where a first render's compile went, phase by phase over its kernels.
-void print_phases(const RenderReport& r) {
-  std::printf("  compile phases:");
-  const char* separator = " ";
-  for (const CompilePhase& phase : r.compile_phases) {
-    std::printf("%s%s %.1f", separator, phase.name.c_str(), phase.ms);
-    separator = ", ";
-  }
-  std::printf(" ms; CPU time %.1f ms\n", r.compile_cpu_ms);
 }
 
 int bench_command(const Common& c, std::vector<std::string> backends, bool phases) {
@@ -376,6 +377,10 @@ int main(int argc, char** argv) {
   render->add_flag("--general", general, "use the general kernel, not one specialised to the scene");
   render->add_flag("--analyze", analyze, "print the kernels' operation counts, per loop iteration too");
   render->add_option("--frames", frames, "render this many frames and report the best warm one")->check(CLI::Range(1, 1000));
+  bool render_phases = false;
+  render->add_flag("--phases", render_phases,
+                   "where the compile went: passes, lowering, cache key, LLVM optimisation, JIT setup, machine code "
+                   "and linking (summed over the render's kernels), and its CPU time");
 
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
@@ -438,7 +443,7 @@ int main(int argc, char** argv) {
 #endif
     if (render->parsed())
       return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
-                            analyze, frames);
+                            analyze, frames, render_phases);
     if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
     if (bench->parsed()) return bench_command(common, bench_backends, bench_phases);
     if (compare->parsed()) {

@@ -7,6 +7,7 @@
 
 #include <sh/cpu.hpp>
 #include <sh/sh.hpp>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -474,6 +475,64 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   EXPECT_EQ(y1[1], 17.f) << "a corrupt cache entry is compiled afresh";
   unsetenv("SH_CACHE_DIR");
   fs::remove_all(dir);
+}
+
+// Loops long enough that the optimised kernel is cut into parts: four data
+// dependent loops of 600 arithmetic operations each.
+sh::Program large_kernel() {
+  return SH_BEGIN_PROGRAM("large") {
+    sh::InputAttrib1f x;
+    sh::OutputAttrib1f y;
+    sh::Attrib1f sum = 0.0f;
+    for (int loop = 0; loop < 4; ++loop) {
+      sh::Attrib1f v = x + static_cast<float>(loop);
+      SH_FOR(sh::Attrib1i i = 0, i < x.cast<std::int32_t>() % (3 + loop) + 1, i += 1) {
+        for (int k = 0; k < 200; ++k) v = v * (0.5f + 1.0f / (k + 3)) + static_cast<float>(k % 7) - v * v * 0.001f;
+      } SH_ENDFOR;
+      sum += v;
+    }
+    y = sum;
+  } SH_END;
+}
+
+std::vector<float> run_large(sh::Kernel& k, const std::vector<float>& xs) {
+  std::vector<float> in = xs, out(xs.size());
+  sh::RunArgs a;
+  a.count = xs.size();
+  a.inputs.push_back({sh::ir::Type{sh::ir::Scalar::F32, 1}, xs.size(), in.data()});
+  a.outputs.push_back({sh::ir::Type{sh::ir::Scalar::F32, 1}, xs.size(), out.data()});
+  sh::RunStats s;
+  k.run(a, s);
+  return out;
+}
+
+TEST(CpuObjectCache, LargeKernelCompiledInPartsOnTwoThreadsRunsAsOneWholeAndComesBackFromTheCache) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(testing::TempDir()) / "sh_object_parts_test";
+  fs::remove_all(dir);
+  sh::ir::Program ir = sh::optimize(large_kernel().ir());
+  sh::Backend& cpu = sh::find_backend("cpu");
+  std::vector<float> xs;
+  for (int i = 0; i < 100; ++i) xs.push_back(static_cast<float>(i % 13) * 0.25f);
+  for (const char* width : {"scalar", "16"}) {
+    sh::Options whole, parts;
+    whole.set("width", width);
+    whole.threads = 1;
+    parts.set("width", width);
+    setenv("SH_CACHE_DIR", "off", 1);
+    std::vector<float> want = run_large(*cpu.compile(ir, whole), xs);
+    setenv("SH_CACHE_DIR", dir.c_str(), 1);
+    auto split = tbb::task_arena(2).execute([&] { return cpu.compile(ir, parts); });
+    EXPECT_EQ(run_large(*split, xs), want) << width;
+    std::size_t objects = 0;
+    for (const auto& f : fs::directory_iterator(dir)) objects += f.path().extension() == ".o";
+    EXPECT_EQ(objects, 2u) << width << ": the kernel and its outlined loops, one object each";
+    auto loaded = cpu.compile(ir, parts);
+    EXPECT_NE(loaded->listing().find("loaded from the object cache"), std::string::npos) << width;
+    EXPECT_EQ(run_large(*loaded, xs), want) << width;
+    fs::remove_all(dir);
+  }
+  unsetenv("SH_CACHE_DIR");
 }
 
 }  // namespace

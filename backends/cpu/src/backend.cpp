@@ -75,6 +75,7 @@ class CpuKernel : public Kernel {
 
   std::string listing() const override { return jitted_.llvm_ir(); }
   std::vector<CompilePhase> compile_phases() const override { return jitted_.phases(); }
+  double compile_cpu_ms_elsewhere() const override { return jitted_.cpu_ms_elsewhere(); }
 
  private:
   // SPMD gathers index tables in 32 bits.

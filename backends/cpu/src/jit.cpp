@@ -1,5 +1,6 @@
 #include "jit.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 
@@ -8,7 +9,6 @@
 #include <llvm/Analysis/TargetLibraryInfo.h>
 #include <llvm/Analysis/ValueTracking.h>
 #include <llvm/Config/llvm-config.h>
-#include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
@@ -27,6 +27,9 @@
 #include <llvm/Transforms/Scalar/SROA.h>
 #include <llvm/Transforms/Scalar/SimplifyCFG.h>
 
+#include <tbb/task_arena.h>
+
+#include "codegen.hpp"
 #include "sh/analysis.hpp"
 #include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
@@ -76,6 +79,11 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
 // loops pay for (ray-triangle's 9 % at 16 lanes) and whose compile is
 // short anyway.
 constexpr unsigned kLargeKernel = 6000;
+
+// An optimised kernel of more LLVM instructions than this (the tracer,
+// about 3 000 at any width) is compiled in parts on the threads there are
+// (codegen.hpp); smaller ones are not worth outlining.
+constexpr unsigned kSplitKernel = 2000;
 
 llvm::FunctionPassManager short_pipeline() {
   llvm::FunctionPassManager fpm;
@@ -190,11 +198,11 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   if (cache_ && cache_->has_object()) {
     // Machine code from an earlier compile: no lowering, no LLVM.
     loops_ = loop_statements(program);
-    start_jit(program, builder, nullptr);
+    start_jit(program, builder);
     clock.end("JIT setup");
-    std::unique_ptr<llvm::MemoryBuffer> object = cache_->getObject(nullptr);
-    if (!object) throw Error("program '" + program.name + "': cpu backend: the cached object went missing");
-    check(jit_->addObjectFile(std::move(object)), program, "adding the cached object");
+    std::vector<std::unique_ptr<llvm::MemoryBuffer>> objects = cache_->objects();
+    if (objects.empty()) throw Error("program '" + program.name + "': cpu backend: the cached object went missing");
+    for (auto& object : objects) check(jit_->addObjectFile(std::move(object)), program, "adding the cached object");
     link(program);
     clock.end("object from the cache, linked");
     return;
@@ -224,28 +232,23 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   if (cache_) cache_->store_listing(llvm_ir_);
   clock.end("LLVM optimisation");
 
-  start_jit(program, builder, cache_ ? &*cache_ : nullptr);
+  start_jit(program, builder);
   clock.end("JIT setup");
-  check(jit_->addIRModule(llvm::orc::ThreadSafeModule(std::move(lowered.module), std::move(context))), program,
-        "adding the module");
+  int threads = tbb::this_task_arena::max_concurrency();
+  if (options.threads > 0) threads = std::min(threads, options.threads);
+  Objects objects = compile_objects(m, builder, kSplitKernel, static_cast<unsigned>(threads), program.name);
+  cpu_ms_elsewhere_ = objects.cpu_ms_elsewhere;
+  if (cache_) cache_->store(objects.parts);
+  for (const std::string& part : objects.parts)
+    check(jit_->addObjectFile(llvm::MemoryBuffer::getMemBufferCopy(part, program.name)), program, "adding the object");
   link(program);
   clock.end("machine code, linked");
 }
 
-// An LLJIT for the host whose compiles, if any, leave their object in
-// `cache`, and which resolves the C math library of this process.
-void Jitted::start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder,
-                       llvm::ObjectCache* cache) {
-  jit_ = unwrap(llvm::orc::LLJITBuilder()
-                    .setJITTargetMachineBuilder(builder)
-                    .setCompileFunctionCreator([cache](llvm::orc::JITTargetMachineBuilder jtmb)
-                                                   -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
-                      auto tm = jtmb.createTargetMachine();
-                      if (!tm) return tm.takeError();
-                      return std::make_unique<llvm::orc::TMOwningSimpleCompiler>(std::move(*tm), cache);
-                    })
-                    .create(),
-                program, "creating the JIT");
+// An LLJIT for the host that links the kernel's objects and resolves the C
+// math library of this process.
+void Jitted::start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder) {
+  jit_ = unwrap(llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(builder).create(), program, "creating the JIT");
   // Failures come back through lookup() as sh::Error; the session's own
   // report to stderr would only repeat them.
   jit_->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });

@@ -1,9 +1,10 @@
 #pragma once
 // Compiles a program for the host CPU: lowered, LLVM's O3 pipeline (a
 // short one for the largest kernels, jit.cpp) with the host's features,
-// then ORC LLJIT; or, where an earlier process compiled
-// the same program, its machine code from the object cache, linked without
-// lowering or LLVM.  The result owns the machine code.
+// object files (a large kernel's in parts on several threads, codegen.hpp)
+// linked by ORC LLJIT; or, where an earlier process compiled the same
+// program, its objects from the object cache, linked without lowering or
+// LLVM.  The result owns the machine code.
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -14,7 +15,6 @@
 #include "signature.hpp"
 
 namespace llvm {
-class ObjectCache;
 namespace orc {
 class LLJIT;
 class JITTargetMachineBuilder;
@@ -33,10 +33,11 @@ class Jitted {
   const std::vector<const ir::Stmt*>& loops() const { return loops_; }
   bool from_cache() const { return cache_ && cache_->hit(); }
   const std::vector<CompilePhase>& phases() const { return phases_; }
+  double cpu_ms_elsewhere() const { return cpu_ms_elsewhere_; }  // code generation on other threads
 
  private:
   void build(const ir::Program& program, const Options& options, bool use_cache);
-  void start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder, llvm::ObjectCache* cache);
+  void start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder);
   void link(const ir::Program& program);
 
   std::optional<ObjectCache> cache_;  // outlives the JIT that uses it
@@ -49,6 +50,7 @@ class Jitted {
   mutable std::string llvm_ir_;
   std::vector<const ir::Stmt*> loops_;
   std::vector<CompilePhase> phases_;
+  double cpu_ms_elsewhere_ = 0;
 };
 
 }  // namespace sh::cpu

@@ -1,7 +1,5 @@
 #include "object_cache.hpp"
 
-#include <llvm/Support/MemoryBuffer.h>
-
 #include <filesystem>
 
 #include "sh/detail/disk_cache.hpp"
@@ -14,25 +12,39 @@ std::optional<ObjectCache> ObjectCache::open(const std::string& key) {
   return ObjectCache(*path);
 }
 
-void ObjectCache::notifyObjectCompiled(const llvm::Module*, llvm::MemoryBufferRef object) {
-  detail::write_cache_file(path_ + ".o", std::string(object.getBufferStart(), object.getBufferSize()));
+// The first part's file is the entry's: its other parts are written before
+// it, so an entry whose first part is there is whole.
+std::string ObjectCache::object_path(std::size_t part) const {
+  return part == 0 ? path_ + ".o" : path_ + "." + std::to_string(part) + ".o";
 }
 
-std::unique_ptr<llvm::MemoryBuffer> ObjectCache::getObject(const llvm::Module*) {
-  auto buffer = llvm::MemoryBuffer::getFile(path_ + ".o");
-  if (!buffer) return nullptr;
-  hit_ = true;
-  return std::move(*buffer);
+void ObjectCache::store(const std::vector<std::string>& objects) const {
+  std::error_code ignored;
+  for (std::size_t part = objects.size(); std::filesystem::remove(object_path(part), ignored); ++part) {
+  }
+  for (std::size_t part = objects.size(); part-- > 0;) detail::write_cache_file(object_path(part), objects[part]);
+}
+
+std::vector<std::unique_ptr<llvm::MemoryBuffer>> ObjectCache::objects() {
+  std::vector<std::unique_ptr<llvm::MemoryBuffer>> out;
+  for (std::size_t part = 0;; ++part) {
+    auto buffer = llvm::MemoryBuffer::getFile(object_path(part));
+    if (!buffer) break;
+    out.push_back(std::move(*buffer));
+  }
+  hit_ = !out.empty();
+  return out;
 }
 
 bool ObjectCache::has_object() const {
   std::error_code ignored;
-  return std::filesystem::exists(path_ + ".o", ignored);
+  return std::filesystem::exists(object_path(0), ignored);
 }
 
 void ObjectCache::forget() const {
   std::error_code ignored;
-  std::filesystem::remove(path_ + ".o", ignored);
+  for (std::size_t part = 0; std::filesystem::remove(object_path(part), ignored); ++part) {
+  }
   std::filesystem::remove(path_ + ".ll", ignored);
 }
 

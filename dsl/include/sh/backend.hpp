@@ -118,7 +118,7 @@ struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)
   double compile_ms = 0;
-  double compile_cpu_ms = 0;  // the compiling thread's CPU time (compiles run on the caller's thread)
+  double compile_cpu_ms = 0;  // CPU time: the compiling thread's and what it had other threads do
   std::vector<CompilePhase> compile_phases;  // where compile_ms went, where compiled
   double run_ms = 0;
   std::size_t elements = 0;
@@ -152,6 +152,8 @@ class Kernel {
   virtual std::string listing() const { return {}; }
   // Where its compile's time went, for backends that time their phases.
   virtual std::vector<CompilePhase> compile_phases() const { return {}; }
+  // CPU time its compile spent on threads other than the caller's.
+  virtual double compile_cpu_ms_elsewhere() const { return 0; }
 };
 
 class Backend {

@@ -94,7 +94,7 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
   for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
   stats.compiled = true;
   stats.compile_ms = ms_since(t0);
-  stats.compile_cpu_ms = thread_cpu_ms() - cpu0;
+  stats.compile_cpu_ms = thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
   std::lock_guard<std::mutex> lock(r.mutex);
   return r.kernels.emplace(key, std::move(kernel)).first->second;
 }

@@ -1,0 +1,170 @@
+#include "codegen.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <ctime>
+#include <exception>
+#include <map>
+#include <thread>
+
+#include <llvm/Analysis/LoopInfo.h>
+#include <llvm/Bitcode/BitcodeReader.h>
+#include <llvm/Bitcode/BitcodeWriter.h>
+#include <llvm/IR/Dominators.h>
+#include <llvm/IR/LegacyPassManager.h>
+#include <llvm/Support/Error.h>
+#include <llvm/Support/MemoryBuffer.h>
+#include <llvm/Support/raw_ostream.h>
+#include <llvm/Target/TargetMachine.h>
+#include <llvm/Transforms/Utils/CodeExtractor.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include "sh/error.hpp"
+
+namespace sh::cpu {
+namespace {
+
+// The most parts a module is cut into: past a few, the loops left to
+// outline are too small to balance the parts.
+constexpr unsigned kMostParts = 4;
+
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+std::size_t instructions(const llvm::Loop& loop) {
+  std::size_t n = 0;
+  for (const llvm::BasicBlock* b : loop.blocks()) n += b->size();
+  return n;
+}
+
+// The headers of the loops to outline from `f` so that it keeps about one
+// part's share: the largest loops that fit in a share, none inside
+// another, until the rest of the function is about one share.
+std::vector<llvm::BasicBlock*> loops_to_outline(llvm::Function& f, unsigned parts) {
+  llvm::DominatorTree dominators(f);
+  llvm::LoopInfo info(dominators);
+  llvm::SmallVector<llvm::Loop*, 4> loops = info.getLoopsInPreorder();
+  std::stable_sort(loops.begin(), loops.end(),
+                   [](const llvm::Loop* a, const llvm::Loop* b) { return instructions(*a) > instructions(*b); });
+  std::size_t total = f.getInstructionCount(), share = total / parts, outlined = 0;
+  std::vector<llvm::Loop*> chosen;
+  for (llvm::Loop* loop : loops) {
+    std::size_t n = instructions(*loop);
+    bool overlaps = std::any_of(chosen.begin(), chosen.end(), [&](const llvm::Loop* c) { return c->contains(loop) || loop->contains(c); });
+    if (n > share || overlaps) continue;
+    chosen.push_back(loop);
+    outlined += n;
+    if (total - outlined <= share) break;
+  }
+  std::vector<llvm::BasicBlock*> headers;
+  for (const llvm::Loop* loop : chosen) headers.push_back(loop->getHeader());
+  return headers;
+}
+
+// Each loop headed by one of `headers` becomes a function that `f` calls.
+// The loops are found again before each: outlining one moves blocks
+// around the others.
+void outline(llvm::Function& f, const std::vector<llvm::BasicBlock*>& headers) {
+  for (llvm::BasicBlock* header : headers) {
+    llvm::DominatorTree dominators(f);
+    llvm::LoopInfo info(dominators);
+    llvm::Loop* loop = info.getLoopFor(header);
+    if (!loop || loop->getHeader() != header) continue;
+    llvm::CodeExtractor extractor(dominators, *loop, false, nullptr, nullptr, nullptr, "part");
+    if (!extractor.isEligible()) continue;
+    llvm::CodeExtractorAnalysisCache cache(f);
+    extractor.extractCodeRegion(cache);
+  }
+}
+
+// Each defined function to the part with the fewest instructions so far,
+// largest first.  Functions get external names, so that one part calls
+// what another defines.
+std::map<std::string, unsigned> assign_parts(llvm::Module& m, unsigned parts) {
+  std::vector<llvm::Function*> functions;
+  for (llvm::Function& f : m)
+    if (!f.isDeclaration()) {
+      f.setLinkage(llvm::GlobalValue::ExternalLinkage);
+      f.setDSOLocal(false);
+      functions.push_back(&f);
+    }
+  std::stable_sort(functions.begin(), functions.end(),
+                   [](const llvm::Function* a, const llvm::Function* b) { return a->getInstructionCount() > b->getInstructionCount(); });
+  std::vector<std::size_t> load(parts, 0);
+  std::map<std::string, unsigned> part;
+  for (const llvm::Function* f : functions) {
+    auto lightest = static_cast<unsigned>(std::min_element(load.begin(), load.end()) - load.begin());
+    part[f->getName().str()] = lightest;
+    load[lightest] += f->getInstructionCount();
+  }
+  return part;
+}
+
+std::string emit(llvm::Module& m, const llvm::orc::JITTargetMachineBuilder& builder, const std::string& program) {
+  llvm::orc::JITTargetMachineBuilder own = builder;  // making a machine is not const
+  auto machine = own.createTargetMachine();
+  if (!machine)
+    throw Error("program '" + program + "': cpu backend: creating the target machine: " + llvm::toString(machine.takeError()));
+  llvm::SmallVector<char, 0> bytes;
+  llvm::raw_svector_ostream os(bytes);
+  llvm::legacy::PassManager passes;
+  if ((*machine)->addPassesToEmitFile(passes, os, nullptr, llvm::CGFT_ObjectFile))
+    throw Error("program '" + program + "': cpu backend: this target cannot emit object files");
+  passes.run(m);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+// Part `k` of a module: the functions of other parts only declared.
+std::string emit_part(llvm::Module& m, const std::map<std::string, unsigned>& part, unsigned k,
+                      const llvm::orc::JITTargetMachineBuilder& builder, const std::string& program) {
+  for (llvm::Function& f : m)
+    if (!f.isDeclaration() && part.at(f.getName().str()) != k) f.deleteBody();
+  return emit(m, builder, program);
+}
+
+}  // namespace
+
+Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
+                        unsigned threads, const std::string& program) {
+  unsigned parts = std::min(threads, kMostParts);
+  if (parts < 2 || module.getInstructionCount() <= split_above) return Objects{{emit(module, builder, program)}};
+  for (llvm::Function& f : module)
+    if (!f.isDeclaration() && f.getInstructionCount() > module.getInstructionCount() / parts)
+      outline(f, loops_to_outline(f, parts));
+  std::map<std::string, unsigned> part = assign_parts(module, parts);
+  // A context serves one thread: every part but the first is read back
+  // from bitcode into a context of its own.
+  llvm::SmallVector<char, 0> bitcode;
+  llvm::raw_svector_ostream os(bitcode);
+  llvm::WriteBitcodeToFile(module, os);
+  Objects out;
+  out.parts.resize(parts);
+  std::atomic<double> elsewhere{0};
+  std::thread::id caller = std::this_thread::get_id();
+  tbb::task_group group;
+  for (unsigned k = 1; k < parts; ++k)
+    group.run([&, k] {
+      double cpu0 = thread_cpu_ms();
+      llvm::LLVMContext context;
+      auto m = llvm::parseBitcodeFile(llvm::MemoryBufferRef(llvm::StringRef(bitcode.data(), bitcode.size()), program), context);
+      if (!m) throw Error("program '" + program + "': cpu backend: reading a part back: " + llvm::toString(m.takeError()));
+      out.parts[k] = emit_part(**m, part, k, builder, program);
+      if (std::this_thread::get_id() != caller) elsewhere.fetch_add(thread_cpu_ms() - cpu0);
+    });
+  std::exception_ptr failed;
+  try {
+    out.parts[0] = emit_part(module, part, 0, builder, program);
+  } catch (...) {
+    failed = std::current_exception();
+  }
+  group.wait();  // rethrows another part's error
+  if (failed) std::rethrow_exception(failed);
+  out.cpu_ms_elsewhere = elsewhere;
+  return out;
+}
+
+}  // namespace sh::cpu

@@ -1,0 +1,29 @@
+#pragma once
+// Machine code for an optimised module, as object files.  Code generation
+// is most of a large kernel's compile, and LLVM generates one function on
+// one core: so a large kernel's loops are outlined into functions until its
+// module splits into parts of about equal size, and each part is compiled on
+// a thread of its own.  The parts call one another through the JIT's
+// linker, which resolves their symbols as it resolves the C library's.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
+#include <llvm/IR/LLVMContext.h>
+#include <llvm/IR/Module.h>
+
+namespace sh::cpu {
+
+struct Objects {
+  std::vector<std::string> parts;  // object files, the kernel's in the first
+  double cpu_ms_elsewhere = 0;     // CPU time spent on threads other than the caller's
+};
+
+// A module of more LLVM instructions than `split_above` is cut into as many
+// parts as `threads` (at most); others stay whole.  Throws sh::Error
+// naming `program` where LLVM fails.
+Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
+                        unsigned threads, const std::string& program);
+
+}  // namespace sh::cpu
