@@ -13,12 +13,12 @@ namespace {
 
 class Liveness {
  public:
-  explicit Liveness(const ir::Program& p) {
-    for (ir::VarId v : p.outputs) live_.insert(v);
+  explicit Liveness(const ir::Program& p) : live_(p.vars.size(), false) {
+    for (ir::VarId v : p.outputs) live_[static_cast<std::size_t>(v)] = true;
     while (grow(p.body)) {
     }
   }
-  bool live(ir::VarId v) const { return live_.count(v) > 0; }
+  bool live(ir::VarId v) const { return live_[static_cast<std::size_t>(v)]; }
 
   // Does the block assign a live variable or scatter (at any depth)?
   bool has_live_assign(const ir::Block& b) const {
@@ -38,7 +38,11 @@ class Liveness {
   }
 
  private:
-  bool mark(ir::VarId v) { return live_.insert(v).second; }
+  bool mark(ir::VarId v) {
+    if (live(v)) return false;
+    live_[static_cast<std::size_t>(v)] = true;
+    return true;
+  }
 
   // One sweep; true if anything new became live.  It runs backwards, as
   // liveness flows: a chain of assignments in a block becomes live in one
@@ -79,7 +83,7 @@ class Liveness {
     return false;
   }
 
-  std::set<ir::VarId> live_;
+  std::vector<bool> live_;  // by variable
 };
 
 class Sweeper : public ir::Mutator {

@@ -4,6 +4,8 @@
 // temporary qualifies only if its one assignment comes before all its reads
 // in the structured order, and the source is never written (a constant,
 // uniform or unwritten input) or is itself assigned once before it.
+#include <map>
+
 #include "sh/passes.hpp"
 #include "uses.hpp"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Facts about where variables are defined and read, shared by the passes.
-#include <map>
 #include <set>
+#include <unordered_map>
 #include <vector>
 
 #include "sh/ir/program.hpp"
@@ -20,9 +20,9 @@ using Path = std::vector<Site>;  // from the program body down to a statement
 bool dominated(const Path& path, const Site& site);
 
 struct Definitions {
-  std::map<ir::VarId, int> count;     // assignments to each variable
-  std::map<ir::VarId, Path> single;   // where, for those assigned once
-  std::map<ir::VarId, const ir::Assign*> assign;
+  std::unordered_map<ir::VarId, int> count;     // assignments to each variable
+  std::unordered_map<ir::VarId, Path> single;   // where, for those assigned once
+  std::unordered_map<ir::VarId, const ir::Assign*> assign;
 };
 Definitions collect_definitions(const ir::Block& body);
 
