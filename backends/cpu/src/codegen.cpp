@@ -131,17 +131,25 @@ std::string emit_part(llvm::Module& m, const std::map<std::string, unsigned>& pa
 Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
                         unsigned threads, const std::string& program) {
   unsigned parts = std::min(threads, kMostParts);
-  if (parts < 2 || module.getInstructionCount() <= split_above) return Objects{{emit(module, builder, program)}};
-  for (llvm::Function& f : module)
-    if (!f.isDeclaration() && f.getInstructionCount() > module.getInstructionCount() / parts)
-      outline(f, loops_to_outline(f, parts));
-  std::map<std::string, unsigned> part = assign_parts(module, parts);
-  // A context serves one thread: every part but the first is read back
-  // from bitcode into a context of its own.
-  llvm::SmallVector<char, 0> bitcode;
-  llvm::raw_svector_ostream os(bitcode);
-  llvm::WriteBitcodeToFile(module, os);
+  if (parts < 2 || module.getInstructionCount() <= split_above) parts = 1;
+  std::map<std::string, unsigned> part;
+  if (parts > 1) {
+    for (llvm::Function& f : module)
+      if (!f.isDeclaration() && f.getInstructionCount() > module.getInstructionCount() / parts)
+        outline(f, loops_to_outline(f, parts));
+    part = assign_parts(module, parts);
+  }
   Objects out;
+  // A context serves one thread: every part but the first is read back
+  // from this bitcode into a context of its own.
+  llvm::raw_string_ostream os(out.module);
+  llvm::WriteBitcodeToFile(module, os);
+  os.flush();
+  if (parts == 1) {
+    out.parts = {emit(module, builder, program)};
+    return out;
+  }
+  const std::string& bitcode = out.module;
   out.parts.resize(parts);
   std::atomic<double> elsewhere{0};
   std::thread::id caller = std::this_thread::get_id();

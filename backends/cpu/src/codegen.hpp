@@ -16,7 +16,8 @@
 namespace sh::cpu {
 
 struct Objects {
-  std::vector<std::string> parts;  // object files, the kernel's in the first
+  std::vector<std::string> parts;  // object files
+  std::string module;              // the module as compiled (its loops outlined), as bitcode
   double cpu_ms_elsewhere = 0;     // CPU time spent on threads other than the caller's
 };
 

@@ -44,8 +44,10 @@ class Jitted {
   std::unique_ptr<llvm::orc::LLJIT> jit_;
   KernelFn entry_ = nullptr;
   int lanes_ = 1;
-  // On a cache hit the listing is read from the cache when first asked
-  // for: a 16-lane tracer's is a few hundred kilobytes of text.
+  // The listing is printed from the module's bitcode (kept, or on a cache
+  // hit read from the cache) when first asked for: a 16-lane tracer's is a
+  // few hundred kilobytes of text.
+  std::string compiled_module_;
   mutable std::once_flag listing_read_;
   mutable std::string llvm_ir_;
   std::vector<const ir::Stmt*> loops_;

@@ -45,11 +45,11 @@ void ObjectCache::forget() const {
   std::error_code ignored;
   for (std::size_t part = 0; std::filesystem::remove(object_path(part), ignored); ++part) {
   }
-  std::filesystem::remove(path_ + ".ll", ignored);
+  std::filesystem::remove(path_ + ".bc", ignored);
 }
 
-std::optional<std::string> ObjectCache::listing() const { return detail::read_cache_file(path_ + ".ll"); }
+std::optional<std::string> ObjectCache::module() const { return detail::read_cache_file(path_ + ".bc"); }
 
-void ObjectCache::store_listing(const std::string& ir) const { detail::write_cache_file(path_ + ".ll", ir); }
+void ObjectCache::store_module(const std::string& bitcode) const { detail::write_cache_file(path_ + ".bc", bitcode); }
 
 }  // namespace sh::cpu

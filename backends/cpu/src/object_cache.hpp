@@ -5,7 +5,7 @@
 // (jit.cpp); where and how files are written: sh/detail/disk_cache.hpp.  A
 // cache that cannot be written is skipped, never an error.  An entry holds
 // a kernel's object files (one per part compiled, codegen.hpp) and the
-// optimised LLVM IR for its listing.
+// optimised module's bitcode for its listing.
 #include <llvm/Support/MemoryBuffer.h>
 
 #include <memory>
@@ -26,10 +26,11 @@ class ObjectCache {
 
   bool hit() const { return hit_; }
   bool has_object() const;
-  void forget() const;  // removes the stored objects and listing
-  // The optimised LLVM IR stored beside the objects (listings on a hit).
-  std::optional<std::string> listing() const;
-  void store_listing(const std::string& ir) const;
+  void forget() const;  // removes the stored objects and module
+  // The optimised module, as bitcode, stored beside the objects (listings
+  // on a hit).
+  std::optional<std::string> module() const;
+  void store_module(const std::string& bitcode) const;
 
  private:
   explicit ObjectCache(std::string path) : path_(std::move(path)) {}
