@@ -82,10 +82,11 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
 // short anyway.
 constexpr unsigned kLargeKernel = 6000;
 
-// An optimised kernel of more LLVM instructions than this (the tracer,
-// about 3 000 at any width) is compiled in parts on the threads there are
-// (codegen.hpp); smaller ones are not worth outlining.
-constexpr unsigned kSplitKernel = 2000;
+// An optimised kernel of more LLVM instructions than this (the tracer:
+// 1 600 scalar, 2 500 at 16 lanes, 3 100 with fetched tables) is compiled
+// in parts on the threads there are (codegen.hpp); the others (the
+// intersector: 500-700) are not worth outlining.
+constexpr unsigned kSplitKernel = 1200;
 
 llvm::FunctionPassManager short_pipeline() {
   llvm::FunctionPassManager fpm;
