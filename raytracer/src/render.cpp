@@ -171,26 +171,38 @@ void Renderer::trace_band(const std::vector<float>& centres, Channel<Color3f>& c
     count(run(program_, {in}, {color, distance, triangle}, choice), r);
     return;
   }
-  Channel<Attrib2f> pixel;
-  PathChannels path, path_out;
-  // A lazy octree's requests name a node; a wavefront's say only "again".
-  std::shared_ptr<detail::Buffer> request = Channel<Attrib1i>();
-  if (refiner_) request = Channel<Attrib4i>();
-  std::vector<std::shared_ptr<detail::Buffer>> inputs = {pixel}, outputs = {color, distance, triangle, request};
-  for (const auto& channel : path.all()) inputs.push_back(channel);
+  if (!carried_) carried_ = std::make_unique<CarriedPaths>(refiner_ != nullptr);
+  CarriedPaths& c = *carried_;
+  c.resize(in.size());
+  std::vector<std::shared_ptr<detail::Buffer>> inputs = {c.pixel}, outputs = {color, distance, triangle, c.request};
+  for (const auto& channel : c.path.all()) inputs.push_back(channel);
   count(run(path_start_, {in}, inputs, choice), r);
   Waves waves{refiner_.get(), 3, {}};
-  for (const auto& channel : path_out.all()) {
+  for (const auto& channel : c.path_out.all()) {
     waves.carried.push_back({static_cast<int>(outputs.size()), static_cast<int>(waves.carried.size()) + 1});
     outputs.push_back(channel);
   }
   count(run(program_, inputs, outputs, waves, choice), r);
   if (wavefront_) {
     if (!r.lanes) r.lanes = LaneUse{lanes_};
-    std::vector<int> bounces(path_out.origin_bounce.size());
-    for (std::size_t k = 0; k < bounces.size(); ++k) bounces[k] = static_cast<int>(path_out.origin_bounce[4 * k + 3]);
+    std::vector<int> bounces(in.size());
+    for (std::size_t k = 0; k < bounces.size(); ++k) bounces[k] = static_cast<int>(c.path_out.origin_bounce[4 * k + 3]);
     r.lanes->count(bounces);
   }
+}
+
+// A lazy octree's requests name a node; a wavefront's say only "again".
+Renderer::CarriedPaths::CarriedPaths(bool lazy) : request(Channel<Attrib1i>()) {
+  if (lazy) request = Channel<Attrib4i>();
+}
+
+// The same size as the band, their memory kept: fresh pages for every band
+// cost more than the waves' copies.
+void Renderer::CarriedPaths::resize(std::size_t n) {
+  pixel.resize(n);
+  request->resize(n);
+  for (const auto& channel : path.all()) channel->resize(n);
+  for (const auto& channel : path_out.all()) channel->resize(n);
 }
 
 Hits Renderer::intersect(const std::vector<float>& origins, const std::vector<float>& directions,

@@ -141,6 +141,15 @@ class Renderer {
   bool wavefront_ = false;  // asked for, and the paths have bounces to take
   Program program_;
   Program path_start_;  // carried paths' (lazy octree, wavefront): pixel centre -> where its path starts
+  // A band's carried paths, kept from band to band and frame to frame.
+  struct CarriedPaths {
+    explicit CarriedPaths(bool lazy);
+    void resize(std::size_t n);
+    Channel<Attrib2f> pixel;
+    PathChannels path, path_out;
+    std::shared_ptr<detail::Buffer> request;
+  };
+  std::unique_ptr<CarriedPaths> carried_;
   std::unique_ptr<LightPass> light_pass_;
   std::optional<ElementLight> light_;
 };
