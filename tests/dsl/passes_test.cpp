@@ -99,6 +99,41 @@ TEST(Passes, CommonSubexpressionsNotAcrossAWrite) {
   EXPECT_NE(body.find("add"), std::string::npos) << body;
 }
 
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// What one branch computes or forgets is not what the other sees: x * c
+// computed in the then side is not there on the else side, and a * x,
+// forgotten in the then side where a changes, is still there on the else
+// side.
+TEST(Passes, CommonSubexpressionsOfOneBranchAreNotTheOthers) {
+  Program p = SH_BEGIN_PROGRAM("cse_branches") {
+    Input<Attrib1f> x;
+    Input<Attrib1f> c;
+    Output<Attrib1f> r;
+    Attrib1f a = x * 2.0f;
+    Attrib1f s = a * x + 1.0f;
+    Attrib1f t = 0.0f, u = 0.0f;
+    SH_IF(c > 0.0f) {
+      u = x * c + 1.0f;
+      a = c;
+      t = a * x + 1.0f;
+    } SH_ELSE {
+      u = x * c + 2.0f;
+      t = a * x + 2.0f;
+    } SH_ENDIF;
+    r = s + t + u;
+  } SH_END;
+  std::string before = ir::print(p.ir());
+  std::string after = ir::print(checked(passes::eliminate_common_subexpressions(p.ir())));
+  EXPECT_EQ(count_of(before, "= mul"), 6u) << before;
+  EXPECT_EQ(count_of(after, "= mul"), 5u) << after;
+  EXPECT_EQ(count_of(after, "= mov") - count_of(before, "= mov"), 1u) << after;
+}
+
 TEST(Passes, DeadCodeRemovesUnusedWorkAndEmptyLoops) {
   Program p = SH_BEGIN_PROGRAM("dead") {
     Input<Attrib1f> x;

@@ -37,7 +37,6 @@ TEST_P(Wavefront, GivesTheWholeTracersImageWithLanesAtLeastAsBusy) {
     ASSERT_TRUE(report.lanes.has_value()) << what;
     const sh::rt::LaneUse& lanes = *report.lanes;
     EXPECT_EQ(lanes.busy, 64u * 48u + report.resumed) << what << ": one bounce per path and wave";
-    EXPECT_GE(lanes.waves(), lanes.whole()) << what;
     if (lanes.lanes > 1) {
       EXPECT_GT(lanes.waves(), lanes.whole()) << what;
     } else {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <ctime>
 #include <exception>
 #include <map>
 #include <thread>
@@ -17,9 +16,9 @@
 #include <llvm/Support/raw_ostream.h>
 #include <llvm/Target/TargetMachine.h>
 #include <llvm/Transforms/Utils/CodeExtractor.h>
-#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
+#include "sh/detail/cpu_time.hpp"
 #include "sh/error.hpp"
 
 namespace sh::cpu {
@@ -28,12 +27,6 @@ namespace {
 // The most parts a module is cut into: past a few, the loops left to
 // outline are too small to balance the parts.
 constexpr unsigned kMostParts = 4;
-
-double thread_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
-}
 
 std::size_t instructions(const llvm::Loop& loop) {
   std::size_t n = 0;
@@ -126,12 +119,48 @@ std::string emit_part(llvm::Module& m, const std::map<std::string, unsigned>& pa
   return emit(m, builder, program);
 }
 
+// Each part on a thread of its own, the first on the caller's; a context
+// serves one thread, so the others read the module back from its bitcode.
+void emit_parts(llvm::Module& module, const std::map<std::string, unsigned>& part,
+                const llvm::orc::JITTargetMachineBuilder& builder, const std::string& program, Objects& out) {
+  std::atomic<double> elsewhere{0};
+  std::thread::id caller = std::this_thread::get_id();
+  tbb::task_group group;
+  for (std::size_t k = 1; k < out.parts.size(); ++k)
+    group.run([&, k] {
+      double cpu0 = detail::thread_cpu_ms();
+      llvm::LLVMContext context;
+      auto m = llvm::parseBitcodeFile(llvm::MemoryBufferRef(out.module, program), context);
+      if (!m) throw Error("program '" + program + "': cpu backend: reading a part back: " + llvm::toString(m.takeError()));
+      out.parts[k] = emit_part(**m, part, static_cast<unsigned>(k), builder, program);
+      if (std::this_thread::get_id() != caller) elsewhere.fetch_add(detail::thread_cpu_ms() - cpu0);
+    });
+  std::exception_ptr failed;
+  try {
+    out.parts[0] = emit_part(module, part, 0, builder, program);
+  } catch (...) {
+    failed = std::current_exception();
+    group.cancel();
+  }
+  group.wait();  // rethrows another part's error
+  if (failed) std::rethrow_exception(failed);
+  out.cpu_ms_elsewhere = elsewhere;
+}
+
+// Every part keeps its own copy of the module's global variables: right
+// for the lowering's constants, wrong for anything a part could change or
+// another module could name.
+bool globals_copyable(const llvm::Module& m) {
+  return std::all_of(m.global_begin(), m.global_end(),
+                     [](const llvm::GlobalVariable& g) { return g.isConstant() && g.hasLocalLinkage(); });
+}
+
 }  // namespace
 
 Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
                         unsigned threads, const std::string& program) {
   unsigned parts = std::min(threads, kMostParts);
-  if (parts < 2 || module.getInstructionCount() <= split_above) parts = 1;
+  if (module.getInstructionCount() <= split_above || !globals_copyable(module)) parts = 1;
   std::map<std::string, unsigned> part;
   if (parts > 1) {
     for (llvm::Function& f : module)
@@ -140,38 +169,14 @@ Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineB
     part = assign_parts(module, parts);
   }
   Objects out;
-  // A context serves one thread: every part but the first is read back
-  // from this bitcode into a context of its own.
   llvm::raw_string_ostream os(out.module);
   llvm::WriteBitcodeToFile(module, os);
   os.flush();
-  if (parts == 1) {
-    out.parts = {emit(module, builder, program)};
-    return out;
-  }
-  const std::string& bitcode = out.module;
-  out.parts.resize(parts);
-  std::atomic<double> elsewhere{0};
-  std::thread::id caller = std::this_thread::get_id();
-  tbb::task_group group;
-  for (unsigned k = 1; k < parts; ++k)
-    group.run([&, k] {
-      double cpu0 = thread_cpu_ms();
-      llvm::LLVMContext context;
-      auto m = llvm::parseBitcodeFile(llvm::MemoryBufferRef(llvm::StringRef(bitcode.data(), bitcode.size()), program), context);
-      if (!m) throw Error("program '" + program + "': cpu backend: reading a part back: " + llvm::toString(m.takeError()));
-      out.parts[k] = emit_part(**m, part, k, builder, program);
-      if (std::this_thread::get_id() != caller) elsewhere.fetch_add(thread_cpu_ms() - cpu0);
-    });
-  std::exception_ptr failed;
-  try {
-    out.parts[0] = emit_part(module, part, 0, builder, program);
-  } catch (...) {
-    failed = std::current_exception();
-  }
-  group.wait();  // rethrows another part's error
-  if (failed) std::rethrow_exception(failed);
-  out.cpu_ms_elsewhere = elsewhere;
+  out.parts.resize(std::max(parts, 1u));
+  if (parts > 1)
+    emit_parts(module, part, builder, program, out);
+  else
+    out.parts[0] = emit(module, builder, program);
   return out;
 }
 

@@ -5,12 +5,10 @@
 // module splits into parts of about equal size, and each part is compiled on
 // a thread of its own.  The parts call one another through the JIT's
 // linker, which resolves their symbols as it resolves the C library's.
-#include <memory>
 #include <string>
 #include <vector>
 
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
-#include <llvm/IR/LLVMContext.h>
 #include <llvm/IR/Module.h>
 
 namespace sh::cpu {
@@ -22,8 +20,9 @@ struct Objects {
 };
 
 // A module of more LLVM instructions than `split_above` is cut into as many
-// parts as `threads` (at most); others stay whole.  Throws sh::Error
-// naming `program` where LLVM fails.
+// parts as `threads`, at most 4; others stay whole.  The module is spent:
+// its loops outlined, other parts' bodies deleted, code generation's own
+// changes made.  Throws sh::Error naming `program` where LLVM fails.
 Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
                         unsigned threads, const std::string& program);
 

@@ -223,8 +223,8 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
     start_jit(program, builder);
     clock.end("JIT setup");
     std::vector<std::unique_ptr<llvm::MemoryBuffer>> objects = cache_->objects();
-    if (objects.empty()) throw Error("program '" + program.name + "': cpu backend: the cached object went missing");
-    for (auto& object : objects) check(jit_->addObjectFile(std::move(object)), program, "adding the cached object");
+    if (objects.empty()) throw Error("program '" + program.name + "': cpu backend: the cached objects could not be read");
+    for (auto& object : objects) check(jit_->addObjectFile(std::move(object)), program, "adding a cached object");
     link(program);
     clock.end("object from the cache, linked");
     return;

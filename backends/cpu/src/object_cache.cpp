@@ -1,5 +1,7 @@
 #include "object_cache.hpp"
 
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 
 #include "sh/detail/disk_cache.hpp"
@@ -12,39 +14,44 @@ std::optional<ObjectCache> ObjectCache::open(const std::string& key) {
   return ObjectCache(*path);
 }
 
-// The first part's file is the entry's: its other parts are written before
-// it, so an entry whose first part is there is whole.
-std::string ObjectCache::object_path(std::size_t part) const {
-  return part == 0 ? path_ + ".o" : path_ + "." + std::to_string(part) + ".o";
-}
-
+// One file of parts, each its size (8 bytes, this host's order) and its
+// bytes: the parts of one compile are written together, so a reader never
+// meets the parts of two compiles of different part counts.
 void ObjectCache::store(const std::vector<std::string>& objects) const {
-  std::error_code ignored;
-  for (std::size_t part = objects.size(); std::filesystem::remove(object_path(part), ignored); ++part) {
+  std::string file;
+  for (const std::string& object : objects) {
+    std::uint64_t size = object.size();
+    file.append(reinterpret_cast<const char*>(&size), sizeof size);
+    file += object;
   }
-  for (std::size_t part = objects.size(); part-- > 0;) detail::write_cache_file(object_path(part), objects[part]);
+  detail::write_cache_file(path_ + ".o", file);
 }
 
 std::vector<std::unique_ptr<llvm::MemoryBuffer>> ObjectCache::objects() {
   std::vector<std::unique_ptr<llvm::MemoryBuffer>> out;
-  for (std::size_t part = 0;; ++part) {
-    auto buffer = llvm::MemoryBuffer::getFile(object_path(part));
-    if (!buffer) break;
-    out.push_back(std::move(*buffer));
+  std::optional<std::string> file = detail::read_cache_file(path_ + ".o");
+  if (!file) return out;
+  hit_ = true;  // a file that does not read is forgotten by the caller
+  for (std::size_t at = 0; at < file->size();) {
+    std::uint64_t size = 0;
+    if (file->size() - at < sizeof size) return {};
+    std::memcpy(&size, file->data() + at, sizeof size);
+    at += sizeof size;
+    if (size > file->size() - at) return {};
+    out.push_back(llvm::MemoryBuffer::getMemBufferCopy(llvm::StringRef(file->data() + at, size), path_));
+    at += size;
   }
-  hit_ = !out.empty();
   return out;
 }
 
 bool ObjectCache::has_object() const {
   std::error_code ignored;
-  return std::filesystem::exists(object_path(0), ignored);
+  return std::filesystem::exists(path_ + ".o", ignored);
 }
 
 void ObjectCache::forget() const {
   std::error_code ignored;
-  for (std::size_t part = 0; std::filesystem::remove(object_path(part), ignored); ++part) {
-  }
+  std::filesystem::remove(path_ + ".o", ignored);
   std::filesystem::remove(path_ + ".bc", ignored);
 }
 

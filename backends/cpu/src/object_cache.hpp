@@ -4,8 +4,9 @@
 // the options, the host CPU, the LLVM version and the backend's build
 // (jit.cpp); where and how files are written: sh/detail/disk_cache.hpp.  A
 // cache that cannot be written is skipped, never an error.  An entry holds
-// a kernel's object files (one per part compiled, codegen.hpp) and the
-// optimised module's bitcode for its listing.
+// a kernel's object files (one per part compiled, codegen.hpp) in one file,
+// written whole or not at all, and beside it the optimised module's
+// bitcode for its listing.
 #include <llvm/Support/MemoryBuffer.h>
 
 #include <memory>
@@ -21,7 +22,8 @@ class ObjectCache {
   static std::optional<ObjectCache> open(const std::string& key);
 
   void store(const std::vector<std::string>& objects) const;
-  // The stored objects (none where nothing is stored); a hit from then on.
+  // The stored objects (none where nothing readable is stored); a hit
+  // wherever an entry was there, readable or not.
   std::vector<std::unique_ptr<llvm::MemoryBuffer>> objects();
 
   bool hit() const { return hit_; }
@@ -34,7 +36,6 @@ class ObjectCache {
 
  private:
   explicit ObjectCache(std::string path) : path_(std::move(path)) {}
-  std::string object_path(std::size_t part) const;
   std::string path_;  // without extension
   bool hit_ = false;
 };

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdlib>
 #include <map>
 #include <mutex>
 #include <optional>
 
 #include "../interp/interp.hpp"
+#include "sh/detail/cpu_time.hpp"
 #include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
@@ -47,12 +47,6 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-double thread_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
-}
-
 std::string resolve(const BackendChoice& choice) { return choice.name.empty() ? default_backend_name() : choice.name; }
 
 // The program as backends get it: optimised (where the options ask) and
@@ -87,14 +81,14 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     if (it != r.kernels.end()) return it->second;
   }
   auto t0 = std::chrono::steady_clock::now();
-  double cpu0 = thread_cpu_ms();
+  double cpu0 = detail::thread_cpu_ms();
   ir::Program ir = legal_program(program, options);
   stats.compile_phases = {{"passes", ms_since(t0)}};
   std::shared_ptr<Kernel> kernel = b.compile(ir, options);
   for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
   stats.compiled = true;
   stats.compile_ms = ms_since(t0);
-  stats.compile_cpu_ms = thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
+  stats.compile_cpu_ms = detail::thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
   std::lock_guard<std::mutex> lock(r.mutex);
   return r.kernels.emplace(key, std::move(kernel)).first->second;
 }
