@@ -166,8 +166,11 @@ Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineB
     for (llvm::Function& f : module)
       if (!f.isDeclaration() && f.getInstructionCount() > module.getInstructionCount() / parts)
         outline(f, loops_to_outline(f, parts));
-    part = assign_parts(module, parts);
+    // A kernel without loops to outline stays whole: no part may be empty.
+    auto functions = std::count_if(module.begin(), module.end(), [](const llvm::Function& f) { return !f.isDeclaration(); });
+    parts = std::min(parts, static_cast<unsigned>(functions));
   }
+  if (parts > 1) part = assign_parts(module, parts);
   Objects out;
   llvm::raw_string_ostream os(out.module);
   llvm::WriteBitcodeToFile(module, os);
