@@ -196,8 +196,8 @@ int ir_command(const std::string& path, bool optimized) {
 
 // Where a first render's compile went, phase by phase over its kernels.
 void print_phases(const RenderReport& r) {
-  std::printf("  compile phases:");
-  const char* separator = " ";
+  std::printf("  compile phases: record %.1f (once per renderer)", r.record_ms);
+  const char* separator = ", ";
   for (const CompilePhase& phase : r.compile_phases) {
     std::printf("%s%s %.1f", separator, phase.name.c_str(), phase.ms);
     separator = ", ";
@@ -379,8 +379,8 @@ int main(int argc, char** argv) {
   render->add_option("--frames", frames, "render this many frames and report the best warm one")->check(CLI::Range(1, 1000));
   bool render_phases = false;
   render->add_flag("--phases", render_phases,
-                   "where the compile went: passes, lowering, cache key, LLVM optimisation, JIT setup, machine code "
-                   "and linking (summed over the render's kernels), and its CPU time");
+                   "where the compile went: recording, passes, lowering, cache key, LLVM optimisation, JIT setup, "
+                   "machine code, storing and linking (summed over the render's kernels), and its CPU time");
 
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
@@ -388,7 +388,7 @@ int main(int argc, char** argv) {
   bool bench_phases = false;
   bench->add_flag("--phases", bench_phases,
                   "under each backend, where its compile went: passes, lowering, cache key, LLVM optimisation, JIT "
-                  "setup, machine code and linking (summed over the render's kernels)");
+                  "setup, machine code, storing and linking (summed over the render's kernels), after recording the kernels");
 
   shtrace::CompareRequest compare_request;
   std::vector<std::string> compare_backend_names;

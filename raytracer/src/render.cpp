@@ -81,12 +81,14 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
                 "grid or octree");
   wavefront_ = settings_.wavefront && (features_.reflections || features_.refractions);
   if (wavefront_ && lanes_ == 0) lanes_ = lanes_of(backend(settings_.backend, settings_.options));
+  auto recording = std::chrono::steady_clock::now();
   if (refiner_ || wavefront_) {
     program_ = tracer_program(*tables_, features_, wavefront_);
     path_start_ = path_start_program() << raygen_program(*tables_);
   } else {
     program_ = tracer_program(*tables_, features_) << raygen_program(*tables_);
   }
+  record_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - recording).count();
 }
 
 Image Renderer::render(RenderReport* report) {
@@ -104,6 +106,7 @@ Image Renderer::render(RenderReport* report) {
   constexpr int kTile = 4;
   int band = std::max(kTile, std::min(image.height, static_cast<int>((1 << 18) / image.width)) / kTile * kTile);
   RenderReport r;
+  r.record_ms = record_ms_;
   if (light_pass_ && !light_) {
     std::string on = choice.name.empty() ? default_backend_name() : choice.name;
     if (show) std::fprintf(stderr, "light pass on %s: %zu rays\n", on.c_str(), light_pass_->rays());

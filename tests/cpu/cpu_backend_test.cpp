@@ -449,7 +449,7 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
     return out;
   };
   EXPECT_EQ(names(*first), (std::vector<std::string>{"cache key", "lowering", "LLVM optimisation", "JIT setup",
-                                                     "machine code, linked"}));
+                                                     "machine code", "stored, linked"}));
   EXPECT_EQ(names(*second), (std::vector<std::string>{"cache key", "JIT setup", "object from the cache, linked"}))
       << "a hit neither lowers nor runs LLVM";
   EXPECT_NE(second->listing().find("define void @sh_kernel"), std::string::npos) << "the stored listing comes back";

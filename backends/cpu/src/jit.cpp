@@ -258,6 +258,7 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   Objects objects = compile_objects(m, builder, kSplitKernel, static_cast<unsigned>(threads), program.name);
   cpu_ms_elsewhere_ = objects.cpu_ms_elsewhere;
   compiled_module_ = std::move(objects.module);
+  clock.end("machine code");
   if (cache_) {
     cache_->store_module(compiled_module_);
     cache_->store(objects.parts);
@@ -265,7 +266,7 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   for (const std::string& part : objects.parts)
     check(jit_->addObjectFile(llvm::MemoryBuffer::getMemBufferCopy(part, program.name)), program, "adding the object");
   link(program);
-  clock.end("machine code, linked");
+  clock.end("stored, linked");
 }
 
 // An LLJIT for the host that links the kernel's objects and resolves the C

@@ -67,6 +67,7 @@ struct LaneUse {
 
 struct RenderReport {
   std::string backend;
+  double record_ms = 0;   // recording the kernels (C++ to IR), once, when the renderer was made
   double compile_ms = 0;  // zero when the kernel came from the cache
   double compile_cpu_ms = 0;
   std::vector<CompilePhase> compile_phases;  // where compile_ms went
@@ -150,6 +151,7 @@ class Renderer {
     std::shared_ptr<detail::Buffer> request;
   };
   std::unique_ptr<CarriedPaths> carried_;
+  double record_ms_ = 0;
   std::unique_ptr<LightPass> light_pass_;
   std::optional<ElementLight> light_;
 };
