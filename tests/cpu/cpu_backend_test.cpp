@@ -7,6 +7,7 @@
 
 #include <sh/cpu.hpp>
 #include <sh/sh.hpp>
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -510,7 +511,7 @@ std::vector<float> run_large(sh::Kernel& k, const sh::Table1D<sh::Attrib1f>& tab
   return out;
 }
 
-TEST(CpuObjectCache, LargeKernelCompiledInPartsOnTwoThreadsRunsAsOneWholeAndComesBackFromTheCache) {
+TEST(CpuObjectCache, LargeKernelCompiledInPartsOnThreadsRunsAsOneWholeAndComesBackFromTheCache) {
   namespace fs = std::filesystem;
   fs::path dir = fs::path(testing::TempDir()) / "sh_object_parts_test";
   fs::remove_all(dir);
@@ -522,7 +523,9 @@ TEST(CpuObjectCache, LargeKernelCompiledInPartsOnTwoThreadsRunsAsOneWholeAndCome
   sh::Backend& cpu = sh::find_backend("cpu");
   std::vector<float> xs;
   for (int i = 0; i < 100; ++i) xs.push_back(static_cast<float>(i % 13) * 0.25f);
-  for (const char* width : {"scalar", "8", "16"}) {
+  // As many threads as the case names, on any machine.
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 4);
+  for (auto [width, threads] : {std::pair{"scalar", 2}, std::pair{"8", 4}, std::pair{"16", 2}}) {
     sh::Options whole, parts;
     whole.set("width", width);
     whole.threads = 1;
@@ -532,8 +535,9 @@ TEST(CpuObjectCache, LargeKernelCompiledInPartsOnTwoThreadsRunsAsOneWholeAndCome
     EXPECT_EQ(one->listing().find("sh_kernel.part"), std::string::npos) << width << ": one thread, one part";
     std::vector<float> want = run_large(*one, table, xs);
     setenv("SH_CACHE_DIR", dir.c_str(), 1);
-    auto split = tbb::task_arena(2).execute([&] { return cpu.compile(ir, parts); });
-    EXPECT_NE(split->listing().find("@sh_kernel.part("), std::string::npos) << width << ": loops outlined";
+    auto split = tbb::task_arena(threads).execute([&] { return cpu.compile(ir, parts); });
+    EXPECT_GE(count(split->listing(), "\ndefine "), static_cast<std::size_t>(threads))
+        << width << ": loops outlined, a function or more per part";
     EXPECT_EQ(run_large(*split, table, xs), want) << width;
     auto loaded = cpu.compile(ir, parts);
     EXPECT_NE(loaded->listing().find("loaded from the object cache"), std::string::npos) << width;
