@@ -423,6 +423,10 @@ int main(int argc, char** argv) {
   rays->add_option("--backend", backend_name, "backend to trace on (default: SH_BACKEND, else cpu)");
   rays->add_option("--repeats", ray_repeats, "warm runs of each kernel, timed together")->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  bool ray_lanes = false;
+  rays->add_flag("--lanes", ray_lanes,
+                 "also how busy the lanes are in the BVH's walk for each kind: the share of the box steps and of the "
+                 "leaf tests that a lane's own ray wanted");
 
   CLI::App* ir_cmd = app.add_subcommand("ir", "print a program written by render --dump-ir-bytes, and its hash");
   ir_cmd->add_option("file", ir_file, "the file")->required();
@@ -453,7 +457,8 @@ int main(int argc, char** argv) {
       compare_request.backends = compare_backend_names;
       return shtrace::compare_backends(compare_request);
     }
-    if (rays->parsed()) return shtrace::compare_ray_kinds({scene_for(common), settings_for(common, backend_name), ray_repeats});
+    if (rays->parsed())
+      return shtrace::compare_ray_kinds({scene_for(common), settings_for(common, backend_name), ray_repeats, ray_lanes});
     if (accel->parsed()) return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
     if (trade->parsed()) {
       std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);

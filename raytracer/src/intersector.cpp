@@ -141,6 +141,12 @@ Intersector::Intersector(const SceneTables& s) : s_(s) {
 
 bool Intersector::may_stop() const { return s_.octree && s_.octree->lazy; }
 
+void Intersector::count_lanes() {
+  if (!s_.bvh) throw Error("lane counts are of the BVH's walk, which rays side by side take together");
+  counting_ = true;
+  lanes_ = ConstAttrib4i(0, 0, 0, 0);
+}
+
 Attrib1f Intersector::operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t,
                                  Attrib1i& triangle, Attrib2f& uv) {
   WalkState w = WalkState::fresh();
@@ -169,7 +175,7 @@ void Intersector::walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_li
   if (s_.grid) {
     walk::grid(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv, any_hit);
   } else if (s_.bvh) {
-    walk::bvh(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv, any_hit);
+    walk::bvh(s_, walk::Ray(o, d), t_limit, w.best, w.triangle, w.uv, any_hit, counting_ ? &lanes_ : nullptr);
   } else if (may_stop()) {
     SH_IF(!stopped()) { walk::octree(s_, walk::Ray(o, d), t_limit, w, &request_, false); } SH_ENDIF;
   } else {
@@ -209,6 +215,26 @@ Program intersector_program(const SceneTables& s) {
     Attrib1f hit = intersect(o, d, ConstAttrib1f(kFar), hit_t, hit_triangle, uv);
     t = cond(hit, hit_t, ConstAttrib1f(-1.0f));
     triangle = hit_triangle;
+  } SH_END;
+}
+
+Program walk_lanes_program(const SceneTables& s, bool any_hit) {
+  return SH_BEGIN_PROGRAM(any_hit ? "walk_lanes_any" : "walk_lanes") {
+    InputPoint3f o;
+    InputVector3f d;
+    InputAttrib1f limit;
+    OutputAttrib4i lanes;
+    Intersector intersect(s);
+    intersect.count_lanes();
+    if (any_hit) {
+      intersect.occluded(o, d, limit);
+    } else {
+      Attrib1f t;
+      Attrib1i triangle;
+      Attrib2f uv;
+      intersect(o, d, limit, t, triangle, uv);
+    }
+    lanes = intersect.lanes();
   } SH_END;
 }
 

@@ -242,6 +242,23 @@ std::vector<float> Renderer::occluded(const std::vector<float>& origins, const s
   return blocked.values();
 }
 
+WalkLanes Renderer::walk_lanes(const std::vector<float>& origins, const std::vector<float>& directions,
+                               const std::vector<float>& limits, bool any_hit, const BackendChoice& choice) {
+  Channel<Point3f> o(origins);
+  Channel<Vector3f> d(directions);
+  Channel<Attrib1f> limit(limits);
+  Channel<Attrib4i> lanes;
+  run(walk_lanes_program(*tables_, any_hit), {o, d, limit}, {lanes}, choice);
+  WalkLanes sum;
+  for (std::size_t k = 0; k < limit.size(); ++k) {
+    sum.steps += lanes[4 * k];
+    sum.met += lanes[4 * k + 1];
+    sum.leaves += lanes[4 * k + 2];
+    sum.own_leaves += lanes[4 * k + 3];
+  }
+  return sum;
+}
+
 std::string Renderer::describe_accelerator() const {
   char line[256];
   if (grid_) {

@@ -52,7 +52,8 @@ void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f&
 // octree only).
 void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib4i* request,
             bool any_hit);
+// With `lanes`, counts into it as Intersector::lanes() says.
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv,
-         bool any_hit);
+         bool any_hit, Attrib4i* lanes = nullptr);
 
 }  // namespace sh::rt::walk

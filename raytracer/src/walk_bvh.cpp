@@ -35,7 +35,7 @@ Attrib1f walk_order(const Ray& r) {
 // alone (scalar code, the interpreter, OpenCL) this is the single ray's
 // walk.
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
-         bool any_hit) {
+         bool any_hit, Attrib4i* lanes) {
   const BvhTables& b = *s.bvh;
   Attrib1i base = walk_order(r).cast<std::int32_t>() * b.nodes;
   Attrib1i node = 0;
@@ -48,16 +48,24 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
   SH_WHILE(walking()) {
     // Boxes up to the next leaf to test, then its triangles: the box walk
     // stays a short loop of its own.
-    Attrib1i leaf = -1;
+    Attrib1i leaf = -1, own_leaf = 0;
     SH_WHILE(node >= 0 && leaf < 0) {
       Attrib1f t_enter, t_leave;
       clip(r, b.lo[node], b.hi[node], best * kBeyondBest, t_enter, t_leave);
       Attrib2i link = b.links[base + node];
-      Attrib1i met = any_lane(t_enter <= t_leave).cast<std::int32_t>();
+      Attrib1f own = t_enter <= t_leave;
+      Attrib1i met = any_lane(own).cast<std::int32_t>();
+      if (lanes) {
+        own_leaf = own.cast<std::int32_t>();
+        *lanes += join(join(ConstAttrib1i(1), own_leaf), ConstAttrib2i(0, 0));
+      }
       leaf = cond(met && link(0) <= -2, -link(0) - 2, leaf);
       node = cond(met && link(0) >= 0, link(0), link(1));
     } SH_ENDWHILE;
-    SH_IF(leaf >= 0) { test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv); } SH_ENDIF;
+    SH_IF(leaf >= 0) {
+      if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), own_leaf));
+      test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv);
+    } SH_ENDIF;
   } SH_ENDWHILE;
 }
 

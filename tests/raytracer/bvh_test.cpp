@@ -237,3 +237,42 @@ TEST(Bvh, ASceneWithoutTrianglesIsAnError) {
 }
 
 }  // namespace
+
+// The walk's lane counts: a ray alone reaches only the leaves its own box
+// tests meet, and so does every ray of a backend that runs each alone, with
+// the same counts; rays side by side test leaves their neighbours met.
+TEST(BvhWalkLanes, AloneEveryLeafIsTheRaysOwnSideBySideNot) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("spheres");
+  sh::rt::RenderSettings settings;
+  settings.accel = sh::rt::Accel::Bvh;
+  sh::rt::Renderer r(scene, settings);
+  std::vector<float> origins, directions, limits;
+  for (int i = 0; i < 400; ++i) {
+    float a = 0.011f * static_cast<float>(i), b = 0.007f * static_cast<float>(i % 37);
+    origins.insert(origins.end(), {0.0f, 1.0f, 8.0f});
+    Vec3 d = sh::rt::normalize(Vec3{std::sin(a) * 0.4f, b * 0.3f - 0.3f, -1.0f});
+    directions.insert(directions.end(), {d.x, d.y, d.z});
+    limits.push_back(sh::rt::kFar);
+  }
+  sh::Options scalar;
+  scalar.set("cpu.width", "scalar");
+  for (bool any_hit : {false, true}) {
+    sh::rt::WalkLanes alone = r.walk_lanes(origins, directions, limits, any_hit, sh::backend("interp"));
+    ASSERT_GT(alone.leaves, 0) << any_hit;
+    EXPECT_EQ(alone.own_leaves, alone.leaves) << any_hit;
+    EXPECT_LT(alone.met, alone.steps) << any_hit << ": boxes missed are steps too";
+    sh::rt::WalkLanes cpu_alone = r.walk_lanes(origins, directions, limits, any_hit, sh::backend("cpu", scalar));
+    EXPECT_EQ(cpu_alone.steps, alone.steps) << any_hit;
+    EXPECT_EQ(cpu_alone.met, alone.met) << any_hit;
+    EXPECT_EQ(cpu_alone.leaves, alone.leaves) << any_hit;
+    sh::Options lanes;
+    lanes.set("cpu.width", "16");
+    sh::rt::WalkLanes together = r.walk_lanes(origins, directions, limits, any_hit, sh::backend("cpu", lanes));
+    EXPECT_LT(together.own_leaves, together.leaves) << any_hit;
+    EXPECT_LE(together.met, together.steps) << any_hit;
+    EXPECT_GT(together.leaves, alone.leaves) << any_hit << ": neighbours' leaves are tested too";
+  }
+  settings.accel = sh::rt::Accel::Grid;
+  sh::rt::Renderer grid(scene, settings);
+  EXPECT_THROW(grid.walk_lanes(origins, directions, limits, false, sh::backend("interp")), sh::Error);
+}

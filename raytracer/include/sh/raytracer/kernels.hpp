@@ -141,6 +141,12 @@ struct WalkState {
 class Intersector {
  public:
   explicit Intersector(const SceneTables& s);
+  // From here on its BVH walks count their lanes into lanes(): box steps
+  // the ray was walking at, those where its own box test met the box,
+  // leaves tested for it, and those it met itself.  Rays side by side walk
+  // together, so the shares say how many of the lanes at work wanted it.
+  void count_lanes();
+  const Attrib4i& lanes() const { return lanes_; }
   // o + t d for t in (0, t_limit): 1 where something is hit, with the
   // nearest t, its triangle and barycentrics.
   Attrib1f operator()(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, Attrib1f& t, Attrib1i& triangle,
@@ -160,6 +166,8 @@ class Intersector {
   void walk(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit, WalkState& state, bool any_hit = false);
   const SceneTables& s_;
   Attrib4i request_;
+  bool counting_ = false;
+  Attrib4i lanes_;
 };
 
 // Where a ray going along d goes on at a surface of normal n (facing the
@@ -173,6 +181,10 @@ Program raygen_program(const SceneTables& s);  // pixel centre -> origin, direct
 // triangle, request, resume, resume triangle (Renderer::intersect runs it
 // in waves).
 Program intersector_program(const SceneTables& s);
+// origin, direction, limit -> lane counts (Intersector::lanes) of the BVH's
+// walk for the nearest hit, or (any_hit) for any hit: what `shtrace rays
+// --lanes` reports.  Only over a BVH.
+Program walk_lanes_program(const SceneTables& s, bool any_hit);
 // origin, direction, limit -> 1 where anything is hit for t in (0, limit),
 // else 0: the shadow-ray query, walked for any hit, or (any_hit false) for
 // the nearest, to measure what stopping early buys.  Not over a lazy

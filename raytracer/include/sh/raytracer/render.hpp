@@ -85,6 +85,16 @@ struct RenderReport {
   std::shared_ptr<RunDetails> details;  // the backend's own figures over the render's runs (mpi: per rank, per split table)
 };
 
+// How busy the lanes were in the BVH's walk, rays side by side walking
+// together: of the box steps rays were walking at, those where their own
+// box test met the box; of the leaves tested for rays, those they met
+// themselves (Intersector::lanes).
+struct WalkLanes {
+  std::int64_t steps = 0, met = 0, leaves = 0, own_leaves = 0;
+  double box_share() const { return steps ? static_cast<double>(met) / steps : 1.0; }
+  double leaf_share() const { return leaves ? static_cast<double>(own_leaves) / leaves : 1.0; }
+};
+
 struct Hits {
   std::vector<float> t;                 // -1 where nothing is hit
   std::vector<std::int32_t> triangle;   // -1 where nothing is hit
@@ -104,6 +114,11 @@ class Renderer {
   std::vector<float> occluded(const std::vector<float>& origins, const std::vector<float>& directions,
                               const std::vector<float>& limits, const BackendChoice& choice, bool any_hit = true,
                               RunStats* stats = nullptr);
+
+  // The BVH walk's lane counts on rays with limits, summed over the rays
+  // (walk_lanes_program, kernels.hpp).  Only over a BVH.
+  WalkLanes walk_lanes(const std::vector<float>& origins, const std::vector<float>& directions,
+                       const std::vector<float>& limits, bool any_hit, const BackendChoice& choice);
 
   const Scene& scene() const { return scene_; }
   const RenderSettings& settings() const { return settings_; }
