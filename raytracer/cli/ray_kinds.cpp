@@ -111,26 +111,25 @@ void print_builds(const sh::rt::Renderer& r, const sh::rt::EmbreeScene& embree) 
               embree.build_ms(), static_cast<double>(embree.bytes()) / n);
 }
 
-}  // namespace
-
-// A kind's rays without limits (camera, reflection) walk to the scene's end.
-void print_lanes(sh::rt::Renderer& r, const sh::BackendChoice& choice, const char* kind, const RayBatch& b, bool any_hit) {
-  std::vector<float> limits = b.t_far.empty() ? std::vector<float>(b.size(), sh::rt::kFar) : b.t_far;
+// One kind's lanes in the BVH's walk, the rays walked to `limits`.
+void print_lanes(sh::rt::Renderer& r, const sh::BackendChoice& choice, const char* kind, const RayBatch& b,
+                 const std::vector<float>& limits, bool any_hit) {
   sh::rt::WalkLanes l = r.walk_lanes(b.origins, b.directions, limits, any_hit, choice);
   std::printf("%-22s box steps %10lld, %5.1f %% the lane's own; leaf tests %9lld, %5.1f %% the lane's own\n", kind,
               static_cast<long long>(l.steps), 100 * l.box_share(), static_cast<long long>(l.leaves), 100 * l.leaf_share());
 }
+
+}  // namespace
 
 int compare_ray_kinds(const RayKindsRequest& request) {
   // A lazy octree's walks run in waves, which the occlusion kernel does not.
   if (request.settings.accel == sh::rt::Accel::LazyOctree)
     throw sh::Error("rays: a lazy octree's shadow rays run only inside the tracer's waves; use --accel grid, octree, "
                     "bvh or auto");
-  if (request.lanes && request.settings.accel != sh::rt::Accel::Bvh && request.settings.accel != sh::rt::Accel::Auto)
-    throw sh::Error("rays --lanes: lanes are counted in the BVH's walk, which rays side by side take together; use --accel bvh");
   sh::rt::Renderer r(request.scene, request.settings);
   if (request.lanes && r.accel() != sh::rt::Accel::Bvh)
-    throw sh::Error("rays --lanes: lanes are counted in the BVH's walk, and auto built another accelerator here; use --accel bvh");
+    throw sh::Error(std::string("rays --lanes: lanes are counted in the BVH's walk, and the accelerator is the ") +
+                    sh::rt::accel_name(r.accel()) + "; use --accel bvh");
   sh::BackendChoice choice = sh::backend(request.settings.backend, request.settings.options);
   Kinds k = make_rays(r, choice);
   const sh::rt::Scene& s = r.scene();
@@ -174,11 +173,12 @@ int compare_ray_kinds(const RayKindsRequest& request) {
               "rtcIntersect1 on the same rays)\n",
               any.mrays_per_s / walked.mrays_per_s, occluded_1.mrays_per_s / intersected_1.mrays_per_s);
   if (request.lanes) {
+    // Camera and reflection rays walk to kFar, as their rows above do.
     std::printf("lanes in the BVH's walk (%d side by side):\n", sh::lanes_of(choice));
-    print_lanes(r, choice, "camera", k.primary, false);
-    print_lanes(r, choice, "shadow, any hit", k.shadow, true);
-    print_lanes(r, choice, "shadow, nearest hit", k.shadow, false);
-    print_lanes(r, choice, "reflection", k.reflection, false);
+    print_lanes(r, choice, "camera", k.primary, std::vector<float>(k.primary.size(), sh::rt::kFar), false);
+    print_lanes(r, choice, "shadow, any hit", k.shadow, k.shadow.t_far, true);
+    print_lanes(r, choice, "shadow, nearest hit", k.shadow, k.shadow.t_far, false);
+    print_lanes(r, choice, "reflection", k.reflection, std::vector<float>(k.reflection.size(), sh::rt::kFar), false);
   }
   return 0;
 }

@@ -197,11 +197,7 @@ int ir_command(const std::string& path, bool optimized) {
 // Where a first render's compile went, phase by phase over its kernels.
 void print_phases(const RenderReport& r) {
   std::printf("  compile phases: record %.1f (once per renderer)", r.record_ms);
-  const char* separator = ", ";
-  for (const CompilePhase& phase : r.compile_phases) {
-    std::printf("%s%s %.1f", separator, phase.name.c_str(), phase.ms);
-    separator = ", ";
-  }
+  for (const CompilePhase& phase : r.compile_phases) std::printf(", %s %.1f", phase.name.c_str(), phase.ms);
   std::printf(" ms; CPU time %.1f ms\n", r.compile_cpu_ms);
 }
 

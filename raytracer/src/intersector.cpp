@@ -142,7 +142,9 @@ Intersector::Intersector(const SceneTables& s) : s_(s) {
 bool Intersector::may_stop() const { return s_.octree && s_.octree->lazy; }
 
 void Intersector::count_lanes() {
-  if (!s_.bvh) throw Error("lane counts are of the BVH's walk, which rays side by side take together");
+  if (!s_.bvh)
+    throw Error(std::string("lane counts: the scene's accelerator is ") + (s_.grid ? "a grid" : "an octree") +
+                "; lanes are counted in the BVH's walk, which rays side by side take together");
   counting_ = true;
   lanes_ = ConstAttrib4i(0, 0, 0, 0);
 }
@@ -218,6 +220,20 @@ Program intersector_program(const SceneTables& s) {
   } SH_END;
 }
 
+namespace {
+
+// 1 where anything is in the way before limit: walked for any hit, or for
+// the nearest.
+Attrib1f blocked_along(Intersector& intersect, const Point3f& o, const Vector3f& d, const Attrib1f& limit, bool any_hit) {
+  if (any_hit) return intersect.occluded(o, d, limit);
+  Attrib1f t;
+  Attrib1i triangle;
+  Attrib2f uv;
+  return intersect(o, d, limit, t, triangle, uv);
+}
+
+}  // namespace
+
 Program walk_lanes_program(const SceneTables& s, bool any_hit) {
   return SH_BEGIN_PROGRAM(any_hit ? "walk_lanes_any" : "walk_lanes") {
     InputPoint3f o;
@@ -226,14 +242,7 @@ Program walk_lanes_program(const SceneTables& s, bool any_hit) {
     OutputAttrib4i lanes;
     Intersector intersect(s);
     intersect.count_lanes();
-    if (any_hit) {
-      intersect.occluded(o, d, limit);
-    } else {
-      Attrib1f t;
-      Attrib1i triangle;
-      Attrib2f uv;
-      intersect(o, d, limit, t, triangle, uv);
-    }
+    blocked_along(intersect, o, d, limit, any_hit);
     lanes = intersect.lanes();
   } SH_END;
 }
@@ -246,14 +255,7 @@ Program occlusion_program(const SceneTables& s, bool any_hit) {
     InputAttrib1f limit;
     OutputAttrib1f blocked;
     Intersector intersect(s);
-    if (any_hit) {
-      blocked = intersect.occluded(o, d, limit);
-    } else {
-      Attrib1f t;
-      Attrib1i triangle;
-      Attrib2f uv;
-      blocked = intersect(o, d, limit, t, triangle, uv);
-    }
+    blocked = blocked_along(intersect, o, d, limit, any_hit);
   } SH_END;
 }
 

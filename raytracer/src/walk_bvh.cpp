@@ -4,6 +4,8 @@
 // one threaded for the ray's largest direction component and its sign, so
 // nearer children tend to come first and boxes beyond the nearest hit so
 // far are skipped.
+#include <optional>
+
 #include "walk.hpp"
 
 namespace sh::rt::walk {
@@ -48,7 +50,9 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
   SH_WHILE(walking()) {
     // Boxes up to the next leaf to test, then its triangles: the box walk
     // stays a short loop of its own.
-    Attrib1i leaf = -1, own_leaf = 0;
+    Attrib1i leaf = -1;
+    std::optional<Attrib1i> own_leaf;  // counting: whether the leaf's box met this lane's ray
+    if (lanes) own_leaf = Attrib1i(0);
     SH_WHILE(node >= 0 && leaf < 0) {
       Attrib1f t_enter, t_leave;
       clip(r, b.lo[node], b.hi[node], best * kBeyondBest, t_enter, t_leave);
@@ -56,14 +60,14 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
       Attrib1f own = t_enter <= t_leave;
       Attrib1i met = any_lane(own).cast<std::int32_t>();
       if (lanes) {
-        own_leaf = own.cast<std::int32_t>();
-        *lanes += join(join(ConstAttrib1i(1), own_leaf), ConstAttrib2i(0, 0));
+        *own_leaf = own.cast<std::int32_t>();
+        *lanes += join(join(ConstAttrib1i(1), *own_leaf), ConstAttrib2i(0, 0));
       }
       leaf = cond(met && link(0) <= -2, -link(0) - 2, leaf);
       node = cond(met && link(0) >= 0, link(0), link(1));
     } SH_ENDWHILE;
     SH_IF(leaf >= 0) {
-      if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), own_leaf));
+      if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), *own_leaf));
       test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv);
     } SH_ENDIF;
   } SH_ENDWHILE;

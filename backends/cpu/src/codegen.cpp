@@ -166,7 +166,7 @@ Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineB
     for (llvm::Function& f : module)
       if (!f.isDeclaration() && f.getInstructionCount() > module.getInstructionCount() / parts)
         outline(f, loops_to_outline(f, parts));
-    // A kernel without loops to outline stays whole: no part may be empty.
+    // No more parts than functions, so that none is empty.
     auto functions = std::count_if(module.begin(), module.end(), [](const llvm::Function& f) { return !f.isDeclaration(); });
     parts = std::min(parts, static_cast<unsigned>(functions));
   }

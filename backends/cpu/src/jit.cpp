@@ -262,11 +262,12 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   if (cache_) {
     cache_->store_module(compiled_module_);
     cache_->store(objects.parts);
+    clock.end("stored");
   }
   for (const std::string& part : objects.parts)
     check(jit_->addObjectFile(llvm::MemoryBuffer::getMemBufferCopy(part, program.name)), program, "adding the object");
   link(program);
-  clock.end("stored, linked");
+  clock.end("linked");
 }
 
 // An LLJIT for the host that links the kernel's objects and resolves the C
