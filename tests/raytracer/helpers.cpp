@@ -111,4 +111,11 @@ Agreement compare_with_embree(const sh::rt::Scene& scene, const Rays& rays, cons
   return a;
 }
 
+std::vector<std::string> in_process_backends() {
+  std::vector<std::string> out;
+  for (const std::string& b : sh::backend_names())
+    if (b != "mpi") out.push_back(b);
+  return out;
+}
+
 }  // namespace rt_test

@@ -40,6 +40,10 @@ struct Rays {
 
 using sh::rt::Hits;
 
+// The backends that render in this test's process: all but mpi, whose
+// ranks run under mpirun (its own tests).
+std::vector<std::string> in_process_backends();
+
 // Random rays from around the scene's bounds towards random points inside.
 Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);
 

@@ -9,6 +9,8 @@
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
 
+#include "helpers.hpp"
+
 namespace {
 
 sh::rt::Image render(const sh::rt::Scene& s, const std::string& backend, int w, int h, bool specialise = true,
@@ -39,14 +41,7 @@ TEST_P(EveryBackend, AgreesWithInterpOnEveryBuiltinScene) {
   }
 }
 
-std::vector<std::string> image_backends() {
-  std::vector<std::string> out;
-  for (const std::string& b : sh::backend_names())
-    if (b != "mpi") out.push_back(b);
-  return out;
-}
-
-INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend, testing::ValuesIn(image_backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend, testing::ValuesIn(rt_test::in_process_backends()),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 std::size_t statements(const sh::Program& p) {

@@ -7,6 +7,8 @@
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
 
+#include "helpers.hpp"
+
 namespace {
 
 sh::rt::RenderSettings settings(const std::string& backend, sh::rt::Accel accel, bool wavefront) {
@@ -45,14 +47,7 @@ TEST_P(Wavefront, GivesTheWholeTracersImageWithLanesAtLeastAsBusy) {
   }
 }
 
-std::vector<std::string> image_backends() {
-  std::vector<std::string> out;
-  for (const std::string& b : sh::backend_names())
-    if (b != "mpi") out.push_back(b);
-  return out;
-}
-
-INSTANTIATE_TEST_SUITE_P(Backends, Wavefront, testing::ValuesIn(image_backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, Wavefront, testing::ValuesIn(rt_test::in_process_backends()),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 TEST(LaneUse, CountsBatchesAsOneKernelAndWavesOfLivePaths) {

@@ -60,7 +60,7 @@ class Available {
     exprs_.push_back(&a);
     live_.push_back(true);
     by_shape_[shape(a)].push_back(id);
-    for (ir::VarId v : vars_of(a)) by_var_[v].push_back(id);
+    for_each_var(a, [&](ir::VarId v) { by_var_[v].push_back(id); });
     if (ir::is_lane_group(a.op)) lane_groups_.push_back(id);
     log_.push_back({id, true});
   }
@@ -88,7 +88,7 @@ class Available {
       // The last expression added: the last entry of every list it joined.
       const ir::Assign& a = *exprs_[id];
       by_shape_[shape(a)].pop_back();
-      for (ir::VarId v : vars_of(a)) by_var_[v].pop_back();
+      for_each_var(a, [&](ir::VarId v) { by_var_[v].pop_back(); });
       if (ir::is_lane_group(a.op)) lane_groups_.pop_back();
       exprs_.pop_back();
       live_.pop_back();
@@ -96,10 +96,11 @@ class Available {
   }
 
  private:
-  static std::vector<ir::VarId> vars_of(const ir::Assign& a) {
-    std::vector<ir::VarId> vars{a.dest};
-    for (const ir::Operand& o : a.args) vars.push_back(o.var);
-    return vars;
+  // The variables an expression writes or reads, once for each place.
+  template <class F>
+  static void for_each_var(const ir::Assign& a, F f) {
+    f(a.dest);
+    for (const ir::Operand& o : a.args) f(o.var);
   }
   void kill(std::size_t id) {
     if (!live_[id]) return;
