@@ -104,6 +104,34 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   EXPECT_EQ(gathers(other), 1u) << other;
 }
 
+// A local array that every lane writes alike is one array for all lanes:
+// a table of squares filled by a uniform loop and read at a uniform index
+// is scalar code.  One whose lanes hold their own values is a vector per
+// element: at a uniform index one vector store, at indices that differ a
+// gather of each lane's own column.  Scalar code has neither.
+TEST(CpuBackend, LocalArraysAreScalarWhereLanesAgreeAndGatherWhereTheyDoNot) {
+  Table1D<Attrib1i> at(64);
+  Program p = SH_BEGIN_PROGRAM("arrays") {
+    InputAttrib1i i;
+    OutputAttrib1i out;
+    LocalArray<Attrib1i> shared(16), own(16);
+    SH_FOR(Attrib1i k = 0, k < 16, k += 1) {
+      shared.store(k, at[k]);
+      own.store(k, i + k);
+    } SH_ENDFOR;
+    out = at[shared[at[0]]] + own[i % 16];
+  } SH_END;
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes16});
+  std::string ir = kernel_for(p, backend("cpu", o))->listing();
+  EXPECT_EQ(count(ir, "call <16 x i32> @llvm.masked.gather"), 1u) << "own[i % 16] only: " << ir;
+  EXPECT_EQ(count(ir, "call void @llvm.masked.scatter"), 0u) << ir;
+  EXPECT_GE(count(ir, "store <16 x i32>"), 1u) << "own's column at k: " << ir;
+  o.set(cpu::Options{.width = cpu::Width::Scalar});
+  std::string scalar = kernel_for(p, backend("cpu", o))->listing();
+  EXPECT_EQ(count(scalar, "@llvm.masked"), 0u) << scalar;
+}
+
 // Every edge mode keeps a stencil's vector load: inside the table the
 // coordinates need no wrapping or zeroing, so only the edge path pays.
 TEST(CpuBackend, EveryEdgeModeKeepsTheVectorLoad) {

@@ -302,7 +302,9 @@ void Lowering::allocate_registers() {
       }
       continue;
     }
-    for (int c = 0; c < var.type.width; ++c) slots_[v][c] = b_.CreateAlloca(var_type(static_cast<ir::VarId>(v)));
+    auto id = static_cast<ir::VarId>(v);
+    llvm::Type* held = var.kind == ir::VarKind::Array ? array_type(id) : var_type(id);
+    for (int c = 0; c < var.type.width; ++c) slots_[v][c] = b_.CreateAlloca(held);
   }
 }
 
@@ -321,12 +323,20 @@ Value* Lowering::hidden_zero(llvm::Type* t, bool negative) {
   return known = negative ? b_.CreateFNeg(x) : x;
 }
 
-// Every register starts an element at zero.
+// Every register and array starts an element at zero.
 void Lowering::clear_registers() {
-  for (std::size_t v = 0; v < p_.vars.size(); ++v)
-    if (!ssa_[v])
-      for (int c = 0; c < p_.vars[v].type.width; ++c)
-        b_.CreateStore(llvm::Constant::getNullValue(var_type(static_cast<ir::VarId>(v))), slots_[v][c]);
+  const llvm::DataLayout& layout = module_->getDataLayout();
+  for (std::size_t v = 0; v < p_.vars.size(); ++v) {
+    if (ssa_[v]) continue;
+    auto id = static_cast<ir::VarId>(v);
+    for (int c = 0; c < p_.vars[v].type.width; ++c) {
+      if (p_.vars[v].kind == ir::VarKind::Array)
+        b_.CreateMemSet(slots_[v][c], b_.getInt8(0), layout.getTypeAllocSize(array_type(id)).getFixedValue(),
+                        llvm::MaybeAlign(alignment(var_type(id)->getScalarType())));
+      else
+        b_.CreateStore(llvm::Constant::getNullValue(var_type(id)), slots_[v][c]);
+    }
+  }
 }
 
 // In 32 bits: one compare of one register at every width (a compare of

@@ -1,8 +1,8 @@
 #pragma once
 // The state of one IR -> LLVM IR lowering, shared by its three parts:
 // lower.cpp (the stream loop, registers, inputs and outputs), flow.cpp
-// (statements and control flow) and operations.cpp (assignments, arithmetic
-// and table reads).
+// (statements and control flow), operations.cpp (assignments, arithmetic
+// and table reads) and arrays.cpp (local arrays).
 //
 // Lanes: with width 1 every register is a scalar and control flow is
 // branches.  With width W > 1 the kernel is SPMD: a varying register is a
@@ -124,6 +124,11 @@ class Lowering {
   std::array<Value*, 4> fetch_lanes(int table, Value* flat);
   void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);
   void scatter(const ir::Scatter& sc);
+  // ---- local arrays (arrays.cpp) --------------------------------------------
+  llvm::Type* array_type(ir::VarId v) const;
+  Value* lane_columns(ir::VarId array, int component, Value* index);
+  void array_element(const ir::Assign& a, std::array<Value*, 4>& result);
+  void array_store(const ir::Assign& a);
   llvm::Align alignment(llvm::Type* scalar) const { return llvm::Align(scalar->getPrimitiveSizeInBits() / 8); }
   using ElementRead = std::function<std::array<Value*, 4>(Value*, bool)>;
   std::array<Value*, 4> same_or_gather(Value* flat, const ElementRead& element);

@@ -466,12 +466,29 @@ class Generator {
     for (std::size_t v = 0; v < p_.vars.size(); ++v) {
       const ir::Var& var = p_.vars[v];
       if (var.kind == ir::VarKind::Const || var.kind == ir::VarKind::Uniform) continue;
+      if (var.kind == ir::VarKind::Array) {
+        array_registers(static_cast<ir::VarId>(v));
+        continue;
+      }
       const char* type = truth_[v] ? mask_type(var.type.scalar) : reg_type(var.type.scalar);
       std::string decl = "  " + (scalar_register(static_cast<ir::VarId>(v)) ? std::string(type) : vec(type));
       for (int c = 0; c < var.type.width; ++c) decl += (c ? ", " : " ") + reg(static_cast<ir::VarId>(v), c) + " = 0";
       body_ << decl << ";";
       if (!var.name.empty()) body_ << "  // " << var.name;
       body_ << "\n";
+    }
+  }
+
+  // A local array: one private array per component, of vectors where its
+  // lanes may differ (lane k's value in lane k), zero at the start.
+  void array_registers(ir::VarId v) {
+    const ir::Var& var = p_.var(v);
+    std::string type = scalar_register(v) ? reg_type(var.type.scalar) : vec(reg_type(var.type.scalar));
+    std::string n = std::to_string(var.length);
+    for (int c = 0; c < var.type.width; ++c) {
+      body_ << "  " << type << " " << reg(v, c) << "[" << n << "];";
+      if (c == 0 && !var.name.empty()) body_ << "  // " << var.name;
+      body_ << "\n  for (int k = 0; k < " << n << "; ++k) " << reg(v, c) << "[k] = (" << type << ")(0);\n";
     }
   }
 
@@ -726,7 +743,10 @@ class Generator {
   void assign_in_form(const ir::Assign& a, int depth) {
     std::string results[4];
     ir::Scalar to = scalar_of(a.dest);
-    if (ir::is_table_read(a.op)) {
+    if (a.op == ir::Op::Store) return array_store(a, depth);
+    if (a.op == ir::Op::Element) {
+      array_element(a, results);
+    } else if (ir::is_table_read(a.op)) {
       table_read(a, results, depth);
     } else if (truth_[a.dest]) {
       for (int i = 0; i < a.mask.size; ++i) results[i] = truth_test(a, i);
@@ -745,8 +765,7 @@ class Generator {
     auto write = [&](ir::VarId v, int c, const std::string& value) {
       std::string r = reg(v, c);
       if (!masked() || !varying(v) || !keep_.back()[v]) return r + " = " + value + ";";
-      return r + " = select(" + r + ", " + value + ", " + (std::string(mask_type(to)) == "int" ? "exec" : convert("long", "exec")) +
-             ");";
+      return r + " = select(" + r + ", " + value + ", " + exec_for(to) + ");";
     };
     // All components are computed before any is written (v.xy = v.yx).
     if (a.mask.size == 1) {
@@ -842,6 +861,7 @@ class Generator {
         return "((" + vec(reg_type(to)) + ")(" + voted(pos(a)) + " ? " + number(to, 1) + " : " + number(to, 0) + "))";
       case Op::Extent: case Op::Load: break;   // table_read()
       case Op::Position: break;                 // assign()
+      case Op::Element: case Op::Store: break;  // array_element(), array_store()
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
@@ -993,6 +1013,62 @@ class Generator {
     for (int c = 0; c < t.element.width; ++c) line(depth + !test.empty(), read + std::to_string(c) + " = " + gather(c) + ";");
     if (!test.empty()) line(depth, "}");
   }
+
+  // ---- local arrays ------------------------------------------------------------
+
+  // An array index as C indexes with it: lane k's in the SPMD form where
+  // the lanes' indices may differ, else the one scalar.
+  std::string index_of(const ir::Operand& o, int k) const {
+    const ir::Var& v = p_.var(o.var);
+    if (v.kind == ir::VarKind::Const) return number(ir::Scalar::I32, v.value[o.component(0)]);
+    std::string r = reg(o.var, o.component(0));
+    return spmd() && varying(o.var) ? r + lane(k) : r;
+  }
+
+  // Legal IR indexes in range.  A uniform index reads one element (a
+  // vector of lanes in a varying array); indices that differ, each lane's
+  // own.
+  void array_element(const ir::Assign& a, std::string* results) {
+    ir::VarId array = a.args[0].var;
+    bool by_lane = spmd() && varying(a.args[1].var);
+    for (int c = 0; c < a.mask.size; ++c) {
+      std::string name = reg(array, c);
+      if (!by_lane) {
+        std::string one = name + "[" + index_of(a.args[1], 0) + "]";
+        results[c] = spmd() && scalar_register(array) ? "((" + vec(reg_type(scalar_of(array))) + ")" + one + ")" : one;
+        continue;
+      }
+      std::string list;
+      for (int k = 0; k < lanes_; ++k)
+        list += (k ? ", " : "") + name + "[" + index_of(a.args[1], k) + "]" + (scalar_register(array) ? "" : lane(k));
+      results[c] = "((" + vec(reg_type(scalar_of(array))) + ")(" + list + "))";
+    }
+  }
+
+  // Under a mask only the running lanes store.  A uniform array (a scalar
+  // register's form) is stored where the lanes running agree.
+  void array_store(const ir::Assign& a, int depth) {
+    ir::VarId array = a.dest;
+    bool by_lane = spmd() && varying(a.args[0].var);
+    for (int c = 0; c < a.mask.size; ++c) {
+      std::string name = reg(array, c), value = read(a.args[1], c);
+      if (!by_lane) {
+        std::string place = name + "[" + index_of(a.args[0], 0) + "]";
+        if (spmd() && masked()) value = "select(" + place + ", " + value + ", " + exec_for(scalar_of(array)) + ")";
+        line(depth, place + " = " + value + ";");
+        continue;
+      }
+      line(depth, "{");
+      line(depth + 1, "const " + vec(reg_type(scalar_of(array))) + " value = " + value + ";");
+      for (int k = 0; k < lanes_; ++k)
+        line(depth + 1, std::string(masked() ? "if (exec" + lane(k) + ") " : "") + name + "[" + index_of(a.args[0], k) +
+                            "]" + lane(k) + " = value" + lane(k) + ";");
+      line(depth, "}");
+    }
+  }
+
+  // The exec mask as a select between values of scalar `s` takes it.
+  std::string exec_for(ir::Scalar s) const { return std::string(mask_type(s)) == "int" ? "exec" : convert("long", "exec"); }
 
   // OpenCL 1.2 adds ints atomically; floats by compare-and-swap on their
   // bits.  The SPMD form adds lane by lane, for the lanes running.

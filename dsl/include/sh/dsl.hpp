@@ -9,6 +9,7 @@
 #include "sh/error.hpp"
 #include "sh/library.hpp"
 #include "sh/library_more.hpp"
+#include "sh/local_array.hpp"
 #include "sh/matrix.hpp"
 #include "sh/matrix_algebra.hpp"
 #include "sh/memory.hpp"

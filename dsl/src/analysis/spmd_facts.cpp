@@ -118,7 +118,7 @@ class RejoinLiveness {
 
   VarSet statement(const ir::Stmt& s, VarSet live) {
     if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-      if (a->mask.size == p_.type_of(a->dest).width) live[a->dest] = false;
+      if (ir::overwrites(*a) && a->mask.size == p_.type_of(a->dest).width) live[a->dest] = false;
       for (const ir::Operand& o : a->args) use(live, o);
       return live;
     }

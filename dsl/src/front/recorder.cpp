@@ -45,6 +45,7 @@ ir::VarId Recorder::id_of(const std::shared_ptr<VarNode>& node) {
   v.kind = node->kind;
   v.type = node->type;
   v.name = node->name;
+  v.length = node->length;
   if (node->kind == ir::VarKind::Const) v.value = node->value;
   ir::VarId id = prog_.add_var(std::move(v));
   if (node->kind == ir::VarKind::Uniform) {

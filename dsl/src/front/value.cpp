@@ -185,6 +185,36 @@ Value position(int dimensions) {
   return r->emit_result({ir::Scalar::I32, dimensions}, ir::Op::Position, {});
 }
 
+Value declare_array(ir::Type element, int length) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("a local array belongs to a program's elements, so it can only be declared inside a program");
+  if (length < 1 || length > ir::kMaxArrayLength)
+    r->fail("a local array holds 1 to " + std::to_string(ir::kMaxArrayLength) + " elements, not " + std::to_string(length));
+  auto node = new_node(ir::VarKind::Array, element);
+  node->length = length;
+  r->declare(node, Declared::Temp);
+  return whole(std::move(node));
+}
+
+Value array_element(const Value& array, const Value& index) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("local arrays can only be read inside a program");
+  if (index.width() != 1) r->fail("a local array is indexed by one integer, not " + std::to_string(index.width()) + " components");
+  return r->emit_result(array.type(), ir::Op::Element, {r->read(array), r->read(as_scalar(index, ir::Scalar::I32))});
+}
+
+void array_store(const Value& array, const Value& index, const Value& value) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("local arrays can only be written inside a program");
+  std::string what = "a local array of " + ir::type_name(array.type());
+  if (index.width() != 1) r->fail(what + " is indexed by one integer, not " + std::to_string(index.width()) + " components");
+  if (value.width() != array.width() && value.width() != 1)
+    r->fail(what + " is given a value of " + std::to_string(value.width()) + " components");
+  ir::Operand at = r->read(as_scalar(index, ir::Scalar::I32));
+  ir::Operand v = r->read(widened(as_scalar(value, array.scalar()), array.width()));
+  r->emit(ir::Assign{r->write_target(array), ir::Swizzle::identity(array.width()), ir::Op::Store, {at, v}, -1});
+}
+
 void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& index, const Value& value) {
   Recorder* r = current_recorder();
   if (!r) host_fail("accumulators can only be added into inside a program");

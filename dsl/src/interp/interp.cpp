@@ -16,11 +16,12 @@ enum class Flow { Next, Break, Continue };
 class Machine {
  public:
   Machine(const ir::Program& p, const Options& o, const RunArgs& a, RunStats& s)
-      : p_(p), o_(o), a_(a), stats_(s), regs_(p.vars.size()) {}
+      : p_(p), o_(o), a_(a), stats_(s), regs_(p.vars.size()), arrays_(p.vars.size()) {}
 
   void element(std::size_t e) {
     element_ = e;
     for (std::size_t v = 0; v < p_.vars.size(); ++v) regs_[v] = p_.vars[v].kind == ir::VarKind::Const ? p_.vars[v].value : Reg{};
+    for (std::size_t v = 0; v < p_.vars.size(); ++v) arrays_[v].assign(static_cast<std::size_t>(p_.vars[v].length), Reg{});
     for (std::size_t u = 0; u < p_.uniforms.size(); ++u) regs_[p_.uniforms[u]] = held(p_.uniforms[u], a_.uniforms[u]);
     for (std::size_t i = 0; i < p_.inputs.size(); ++i) load(p_.inputs[i], a_.inputs[i], e);
     block(p_.body);
@@ -103,7 +104,14 @@ class Machine {
   void assign(const ir::Assign& a, const ir::Stmt& s) {
     Reg result{};
     int n = a.mask.size;
-    if (ir::is_table_read(a.op)) {
+    if (a.op == ir::Op::Store) {
+      Reg& slot = arrays_[a.dest][array_index(a.dest, a.args[0], s)];
+      for (int i = 0; i < n; ++i) slot[i] = arg(a.args[1], i);
+      return;
+    }
+    if (a.op == ir::Op::Element) {
+      result = arrays_[a.args[0].var][array_index(a.args[0].var, a.args[1], s)];
+    } else if (ir::is_table_read(a.op)) {
       result = table_read(a, s);
     } else if (a.op == ir::Op::Position) {
       std::array<std::int32_t, 3> at = a_.domain.position(element_);
@@ -133,6 +141,15 @@ class Machine {
       stride *= static_cast<std::size_t>(t.dims[d]);
     }
     return flat;
+  }
+
+  // Legal IR indexes arrays in range, as it reads tables.
+  std::size_t array_index(ir::VarId array, const ir::Operand& index, const ir::Stmt& s) const {
+    double i = arg(index, 0);
+    if (!(i >= 0 && i < p_.var(array).length))
+      throw Error("program '" + p_.name + "': element " + std::to_string(element_) + " indexes outside an array in `" +
+                  ir::print(p_, s) + "` (the IR is not legal)");
+    return static_cast<std::size_t>(i);
   }
 
   Reg table_read(const ir::Assign& a, const ir::Stmt& s) {
@@ -189,6 +206,7 @@ class Machine {
   const RunArgs& a_;
   RunStats& stats_;
   std::vector<Reg> regs_;
+  std::vector<std::vector<Reg>> arrays_;  // by variable: an array's elements, empty for the others
   std::size_t element_ = 0;
 };
 

@@ -73,6 +73,7 @@ class Printer {
     out_ << "  " << var_kind_name(v.kind) << " %" << id;
     if (o_.names && !v.name.empty()) out_ << " " << v.name;
     out_ << ": " << type_name(v.type);
+    if (v.kind == VarKind::Array) out_ << "[" << v.length << "]";
     if (v.kind == VarKind::Const) {
       out_ << " =";
       for (int i = 0; i < v.type.width && i < 4; ++i) out_ << " " << format_number(v.value[i], v.type.scalar);
@@ -80,7 +81,13 @@ class Printer {
     out_ << "\n";
   }
 
+  // %5 = element %2[%3]; %2[%3] = store %4
   std::string assign(const Assign& a) {
+    if (a.op == Op::Element && a.args.size() == 2)
+      return "%" + std::to_string(a.dest) + swizzle_suffix(a.mask, p_.type_of(a.dest).width) + " = element %" +
+             std::to_string(a.args[0].var) + "[" + operand(a.args[1]) + "]";
+    if (a.op == Op::Store && a.args.size() == 2)
+      return "%" + std::to_string(a.dest) + "[" + operand(a.args[0]) + "] = store " + operand(a.args[1]);
     std::string s = "%" + std::to_string(a.dest) + swizzle_suffix(a.mask, p_.type_of(a.dest).width);
     s += " = ";
     s += op_name(a.op);

@@ -19,6 +19,7 @@ const char* var_kind_name(VarKind k) {
     case VarKind::Uniform: return "uniform";
     case VarKind::Const: return "const";
     case VarKind::Temp: return "temp";
+    case VarKind::Array: return "array";
   }
   return "?";
 }

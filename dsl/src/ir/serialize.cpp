@@ -14,6 +14,8 @@ constexpr int kTagCount = 6;
 constexpr char kMagic[] = "SHIR";
 // Bumped whenever the layout or the meaning of a number in it (the op
 // table's order among them) changes, so old bytes are refused, not misread.
+// An array variable (kind 6, its length after its name) reads as nothing
+// older did, so programs without one keep their bytes and hashes.
 constexpr std::uint8_t kVersion = 3;  // 3: a table's edge mode
 // Deeper nesting than any recorded program has; bounds the reader's stack.
 constexpr int kMaxDepth = 1000;
@@ -212,10 +214,11 @@ class ProgramReader {
     std::uint32_t n = r_.count(7, "variable count");
     for (std::uint32_t i = 0; i < n; ++i) {
       Var v;
-      v.kind = static_cast<VarKind>(r_.ranged(r_.u8("variable kind"), 0, static_cast<int>(VarKind::Temp) + 1,
+      v.kind = static_cast<VarKind>(r_.ranged(r_.u8("variable kind"), 0, static_cast<int>(VarKind::Array) + 1,
                                               "variable kind"));
       v.type = r_.type("variable type");
       v.name = r_.name("variable name");
+      if (v.kind == VarKind::Array) v.length = r_.i32_in(1, kMaxArrayLength + 1, "array length");
       if (v.kind == VarKind::Const)
         for (int c = 0; c < v.type.width; ++c) v.value[c] = r_.f64("constant component");
       p_.vars.push_back(std::move(v));
@@ -329,6 +332,7 @@ std::string serialize(const Program& p, const SerializeOptions& options) {
     w.u8(static_cast<unsigned>(v.kind));
     w.type(v.type);
     w.name(v.name);
+    if (v.kind == VarKind::Array) w.i32(v.length);
     if (v.kind == VarKind::Const)
       for (int c = 0; c < v.type.width && c < 4; ++c) w.f64(v.value[c]);
   }

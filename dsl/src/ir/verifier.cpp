@@ -17,8 +17,13 @@ class Verifier {
     for (VarId id : p_.inputs) expect_kind(id, {VarKind::Input, VarKind::InOut}, "input list");
     for (VarId id : p_.outputs) expect_kind(id, {VarKind::Output, VarKind::InOut}, "output list");
     for (VarId id : p_.uniforms) expect_kind(id, {VarKind::Uniform}, "uniform list");
-    for (const Var& v : p_.vars)
+    for (const Var& v : p_.vars) {
       if (v.type.width < 1 || v.type.width > 4) fail("a variable has width " + std::to_string(v.type.width));
+      bool array = v.kind == VarKind::Array;
+      if (array ? v.length < 1 || v.length > kMaxArrayLength : v.length != 0)
+        fail("a variable of kind " + std::string(var_kind_name(v.kind)) + " has length " + std::to_string(v.length) +
+             (array ? " (an array holds 1 to " + std::to_string(kMaxArrayLength) + " elements)" : ""));
+    }
     block(p_.body, 0);
   }
 
@@ -42,8 +47,10 @@ class Verifier {
     fail(std::string("variable %") + std::to_string(id) + " has the wrong kind for the " + where);
   }
 
-  void operand(const Operand& o, const Stmt& s) {
+  void operand(const Operand& o, const Stmt& s, bool array = false) {
     if (o.var < 0 || o.var >= static_cast<VarId>(p_.vars.size())) fail("operand names no variable", &s);
+    if ((p_.var(o.var).kind == VarKind::Array) != array)
+      fail(array ? "element reads an array, not a variable of another kind" : "an array is read only by element", &s);
     if (o.swizzle.size < 1 || o.swizzle.size > 4) fail("operand swizzle has no components", &s);
     int width = p_.type_of(o.var).width;
     for (int i = 0; i < o.swizzle.size; ++i)
@@ -64,6 +71,9 @@ class Verifier {
     for (int i = 0; i < a.mask.size; ++i)
       if (a.mask[i] >= dest.type.width) fail("write mask names a component the destination lacks", &s);
     if (static_cast<int>(a.args.size()) != op_arity(a.op)) fail("wrong number of operands", &s);
+    if ((dest.kind == VarKind::Array) != (a.op == Op::Store))
+      fail(a.op == Op::Store ? "stores into a variable that is not an array" : "writes an array other than by store", &s);
+    if (is_array_access(a.op)) return array_access(a, s);
     for (const Operand& o : a.args) operand(o, s);
     if (is_table_read(a.op)) return table_read(a, s);
     if (a.table >= 0) fail("only table reads name a table", &s);
@@ -80,6 +90,24 @@ class Verifier {
       fail(std::string(op_name(a.op)) + " takes " + domain_name(op_info(a.op).domain) + ", not " + scalar_name(operand_scalar), &s);
     if (op_info(a.op).result == ResultRule::SameAsOperands && operand_scalar != dest.type.scalar)
       fail("operand type differs from the destination type", &s);
+  }
+
+  // element: dest = array[index]; store: array[index] = value, written
+  // whole.  The index is one i32.
+  void array_access(const Assign& a, const Stmt& s) {
+    if (a.table >= 0) fail("only table reads name a table", &s);
+    bool store = a.op == Op::Store;
+    const Operand& index = a.args[store ? 0 : 1];
+    if (!store) operand(a.args[0], s, true);
+    operand(index, s);
+    if (store) operand(a.args[1], s);
+    if (index.width() != 1 || p_.type_of(index.var).scalar != Scalar::I32) fail("an array index is one i32", &s);
+    VarId array = store ? a.dest : a.args[0].var;
+    Type element = p_.type_of(array);
+    if (!store && !a.args[0].swizzle.is_identity(element.width)) fail("element reads the whole array, unswizzled", &s);
+    if (store && !a.mask.is_identity(element.width)) fail("a store writes every component of the element", &s);
+    Type value = store ? Type{p_.type_of(a.args[1].var).scalar, a.args[1].width()} : Type{p_.type_of(a.dest).scalar, a.mask.size};
+    if (value != element) fail("the value's type differs from the array's element type " + type_name(element), &s);
   }
 
   void table_read(const Assign& a, const Stmt& s) {

@@ -13,6 +13,9 @@
 //     never 0 or -1, so its native division cannot trap.
 //   - Shifts: a count outside [0, 31] shifts every bit out.  The count a
 //     backend sees is in range, where its native shift is defined.
+//   - Local arrays: an element or store index is clamped to [0, length - 1]
+//     unless it is a constant inside, so a backend indexes its memory
+//     without a test.
 // Legal IR holds no fetch or sample, no integer division that could trap
 // and no shift past the width; backends lower only that.
 #include "sh/ir/visitor.hpp"
@@ -31,6 +34,7 @@ class Legalizer : public ir::Mutator {
     if ((a.op == ir::Op::Div || a.op == ir::Op::Mod) && p_.type_of(a.dest).scalar == ir::Scalar::I32 && may_trap(a.args[1]))
       return integer_division(std::move(a), out);
     if ((a.op == ir::Op::Shl || a.op == ir::Op::Shr) && !count_in_range(a.args[1])) return shift(std::move(a), out);
+    if (ir::is_array_access(a.op)) array_index(a, out);
     out.push_back(ir::Stmt{std::move(a)});
   }
 
@@ -110,6 +114,17 @@ class Legalizer : public ir::Mutator {
     read.args = {clamped(read.table, asked, out), asked};
     out.push_back(ir::Stmt{std::move(read)});
     out.push_back(ir::Stmt{std::move(choice)});
+  }
+
+  void array_index(ir::Assign& a, ir::Block& out) {
+    bool store = a.op == ir::Op::Store;
+    ir::Operand& index = a.args[store ? 0 : 1];
+    int length = p_.var(store ? a.dest : a.args[0].var).length;
+    const ir::Var& v = p_.var(index.var);
+    if (v.kind == ir::VarKind::Const && v.value[index.swizzle[0]] >= 0 && v.value[index.swizzle[0]] < length) return;
+    ir::Type one{ir::Scalar::I32, 1};
+    ir::Operand low = emit(out, one, ir::Op::Max, {index, number(ir::Scalar::I32, 0)});
+    index = emit(out, one, ir::Op::Min, {low, number(ir::Scalar::I32, length - 1)});
   }
 
   // A constant divisor with no component 0 or -1 cannot trap.

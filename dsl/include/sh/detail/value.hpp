@@ -24,6 +24,7 @@ struct VarNode {
   std::array<double, 4> value{};  // host value of a uniform or constant
   std::uint64_t version = 0;      // bumped at every host write of a uniform
   const Recorder* owner = nullptr;  // the recording a non-uniform belongs to
+  int length = 0;                   // an array's elements (kind Array)
 };
 
 struct Value {
@@ -62,6 +63,13 @@ Value component(const Value& v, int i);
 // The element's position in the launch domain, its first `dimensions`
 // coordinates (i32); only inside a program.
 Value position(int dimensions);
+
+// A local array of `length` elements of `element` (zero at the start of
+// every element), its element at an i32 index, and a store into it; only
+// inside a program.
+Value declare_array(ir::Type element, int length);
+Value array_element(const Value& array, const Value& index);
+void array_store(const Value& array, const Value& index, const Value& value);
 
 // Host-side access to a uniform or constant (outside recording).
 std::array<double, 4> host_value(const Value& v);

@@ -25,9 +25,9 @@ inline constexpr int kOpCount = 0
 // The operand scalars an operation takes.
 enum class Domain : std::uint8_t { Any, Numeric, Float, Integer };
 // How the result's scalar follows from the operands': the operands', any
-// (Cast), the table's element, i32 per table dimension, or i32 per
-// dimension of the launch domain.
-enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement, TableShape, ElementPosition };
+// (Cast), the table's element, i32 per table dimension, i32 per
+// dimension of the launch domain, or the local array's element.
+enum class ResultRule : std::uint8_t { SameAsOperands, Converted, TableElement, TableShape, ElementPosition, ArrayElement };
 // Classes the cost analysis counts by.
 enum class OpClass : std::uint8_t { Move, Add, Mul, Div, Negate, Compare, Transcendental, TableRead };
 
@@ -61,6 +61,8 @@ constexpr bool is_legal(Op op) { return op != Op::Fetch && op != Op::Sample; }
 constexpr bool is_table_read(Op op) {
   return op_info(op).result == ResultRule::TableElement || op_info(op).result == ResultRule::TableShape;
 }
+// Reads or writes a local array (ir::VarKind::Array).
+constexpr bool is_array_access(Op op) { return op_info(op).result == ResultRule::ArrayElement; }
 
 // Its result for one element depends on the others run with it
 // (any_lane): the conformance suite and the fuzzer test it by its bounds

@@ -14,7 +14,11 @@ namespace sh::ir {
 
 using VarId = int;
 
-enum class VarKind : std::uint8_t { Input, Output, InOut, Uniform, Const, Temp };
+// Array: an element's own scratch memory, `length` elements of `type`
+// (a traversal's stack), zero when the element starts.  Only `element`
+// reads it and only `store` writes it (ops.def); appended last, so that the
+// serialized numbering of the others stays.
+enum class VarKind : std::uint8_t { Input, Output, InOut, Uniform, Const, Temp, Array };
 const char* var_kind_name(VarKind k);
 
 struct Var {
@@ -22,7 +26,12 @@ struct Var {
   Type type;
   std::string name;            // for people only: never part of the hash
   std::array<double, 4> value{};  // the constant's components (Const only)
+  int length = 0;                 // the array's elements (Array only)
 };
+
+// Arrays hold at most this many elements: they live in registers' memory
+// (the stack of a CPU thread, an OpenCL work-item's private memory).
+inline constexpr int kMaxArrayLength = 4096;
 
 // A read of a variable through a swizzle; the swizzle's size is the width
 // the operation sees.
@@ -55,7 +64,10 @@ struct TableDecl {
 struct Stmt;
 using Block = std::vector<Stmt>;
 
-// dest[mask[i]] = op(args...)[i].  Table reads name their table.
+// dest[mask[i]] = op(args...)[i].  Table reads name their table.  A store
+// writes one element of the array `dest` (mask: all its components) and
+// leaves the others: the one assignment that does not overwrite its
+// destination (overwrites()).
 struct Assign {
   VarId dest = -1;
   Swizzle mask;
@@ -115,6 +127,10 @@ struct Program {
   const Var& var(VarId id) const { return vars.at(static_cast<std::size_t>(id)); }
   Type type_of(VarId id) const { return var(id).type; }
 };
+
+// Whether the assignment replaces the components its mask names, as every
+// assignment but a store into an array does.
+inline bool overwrites(const Assign& a) { return a.op != Op::Store; }
 
 // Operand reading all of a variable.
 inline Operand whole(const Program& p, VarId id) {
