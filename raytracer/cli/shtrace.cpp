@@ -38,7 +38,8 @@ struct Common {
   double grid_density = 2.0;
   std::string accel = "auto";
   OctreeLimits octree;
-  BvhLimits bvh;
+  BvhSettings bvh;
+  std::string bvh_walk = "threaded";
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;
@@ -78,6 +79,9 @@ void add_common(CLI::App* app, Common& c) {
       ->capture_default_str()->check(CLI::Range(1, 1 << 20));
   app->add_option("--bvh-leaf", c.bvh.max_leaf, "bvh: most triangles in a leaf")
       ->capture_default_str()->check(CLI::Range(1, kBvhMaxLeaf));
+  app->add_option("--bvh-walk", c.bvh_walk,
+                  "bvh: threaded (no stack; rays side by side walk together) or stack (each ray its own path)")
+      ->check(CLI::IsMember({"threaded", "stack"}))->capture_default_str();
   app->add_flag("--bidirectional", c.bidirectional,
                 "a light pass first (rays from the point lights to every element, through mirrors and glass), whose "
                 "luminance gives the diffuse light");
@@ -138,6 +142,7 @@ RenderSettings settings_for(const Common& c, const std::string& backend_name) {
   s.accel = parse_accel(c.accel);
   s.octree = c.octree;
   s.bvh = c.bvh;
+  s.bvh.walk = parse_bvh_walk(c.bvh_walk);
   s.bidirectional = c.bidirectional;
   s.wavefront = c.wavefront;
   s.light_pass = c.light_pass;

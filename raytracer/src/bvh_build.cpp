@@ -57,7 +57,7 @@ struct Split {
 
 class Builder {
  public:
-  Builder(const std::vector<Vec3>& positions, BvhLimits limits)
+  Builder(const std::vector<Vec3>& positions, BvhSettings limits)
       : limits_(limits), boxes_(positions.size() / 3), centres_(boxes_.size()), ids_(boxes_.size()) {
     std::iota(ids_.begin(), ids_.end(), 0);
     tbb::parallel_for(std::size_t{0}, boxes_.size(), [&](std::size_t t) {
@@ -190,7 +190,7 @@ class Builder {
     return middle;
   }
 
-  BvhLimits limits_;
+  BvhSettings limits_;
   std::vector<Box> boxes_;
   std::vector<Vec3> centres_;
   std::vector<std::int32_t> ids_;
@@ -198,7 +198,7 @@ class Builder {
 
 }  // namespace
 
-std::unique_ptr<Node> build_tree(const Scene& scene, BvhLimits limits) {
+std::unique_ptr<Node> build_tree(const Scene& scene, BvhSettings limits) {
   if (limits.max_leaf < 1 || limits.max_leaf > kBvhMaxLeaf)
     throw Error("bvh: leaves of " + std::to_string(limits.max_leaf) + " triangles: must be 1.." +
                 std::to_string(kBvhMaxLeaf));
@@ -210,12 +210,20 @@ std::unique_ptr<Node> build_tree(const Scene& scene, BvhLimits limits) {
 
 namespace sh::rt {
 
-Bvh build_bvh(const Scene& scene, BvhLimits limits) {
+Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   auto t0 = std::chrono::steady_clock::now();
   Box bounds = accelerator_bounds(scene);  // throws on a scene without triangles
-  Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, limits), bounds);
+  Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), bounds, settings.walk);
   bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return bvh;
 }
+
+BvhWalk parse_bvh_walk(const std::string& name) {
+  if (name == "threaded") return BvhWalk::Threaded;
+  if (name == "stack") return BvhWalk::Stack;
+  throw Error("unknown bvh walk '" + name + "' (threaded or stack)");
+}
+
+const char* bvh_walk_name(BvhWalk w) { return w == BvhWalk::Stack ? "stack" : "threaded"; }
 
 }  // namespace sh::rt

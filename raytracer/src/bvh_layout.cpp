@@ -1,5 +1,6 @@
 // The BVH's tree laid out as bvh.hpp says: nodes numbered depth-first,
-// leaves' lists, and the six threaded orders.
+// leaves' lists, and the six threaded orders or the stack walk's pairs of
+// child boxes.
 #include "bvh_tree.hpp"
 
 namespace sh::rt::bvh {
@@ -61,24 +62,56 @@ void thread(const Numbered& n, int k, Bvh& bvh) {
   }
 }
 
+// Inner nodes numbered in depth-first order; each holds its children's
+// boxes and references.
+void pair(const Numbered& n, const std::vector<float>& lo, const std::vector<float>& hi, Bvh& bvh) {
+  std::vector<std::int32_t> inner(n.nodes.size(), -1);
+  std::int32_t count = 0;
+  for (std::size_t i = 0; i < n.nodes.size(); ++i)
+    if (n.leaf_start[i] < 0) inner[i] = count++;
+  auto ref = [&](std::int32_t node) {
+    auto at = static_cast<std::size_t>(node);
+    return inner[at] >= 0 ? inner[at] : -n.leaf_start[at] - 2;
+  };
+  bvh.root = ref(0);
+  for (std::size_t i = 0; i < n.nodes.size(); ++i) {
+    if (inner[i] < 0) continue;
+    for (std::int32_t child : n.child[i]) {
+      auto at = 3 * static_cast<std::size_t>(child);
+      bvh.pair_lo.insert(bvh.pair_lo.end(), lo.begin() + static_cast<long>(at), lo.begin() + static_cast<long>(at) + 3);
+      bvh.pair_hi.insert(bvh.pair_hi.end(), hi.begin() + static_cast<long>(at), hi.begin() + static_cast<long>(at) + 3);
+      bvh.children.push_back(ref(child));
+    }
+  }
+}
+
 }  // namespace
 
-Bvh lay_out(const Node& root, const Box& bounds) {
+Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk) {
   Numbered n = number(root);
   Bvh bvh;
+  bvh.walk = walk;
   bvh.depth = n.depth;
+  bvh.node_count = n.nodes.size();
   n.leaf_start.assign(n.nodes.size(), -1);
+  std::vector<float> lo, hi;
   for (std::size_t i = 0; i < n.nodes.size(); ++i) {
     const Box& b = n.nodes[i]->box;
     Vec3 hair = overlap_hair(bounds, b.hi - b.lo);
-    Vec3 lo = b.lo - hair, hi = b.hi + hair;
-    bvh.lo.insert(bvh.lo.end(), {lo.x, lo.y, lo.z});
-    bvh.hi.insert(bvh.hi.end(), {hi.x, hi.y, hi.z});
+    Vec3 low = b.lo - hair, high = b.hi + hair;
+    lo.insert(lo.end(), {low.x, low.y, low.z});
+    hi.insert(hi.end(), {high.x, high.y, high.z});
     if (!n.nodes[i]->leaf()) continue;
     n.leaf_start[i] = static_cast<std::int32_t>(bvh.triangles.size());
     bvh.triangles.insert(bvh.triangles.end(), n.nodes[i]->triangles.begin(), n.nodes[i]->triangles.end());
     bvh.triangles.push_back(-1);
   }
+  if (walk == BvhWalk::Stack) {
+    pair(n, lo, hi, bvh);
+    return bvh;
+  }
+  bvh.lo = std::move(lo);
+  bvh.hi = std::move(hi);
   bvh.links.resize(2 * kBvhOrders * n.nodes.size());
   for (int k = 0; k < kBvhOrders; ++k) thread(n, k, bvh);
   return bvh;

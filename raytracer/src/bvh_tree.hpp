@@ -34,9 +34,10 @@ struct Node {
   bool leaf() const { return !child[0]; }
 };
 
-std::unique_ptr<Node> build_tree(const Scene& scene, BvhLimits limits);
-// Nodes depth-first, boxes widened by a hair relative to `bounds`, links
-// for every order.
-Bvh lay_out(const Node& root, const Box& bounds);
+std::unique_ptr<Node> build_tree(const Scene& scene, BvhSettings limits);
+// Boxes widened by a hair relative to `bounds`; nodes depth-first with
+// links for every order (threaded), or inner nodes depth-first with their
+// children's boxes (stack).
+Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk);
 
 }  // namespace sh::rt::bvh

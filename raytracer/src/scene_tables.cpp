@@ -67,16 +67,30 @@ OctreeTables::OctreeTables(const Octree& tree, bool is_lazy)
   resolution = static_cast<float>(tree.resolution());
 }
 
+// A layout the walk does not read stays one zero element.
 BvhTables::BvhTables(const Bvh& b)
-    : lo(at_least_one(b.nodes())),
-      hi(at_least_one(b.nodes())),
+    : walk(b.walk),
+      depth(b.depth),
+      lo(at_least_one(b.lo.size() / 3)),
+      hi(at_least_one(b.hi.size() / 3)),
       links(at_least_one(b.links.size() / 2)),
-      triangles(at_least_one(b.triangles.size())),
-      nodes(static_cast<std::int32_t>(b.nodes())) {
-  lo.name("bvh_lo").assign(b.lo);
-  hi.name("bvh_hi").assign(b.hi);
-  links.name("bvh_links").assign(b.links);
-  triangles.name("bvh_triangles").assign(b.triangles);
+      nodes(static_cast<std::int32_t>(b.nodes())),
+      pair_lo(at_least_one(b.pair_lo.size() / 3)),
+      pair_hi(at_least_one(b.pair_hi.size() / 3)),
+      children(at_least_one(b.children.size())),
+      root(b.root),
+      triangles(at_least_one(b.triangles.size())) {
+  auto fill = [](auto& table, const char* name, const auto& values) {
+    table.name(name);
+    if (!values.empty()) table.assign(values);
+  };
+  fill(lo, "bvh_lo", b.lo);
+  fill(hi, "bvh_hi", b.hi);
+  fill(links, "bvh_links", b.links);
+  fill(pair_lo, "bvh_pair_lo", b.pair_lo);
+  fill(pair_hi, "bvh_pair_hi", b.pair_hi);
+  fill(children, "bvh_children", b.children);
+  fill(triangles, "bvh_triangles", b.triangles);
 }
 
 SceneTables::SceneTables(const Scene& scene, const Bvh& b) : SceneTables(scene) { bvh = std::make_unique<BvhTables>(b); }

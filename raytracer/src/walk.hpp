@@ -52,8 +52,18 @@ void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f&
 // octree only).
 void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib4i* request,
             bool any_hit);
-// With `lanes`, counts into it as Intersector::lanes() says.
+// The BVH's walk its tables were laid out for.  With `lanes` (threaded
+// only), counts into it as Intersector::lanes() says.
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv,
          bool any_hit, Attrib4i* lanes = nullptr);
+void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
+                  Attrib2f& uv, bool any_hit, Attrib4i* lanes);
+void bvh_stack(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
+               Attrib2f& uv, bool any_hit);
+
+// A BVH's boxes are clipped a little beyond the nearest hit so far: a
+// triangle at the same distance to the intersector's tie tolerance may
+// still win a tie.
+inline constexpr float kBeyondBest = 1.0f + 4e-6f;
 
 }  // namespace sh::rt::walk

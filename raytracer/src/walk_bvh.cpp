@@ -11,10 +11,6 @@
 namespace sh::rt::walk {
 namespace {
 
-// Boxes are clipped a little beyond the nearest hit so far: a triangle at
-// the same distance to the intersector's tie tolerance may still win a tie.
-constexpr float kBeyondBest = 1.0f + 4e-6f;
-
 // The order threaded for the ray's largest direction component and its
 // sign: 2 * axis + (downwards), the axis the watertight test's turn puts
 // last.  Rays walked together take the lowest order among them, so they
@@ -36,8 +32,8 @@ Attrib1f walk_order(const Ray& r) {
 // same, as the test does not depend on the boxes.  Where elements run
 // alone (scalar code, the interpreter, OpenCL) this is the single ray's
 // walk.
-void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
-         bool any_hit, Attrib4i* lanes) {
+void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle,
+                  Attrib2f& uv, bool any_hit, Attrib4i* lanes) {
   const BvhTables& b = *s.bvh;
   Attrib1i base = walk_order(r).cast<std::int32_t>() * b.nodes;
   Attrib1i node = 0;
@@ -71,6 +67,12 @@ void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& 
       test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv);
     } SH_ENDIF;
   } SH_ENDWHILE;
+}
+
+void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
+         bool any_hit, Attrib4i* lanes) {
+  if (s.bvh->walk == BvhWalk::Stack) return bvh_stack(s, r, t_limit, best, triangle, uv, any_hit);
+  bvh_threaded(s, r, t_limit, best, triangle, uv, any_hit, lanes);
 }
 
 }  // namespace sh::rt::walk

@@ -108,6 +108,10 @@ class Generator {
     }
     for (Scalar s : {Scalar::F32, Scalar::F64})
       add(VarKind::Temp, {s, 4}, "x" + std::to_string(regs_.size()), false, true);
+    for (int i = rng_.chance(50) ? rng_.between(1, 2) : 0; i > 0; --i) {
+      Var v{VarKind::Array, random_type(), "arr" + std::to_string(arrays_.size()), {}, rng_.between(1, 6)};
+      arrays_.push_back(p().add_var(std::move(v)));
+    }
   }
 
   void table(bool accumulator) {
@@ -245,6 +249,20 @@ class Generator {
     return Assign{*d, mask(rank, p().type_of(*d).width), op, {}, t};
   }
 
+  // A local array's element, or a store into it.  Arrays hold only exact
+  // values, so that what an element read gives needs no tolerance; the
+  // index is any i32 (outside the array it clamps).
+  std::optional<Assign> array_access(Op op) {
+    if (arrays_.empty()) return std::nullopt;
+    VarId array = rng_.pick(arrays_);
+    Type t = p().type_of(array);
+    Operand index = operand(Scalar::I32, 1, false, false);
+    if (op == Op::Store) return Assign{array, Swizzle::identity(t.width), op, {index, operand(t.scalar, t.width, false, false)}, -1};
+    std::optional<VarId> d = dest(t.scalar, t.width, false);
+    if (!d) return std::nullopt;
+    return Assign{*d, mask(t.width, p().type_of(*d).width), op, {Operand{array, Swizzle::identity(t.width)}, index}, -1};
+  }
+
   // An operation drawn from the whole table, so that a new row is fuzzed
   // without a change here.
   void assign(Block& b) {
@@ -258,6 +276,7 @@ class Generator {
         case ResultRule::TableElement: a = table_read(op); break;
         case ResultRule::TableShape: a = table_shape(op); break;
         case ResultRule::ElementPosition: a = position(op); break;
+        case ResultRule::ArrayElement: a = array_access(op); break;
       }
       if (a) return b.push_back(Stmt{std::move(*a)});
     }
@@ -385,6 +404,7 @@ class Generator {
   Case c_;
   std::vector<Reg> regs_;
   std::vector<VarId> needs_init_;
+  std::vector<VarId> arrays_;
   int budget_ = 0;
 };
 

@@ -22,10 +22,9 @@ TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
   std::uniform_real_distribution<float> u(0.0f, 1.5f * size);
   std::vector<float> limits(rays.size());
   for (float& l : limits) l = u(rng);
-  for (Accel accel : {Accel::Grid, Accel::Octree, Accel::Bvh}) {
-    sh::rt::RenderSettings settings;
-    settings.accel = accel;
-    sh::rt::Renderer r(scene, settings);
+  for (rt_test::Walked accel : {rt_test::Walked(Accel::Grid), rt_test::Walked(Accel::Octree), rt_test::Walked(Accel::Bvh),
+                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Stack)}) {
+    sh::rt::Renderer r(scene, accel.settings());
     sh::BackendChoice on = sh::backend(GetParam());
     std::vector<float> any = r.occluded(rays.origins, rays.directions, limits, on, true),
                        nearest = r.occluded(rays.origins, rays.directions, limits, on, false);
@@ -34,7 +33,7 @@ TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
       blocked += nearest[i] > 0;
       differ += nearest[i] != any[i];
     }
-    EXPECT_EQ(differ, 0u) << sh::rt::accel_name(accel) << " on " << GetParam();
+    EXPECT_EQ(differ, 0u) << accel.name() << " on " << GetParam();
     EXPECT_GT(blocked, rays.size() / 10) << "too few rays blocked to mean much";
     EXPECT_LT(blocked, rays.size() * 9 / 10) << "too few rays free to mean much";
   }

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <tbb/global_control.h>
@@ -107,9 +108,75 @@ TEST(Bvh, EveryTriangleIsInOneLeafInsideEveryBoxAboveIt) {
     sh::rt::Scene s = name == "procedural" ? sh::rt::builtin_scene(name, 20000) : sh::rt::builtin_scene(name);
     Bvh bvh = sh::rt::build_bvh(s);
     SCOPED_TRACE(name);
-    expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+    expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
     expect_nearer_child_first(bvh);
   }
+}
+
+// The stack walk's layout: from the root's reference, every inner node is
+// reached once, holds two children whose boxes hold what lies below them,
+// every triangle lies in one leaf, and no path is deeper than the tree
+// (the walk's stack is that deep).  A single leaf's tree is its root.
+void expect_pairs_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
+  std::size_t n = s.mesh.triangles(), inner = bvh.children.size() / 2;
+  ASSERT_EQ(bvh.pair_lo.size(), 6 * inner);
+  ASSERT_EQ(bvh.pair_hi.size(), 6 * inner);
+  EXPECT_TRUE(bvh.links.empty() && bvh.lo.empty()) << "the threaded layout is not kept beside";
+  std::vector<int> seen_inner(inner, 0), seen_triangle(n, 0);
+  struct Visit {
+    std::int32_t ref;
+    Vec3 lo, hi;
+    int depth;
+  };
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  std::vector<Visit> todo{{bvh.root, {-inf, -inf, -inf}, {inf, inf, inf}, 0}};
+  while (!todo.empty()) {
+    Visit v = todo.back();
+    todo.pop_back();
+    EXPECT_LE(v.depth, bvh.depth);
+    if (v.ref <= -2) {
+      int count = 0;
+      for (std::size_t i = static_cast<std::size_t>(-v.ref - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
+        auto t = static_cast<std::size_t>(bvh.triangles[i]);
+        ASSERT_LT(t, n);
+        ++seen_triangle[t];
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(inside(s.mesh.positions[3 * t + k], v.lo, v.hi)) << "triangle " << t;
+      }
+      EXPECT_GE(count, 1);
+      EXPECT_LE(count, max_leaf);
+      continue;
+    }
+    ASSERT_GE(v.ref, 0);
+    auto at = static_cast<std::size_t>(v.ref);
+    ASSERT_LT(at, inner);
+    ++seen_inner[at];
+    for (std::size_t c = 0; c < 2; ++c) {
+      Vec3 lo = corner(bvh.pair_lo, 2 * at + c), hi = corner(bvh.pair_hi, 2 * at + c);
+      EXPECT_TRUE(inside(lo, v.lo, v.hi) && inside(hi, v.lo, v.hi)) << "child " << c << " of " << at;
+      todo.push_back({bvh.children[2 * at + c], lo, hi, v.depth + 1});
+    }
+  }
+  for (std::size_t i = 0; i < inner; ++i) ASSERT_EQ(seen_inner[i], 1) << "inner node " << i;
+  for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(seen_triangle[t], 1) << "triangle " << t;
+}
+
+TEST(Bvh, TheStackWalksLayoutHoldsEveryTriangleOnceUnderItsChildBoxes) {
+  sh::rt::BvhSettings stack{.max_leaf = 8, .walk = sh::rt::BvhWalk::Stack};
+  for (std::string name : {"cornell", "spheres", "procedural"}) {
+    sh::rt::Scene s = name == "procedural" ? sh::rt::builtin_scene(name, 20000) : sh::rt::builtin_scene(name);
+    SCOPED_TRACE(name);
+    Bvh bvh = sh::rt::build_bvh(s, stack), threaded = sh::rt::build_bvh(s);
+    expect_pairs_well_formed(s, bvh, stack.max_leaf);
+    EXPECT_EQ(bvh.nodes(), threaded.nodes());
+    EXPECT_EQ(bvh.children.size(), threaded.nodes() - 1) << "two children for each inner node, the root a child of none";
+    EXPECT_EQ(bvh.depth, threaded.depth);
+    EXPECT_LT(bvh.bytes(), threaded.bytes());
+  }
+  sh::rt::Scene one = triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  Bvh leaf = sh::rt::build_bvh(one, stack);
+  EXPECT_EQ(leaf.root, -2) << "the tree is one leaf, listed from 0";
+  expect_pairs_well_formed(one, leaf, stack.max_leaf);
+  EXPECT_THROW(sh::rt::parse_bvh_walk("stackless"), sh::Error);
 }
 
 TEST(Bvh, LeafSizeLimitsFromOneToTheLargest) {
@@ -135,7 +202,7 @@ TEST(Bvh, CoincidentTrianglesMakeABalancedTree) {
   for (int i = 0; i < 5000; ++i) p.insert(p.end(), {{0, 0, 0}, {1, 0.2f, 0.1f}, {0.3f, 1, 0.7f}});
   sh::rt::Scene s = triangles(p);
   Bvh bvh = sh::rt::build_bvh(s);
-  expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+  expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), ceil_log2(s.mesh.triangles()));
 }
 
@@ -150,7 +217,7 @@ TEST(Bvh, ZeroAreaTrianglesAreListed) {
   }
   sh::rt::Scene s = triangles(p);
   Bvh bvh = sh::rt::build_bvh(s);
-  expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+  expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
 }
 
@@ -165,7 +232,7 @@ TEST(Bvh, HugeAndTinyCoordinatesBuildTheUnscaledTree) {
     for (Vec3& v : s.mesh.positions) v = v * scale;
     Bvh bvh = sh::rt::build_bvh(s);
     SCOPED_TRACE(scale);
-    expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+    expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
     EXPECT_NEAR(static_cast<double>(bvh.nodes()), static_cast<double>(unscaled.nodes()), 0.02 * unscaled.nodes());
   }
 }
@@ -182,7 +249,7 @@ TEST(Bvh, ASoupOfLargeAndSmallTriangles) {
   }
   sh::rt::Scene s = triangles(p);
   Bvh bvh = sh::rt::build_bvh(s);
-  expect_well_formed(s, bvh, sh::rt::BvhLimits{}.max_leaf);
+  expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
 }
 

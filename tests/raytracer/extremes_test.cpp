@@ -25,19 +25,16 @@ sh::rt::Scene closed_box_scene() {
   return s;
 }
 
-constexpr sh::rt::Accel kAccels[] = {sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree,
-                                     sh::rt::Accel::Bvh};
-
 // Returns the agreement of the accelerator that agreed on fewest rays.
 rt_test::Agreement check(const sh::rt::Scene& s, const rt_test::Rays& rays) {
   rt_test::Agreement least;
   least.agree = SIZE_MAX;
-  for (sh::rt::Accel accel : kAccels) {
+  for (const rt_test::Walked& accel : rt_test::every_accelerator()) {
     rt_test::Hits hits = rt_test::trace(s, rays, "cpu", accel);
     rt_test::Agreement a = rt_test::compare_with_embree(s, rays, hits);
     std::string detail;
     for (const std::string& d : a.disagreements) detail += "\n  " + d;
-    EXPECT_EQ(a.unexplained(), 0u) << s.name << ", " << sh::rt::accel_name(accel) << detail;
+    EXPECT_EQ(a.unexplained(), 0u) << s.name << ", " << accel.name() << detail;
     if (a.agree < least.agree) least = a;
   }
   return least;
@@ -107,11 +104,11 @@ TEST(Extremes, ClosedMeshIsWatertightAtEdgesAndVertices) {
         rays.add(from, sh::rt::normalize(target - from));
       }
     }
-  for (sh::rt::Accel accel : kAccels) {
+  for (const rt_test::Walked& accel : rt_test::every_accelerator()) {
     rt_test::Hits hits = rt_test::trace(s, rays, "cpu", accel);
     std::size_t leaks = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) leaks += hits.t[i] < 0;
-    EXPECT_EQ(leaks, 0u) << "rays passed through the closed mesh (" << sh::rt::accel_name(accel) << ")";
+    EXPECT_EQ(leaks, 0u) << "rays passed through the closed mesh (" << accel.name() << ")";
   }
   // And from inside, towards the same points: every one hits the shell.
   rt_test::Rays inside;

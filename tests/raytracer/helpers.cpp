@@ -48,10 +48,25 @@ Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
   return rays;
 }
 
-Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend, sh::rt::Accel accel) {
-  sh::rt::RenderSettings settings;
-  settings.accel = accel;
-  sh::rt::Renderer r(scene, settings);
+std::string Walked::name() const {
+  std::string n = sh::rt::accel_name(accel);
+  return accel == sh::rt::Accel::Bvh && walk != sh::rt::BvhWalk::Threaded ? n + "-" + sh::rt::bvh_walk_name(walk) : n;
+}
+
+sh::rt::RenderSettings Walked::settings() const {
+  sh::rt::RenderSettings s;
+  s.accel = accel;
+  s.bvh.walk = walk;
+  return s;
+}
+
+std::vector<Walked> every_accelerator() {
+  using sh::rt::Accel;
+  return {Accel::Grid, Accel::Octree, Accel::LazyOctree, Accel::Bvh, {Accel::Bvh, sh::rt::BvhWalk::Stack}};
+}
+
+Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend, Walked accel) {
+  sh::rt::Renderer r(scene, accel.settings());
   return r.intersect(rays.origins, rays.directions, sh::backend(backend));
 }
 

@@ -47,8 +47,19 @@ std::vector<std::string> in_process_backends();
 // Random rays from around the scene's bounds towards random points inside.
 Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);
 
+// An accelerator as a test walks it: the BVH with either of its walks.
+struct Walked {
+  Walked(sh::rt::Accel a, sh::rt::BvhWalk w = sh::rt::BvhWalk::Threaded) : accel(a), walk(w) {}
+  sh::rt::Accel accel;
+  sh::rt::BvhWalk walk;
+  std::string name() const;  // grid, octree, lazy-octree, bvh, bvh-stack
+  sh::rt::RenderSettings settings() const;
+};
+// Every accelerator and walk the suite checks against each other.
+std::vector<Walked> every_accelerator();
+
 Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend = "cpu",
-           sh::rt::Accel accel = sh::rt::Accel::Grid);
+           Walked accel = sh::rt::Accel::Grid);
 
 struct Agreement {
   // starts_on_surface: one tracer's hit lies within the coordinates'

@@ -12,7 +12,7 @@
 
 namespace {
 
-class IntersectorAgainstEmbree : public testing::TestWithParam<sh::rt::Accel> {
+class IntersectorAgainstEmbree : public testing::TestWithParam<rt_test::Walked> {
  public:
   void expect_agreement(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
     rt_test::Rays rays = rt_test::random_rays(scene, n, seed);
@@ -32,11 +32,9 @@ TEST_P(IntersectorAgainstEmbree, Cornell) { expect_agreement(sh::rt::builtin_sce
 TEST_P(IntersectorAgainstEmbree, Spheres) { expect_agreement(sh::rt::builtin_scene("spheres"), 100000, 2); }
 TEST_P(IntersectorAgainstEmbree, Procedural) { expect_agreement(sh::rt::builtin_scene("procedural", 20000), 100000, 3); }
 
-INSTANTIATE_TEST_SUITE_P(Accelerators, IntersectorAgainstEmbree,
-                         testing::Values(sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree,
-                                         sh::rt::Accel::Bvh),
+INSTANTIATE_TEST_SUITE_P(Accelerators, IntersectorAgainstEmbree, testing::ValuesIn(rt_test::every_accelerator()),
                          [](const auto& info) {
-                           std::string n = sh::rt::accel_name(info.param);
+                           std::string n = info.param.name();
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
                          });

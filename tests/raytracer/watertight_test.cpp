@@ -9,6 +9,8 @@
 #include <tuple>
 
 #include <closed_meshes.hpp>
+
+#include "helpers.hpp"
 #include <sh/sh.hpp>
 
 namespace {
@@ -19,9 +21,8 @@ constexpr const char* kClosedModel = "/usr/share/assimp/models/Collada/duck.dae"
 constexpr std::pair<float, float> kPlacements[] = {{1, 0}, {1, 1e3f}, {1, 1e5f}, {1e-4f, 0}, {1e4f, 0}};
 
 std::vector<float> nearest(const sh::rt::Scene& s, const watertight::AimedRays& rays, const std::string& backend,
-                           sh::rt::Accel accel, sh::MathMode math = sh::MathMode::Precise) {
-  sh::rt::RenderSettings settings;
-  settings.accel = accel;
+                           const rt_test::Walked& accel, sh::MathMode math = sh::MathMode::Precise) {
+  sh::rt::RenderSettings settings = accel.settings();
   sh::Options options;
   options.math = math;
   return sh::rt::Renderer(s, settings).intersect(rays.origins, rays.directions, sh::backend(backend, options)).t;
@@ -58,8 +59,8 @@ INSTANTIATE_TEST_SUITE_P(Backends, Watertight,
 TEST(WatertightAccelerators, EveryAcceleratorHoldsTheSphere) {
   watertight::ClosedMesh m = watertight::transformed(watertight::uv_sphere(96), 1, 1e3f);
   watertight::AimedRays rays = watertight::aimed_rays(m, 20000, 3);
-  for (sh::rt::Accel accel : {sh::rt::Accel::Grid, sh::rt::Accel::Octree, sh::rt::Accel::LazyOctree, sh::rt::Accel::Bvh})
-    EXPECT_EQ(watertight::leaks(rays, nearest(m.scene, rays, "cpu", accel)), 0u) << sh::rt::accel_name(accel);
+  for (const rt_test::Walked& accel : rt_test::every_accelerator())
+    EXPECT_EQ(watertight::leaks(rays, nearest(m.scene, rays, "cpu", accel)), 0u) << accel.name();
 }
 
 TEST(WatertightMeasure, ARayThroughTheGapBetweenTwoTrianglesIsALeak) {

@@ -24,6 +24,13 @@
 //   hit  <= -2  a leaf: its triangles are listed in `triangles` from -hit-2, ended by -1
 //   miss        the node after this one's subtree in this order; -1 after the last
 // A leaf's walk goes on at `miss` whether the ray met it or not.
+//
+// The stack walk (BvhWalk::Stack) reads another layout instead: the inner
+// nodes, depth-first, each holding its two children's boxes and references
+// (>= 0 an inner node, <= -2 a leaf listed from -ref-2), so that one visit
+// tests both children; a ray goes on to the nearer child it meets and
+// keeps the other on a stack of its own (a local array as deep as the
+// tree).  Neighbouring lanes go their own ways, each reading its own nodes.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,31 +39,45 @@
 
 namespace sh::rt {
 
-struct BvhLimits {
+// Threaded: without a stack, neighbouring lanes together; Stack: each lane
+// on its own path, with a stack.
+enum class BvhWalk { Threaded, Stack };
+BvhWalk parse_bvh_walk(const std::string& name);  // threaded or stack; throws sh::Error
+const char* bvh_walk_name(BvhWalk w);
+
+struct BvhSettings {
   int max_leaf = 8;  // 1 .. kBvhMaxLeaf triangles in a leaf
+  BvhWalk walk = BvhWalk::Threaded;
 };
 inline constexpr int kBvhMaxLeaf = 64;
 inline constexpr int kBvhBins = 16;
 inline constexpr int kBvhSahDepth = 48;
 inline constexpr int kBvhOrders = 6;
 
+// Each layout is filled only for its walk.
 struct Bvh {
-  std::vector<float> lo, hi;               // 3 per node
-  std::vector<std::int32_t> links;         // per order, per node: (hit, miss); see above
+  BvhWalk walk = BvhWalk::Threaded;
+  std::vector<float> lo, hi;               // threaded: 3 per node
+  std::vector<std::int32_t> links;         // threaded: per order, per node: (hit, miss); see above
+  std::vector<float> pair_lo, pair_hi;     // stack: 6 per inner node, child 0's box then child 1's
+  std::vector<std::int32_t> children;      // stack: 2 per inner node; see above
+  std::int32_t root = 0;                   // stack: the root's reference (a leaf where the tree is one)
   std::vector<std::int32_t> triangles;     // the leaves' lists, each ended by -1
   int depth = 0;                           // of the deepest leaf; the root is at 0
+  std::size_t node_count = 0;              // inner nodes and leaves
   double build_ms = 0;
 
-  std::size_t nodes() const { return lo.size() / 3; }
+  std::size_t nodes() const { return node_count; }
   std::size_t bytes() const {
-    return (lo.size() + hi.size()) * sizeof(float) + (links.size() + triangles.size()) * sizeof(std::int32_t);
+    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size()) * sizeof(float) +
+           (links.size() + children.size() + triangles.size()) * sizeof(std::int32_t);
   }
-  // hit and miss of `node` in `order`.
+  // hit and miss of `node` in `order` (threaded).
   std::int32_t hit(int order, std::size_t node) const { return links[2 * (order * nodes() + node)]; }
   std::int32_t miss(int order, std::size_t node) const { return links[2 * (order * nodes() + node) + 1]; }
 };
 
-// Throws sh::Error on a scene without triangles or limits out of range.
-Bvh build_bvh(const Scene& scene, BvhLimits limits = {});
+// Throws sh::Error on a scene without triangles or settings out of range.
+Bvh build_bvh(const Scene& scene, BvhSettings settings = {});
 
 }  // namespace sh::rt

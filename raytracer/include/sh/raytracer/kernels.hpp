@@ -46,14 +46,20 @@ struct GridTables {
   Attrib3f lo, cell, dims;
 };
 
-// The BVH's tables (bvh.hpp): links holds the six orders one after the
-// other, `nodes` entries each.
+// The BVH's tables (bvh.hpp), its walk's layout only.  Threaded: links
+// holds the six orders one after the other, `nodes` entries each.  Stack:
+// child k of inner node i at 2 i + k.
 struct BvhTables {
   explicit BvhTables(const Bvh& bvh);
+  BvhWalk walk;
+  int depth;
   Table1D<Attrib3f> lo, hi;
   Table1D<Attrib2i> links;
-  Table1D<Attrib1i> triangles;
   Attrib1i nodes;
+  Table1D<Attrib3f> pair_lo, pair_hi;
+  Table1D<Attrib1i> children;
+  Attrib1i root;
+  Table1D<Attrib1i> triangles;
 };
 
 // A lazy octree's tables are what was built when they were made; running

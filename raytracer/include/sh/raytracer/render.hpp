@@ -38,7 +38,7 @@ struct RenderSettings {
   Accel accel = Accel::Grid;   // Auto: chosen from the scene (choose_accel of filled_share)
   double grid_density = 2.0;   // grid cells per triangle
   OctreeLimits octree;
-  BvhLimits bvh;
+  BvhSettings bvh;
   bool progress = false;       // a progress line on stderr (when it is a terminal)
   // Bidirectional: a light pass first (once per renderer), whose luminance
   // the view pass's diffuse term reads.
