@@ -80,8 +80,8 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--bvh-leaf", c.bvh.max_leaf, "bvh: most triangles in a leaf")
       ->capture_default_str()->check(CLI::Range(1, kBvhMaxLeaf));
   app->add_option("--bvh-walk", c.bvh_walk,
-                  "bvh: threaded (no stack; rays side by side walk together) or stack (each ray its own path)")
-      ->check(CLI::IsMember({"threaded", "stack"}))->capture_default_str();
+                  "bvh: threaded (no stack; rays side by side walk together), stack (each ray its own path, with a stack) or wide (nodes of 4 children, rays side by side together, with a stack)")
+      ->check(CLI::IsMember({"threaded", "stack", "wide"}))->capture_default_str();
   app->add_flag("--bidirectional", c.bidirectional,
                 "a light pass first (rays from the point lights to every element, through mirrors and glass), whose "
                 "luminance gives the diffuse light");

@@ -221,9 +221,17 @@ Bvh build_bvh(const Scene& scene, BvhSettings settings) {
 BvhWalk parse_bvh_walk(const std::string& name) {
   if (name == "threaded") return BvhWalk::Threaded;
   if (name == "stack") return BvhWalk::Stack;
-  throw Error("unknown bvh walk '" + name + "' (threaded or stack)");
+  if (name == "wide") return BvhWalk::Wide;
+  throw Error("unknown bvh walk '" + name + "' (threaded, stack or wide)");
 }
 
-const char* bvh_walk_name(BvhWalk w) { return w == BvhWalk::Stack ? "stack" : "threaded"; }
+const char* bvh_walk_name(BvhWalk w) {
+  switch (w) {
+    case BvhWalk::Threaded: return "threaded";
+    case BvhWalk::Stack: return "stack";
+    case BvhWalk::Wide: return "wide";
+  }
+  return "?";
+}
 
 }  // namespace sh::rt

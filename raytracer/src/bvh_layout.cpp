@@ -1,6 +1,9 @@
 // The BVH's tree laid out as bvh.hpp says: nodes numbered depth-first,
 // leaves' lists, and the six threaded orders or the stack walk's pairs of
 // child boxes.
+#include <algorithm>
+#include <limits>
+
 #include "bvh_tree.hpp"
 
 namespace sh::rt::bvh {
@@ -85,6 +88,75 @@ void pair(const Numbered& n, const std::vector<float>& lo, const std::vector<flo
   }
 }
 
+// Wide nodes: each binary inner node's children, the largest inner one
+// opened into its two until there are kBvhWidth, numbered depth-first.
+class Widener {
+ public:
+  Widener(const Numbered& n, const std::vector<float>& lo, const std::vector<float>& hi, Bvh& bvh)
+      : n_(n), lo_(lo), hi_(hi), bvh_(bvh) {}
+
+  std::int32_t ref(std::int32_t node) {
+    auto at = static_cast<std::size_t>(node);
+    if (n_.leaf_start[at] >= 0) return -n_.leaf_start[at] - 2;
+    std::vector<std::int32_t> kids(n_.child[at].begin(), n_.child[at].end());
+    while (kids.size() < static_cast<std::size_t>(kBvhWidth)) {
+      auto widest = kids.end();
+      for (auto k = kids.begin(); k != kids.end(); ++k)
+        if (n_.leaf_start[static_cast<std::size_t>(*k)] < 0 &&
+            (widest == kids.end() || area(box(*k)) > area(box(*widest))))
+          widest = k;
+      if (widest == kids.end()) break;
+      std::array<std::int32_t, 2> grandchildren = n_.child[static_cast<std::size_t>(*widest)];
+      *widest = grandchildren[0];
+      kids.push_back(grandchildren[1]);
+    }
+    auto wide = static_cast<std::int32_t>(bvh_.wide_children.size() / kBvhWidth);
+    bvh_.wide_children.resize(bvh_.wide_children.size() + kBvhWidth, -1);
+    bvh_.wide_box.resize(bvh_.wide_box.size() + 6 * kBvhWidth);
+    bvh_.wide_order.push_back(order(kids));
+    for (std::size_t slot = 0; slot < static_cast<std::size_t>(kBvhWidth); ++slot) {
+      Box b = slot < kids.size() ? box(kids[slot]) : Box{};  // an empty slot's: its reference, -1, says so
+      float* at_box = &bvh_.wide_box[6 * kBvhWidth * static_cast<std::size_t>(wide)];
+      for (int c = 0; c < 3; ++c) {
+        at_box[c * kBvhWidth + slot] = b.lo[c];
+        at_box[(3 + c) * kBvhWidth + slot] = b.hi[c];
+      }
+    }
+    for (std::size_t slot = 0; slot < kids.size(); ++slot) {
+      std::int32_t r = ref(kids[slot]);  // numbers the subtree: wide_children may grow
+      bvh_.wide_children[static_cast<std::size_t>(wide) * kBvhWidth + slot] = r;
+    }
+    return wide;
+  }
+
+ private:
+  Box box(std::int32_t node) const {
+    auto at = 3 * static_cast<std::size_t>(node);
+    return {{lo_[at], lo_[at + 1], lo_[at + 2]}, {hi_[at], hi_[at + 1], hi_[at + 2]}};
+  }
+
+  // Per axis, the slots by their box's centre along it, lowest first.
+  std::int32_t order(const std::vector<std::int32_t>& kids) const {
+    std::int32_t packed = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      std::array<int, kBvhWidth> slots{};
+      for (int k = 0; k < kBvhWidth; ++k) slots[static_cast<std::size_t>(k)] = k;
+      auto centre_of = [&](int slot) {
+        return slot < static_cast<int>(kids.size()) ? centre(box(kids[static_cast<std::size_t>(slot)]))[axis]
+                                                    : std::numeric_limits<float>::infinity();
+      };
+      std::stable_sort(slots.begin(), slots.end(), [&](int a, int b) { return centre_of(a) < centre_of(b); });
+      for (int j = 0; j < kBvhWidth; ++j) packed |= slots[static_cast<std::size_t>(j)] << (8 * axis + 2 * j);
+    }
+    return packed;
+  }
+
+  const Numbered& n_;
+  const std::vector<float>& lo_;
+  const std::vector<float>& hi_;
+  Bvh& bvh_;
+};
+
 }  // namespace
 
 Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk) {
@@ -108,6 +180,10 @@ Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk) {
   }
   if (walk == BvhWalk::Stack) {
     pair(n, lo, hi, bvh);
+    return bvh;
+  }
+  if (walk == BvhWalk::Wide) {
+    bvh.root = Widener(n, lo, hi, bvh).ref(0);
     return bvh;
   }
   bvh.lo = std::move(lo);

@@ -73,11 +73,31 @@ Attrib3f Ray::turn(const Attrib3f& v) const {
   return cond(last_is_x, v(1, 2, 0), cond(last_is_y, v(2, 0, 1), v));
 }
 
+namespace {
+
+// The lesser and the greater as a compare and a choice: the machine's own
+// minimum and maximum (one instruction), where the language's min and max
+// must give the other operand for a NaN (three more each).  A box's
+// distances are never NaN: its corners and the ray's origin are finite
+// and the reciprocal direction is capped (Ray), so the two agree here.
+template <int N>
+Attrib<N, float> lesser(const Attrib<N, float>& a, const Attrib<N, float>& b) {
+  return cond(a < b, a, b);
+}
+template <int N>
+Attrib<N, float> greater(const Attrib<N, float>& a, const Attrib<N, float>& b) {
+  return cond(a > b, a, b);
+}
+
+}  // namespace
+
 void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& t_limit, Attrib1f& t_enter,
           Attrib1f& t_leave) {
   Attrib3f ta = (lo - r.o) * r.inv, tb = (hi - r.o) * r.inv;
-  t_enter = max(max_component(min(ta, tb)), 0.0f);
-  t_leave = min(min_component(max(ta, tb)), t_limit);
+  Attrib3f near = lesser(ta, tb), far = greater(ta, tb);
+  Attrib1f near_x = near(0), near_y = near(1), near_z = near(2), far_x = far(0), far_y = far(1), far_z = far(2);
+  t_enter = greater(greater(near_x, near_y), greater(near_z, Attrib1f(ConstAttrib1f(0.0f))));
+  t_leave = lesser(lesser(far_x, far_y), lesser(far_z, t_limit));
 }
 
 // A ray through a shared edge or vertex meets every triangle around it

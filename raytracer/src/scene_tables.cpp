@@ -78,6 +78,9 @@ BvhTables::BvhTables(const Bvh& b)
       pair_lo(at_least_one(b.pair_lo.size() / 3)),
       pair_hi(at_least_one(b.pair_hi.size() / 3)),
       children(at_least_one(b.children.size())),
+      wide_box(at_least_one(b.wide_box.size() / 4)),
+      wide_children(at_least_one(b.wide_children.size() / 4)),
+      wide_order(at_least_one(b.wide_order.size())),
       root(b.root),
       triangles(at_least_one(b.triangles.size())) {
   auto fill = [](auto& table, const char* name, const auto& values) {
@@ -90,6 +93,9 @@ BvhTables::BvhTables(const Bvh& b)
   fill(pair_lo, "bvh_pair_lo", b.pair_lo);
   fill(pair_hi, "bvh_pair_hi", b.pair_hi);
   fill(children, "bvh_children", b.children);
+  fill(wide_box, "bvh_wide_box", b.wide_box);
+  fill(wide_children, "bvh_wide_children", b.wide_children);
+  fill(wide_order, "bvh_wide_order", b.wide_order);
   fill(triangles, "bvh_triangles", b.triangles);
 }
 

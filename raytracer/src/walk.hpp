@@ -60,6 +60,12 @@ void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, A
                   Attrib2f& uv, bool any_hit, Attrib4i* lanes);
 void bvh_stack(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
                Attrib2f& uv, bool any_hit);
+void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
+              Attrib2f& uv, bool any_hit);
+
+// The order the lanes walk together take: 2 * axis + (downwards) of the
+// direction's largest component, the lowest among the lanes.
+Attrib1f walk_order(const Ray& r);
 
 // A BVH's boxes are clipped a little beyond the nearest hit so far: a
 // triangle at the same distance to the intersector's tie tolerance may

@@ -9,7 +9,6 @@
 #include "walk.hpp"
 
 namespace sh::rt::walk {
-namespace {
 
 // The order threaded for the ray's largest direction component and its
 // sign: 2 * axis + (downwards), the axis the watertight test's turn puts
@@ -22,8 +21,6 @@ Attrib1f walk_order(const Ray& r) {
   for (int k = 0; k + 1 < kBvhOrders; ++k) lowest += 1.0f - any_lane(own <= static_cast<float>(k));
   return lowest;
 }
-
-}  // namespace
 
 // Rays side by side in SIMD lanes walk together: a box is entered when any
 // of them meets it (any_lane), so every lane is at the same node and reads
@@ -72,6 +69,7 @@ void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, A
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
          bool any_hit, Attrib4i* lanes) {
   if (s.bvh->walk == BvhWalk::Stack) return bvh_stack(s, r, t_limit, best, triangle, uv, any_hit);
+  if (s.bvh->walk == BvhWalk::Wide) return bvh_wide(s, r, t_limit, best, triangle, uv, any_hit);
   bvh_threaded(s, r, t_limit, best, triangle, uv, any_hit, lanes);
 }
 

@@ -31,6 +31,15 @@
 // tests both children; a ray goes on to the nearer child it meets and
 // keeps the other on a stack of its own (a local array as deep as the
 // tree).  Neighbouring lanes go their own ways, each reading its own nodes.
+//
+// The wide walk (BvhWalk::Wide) reads nodes of kBvhWidth children, the
+// binary tree's levels collapsed (the largest inner child opened first):
+// per node its children's boxes as six rows of kBvhWidth (lo x, lo y,
+// lo z, hi x, hi y, hi z: one vector load each), their references (-1 in
+// an empty slot, whose box is empty) and, per axis, the slots in the order
+// of their boxes' centres along it.  Neighbouring lanes walk together: a
+// child is entered when any lane meets it, nearer ones first along the
+// lanes' main direction, the others kept on one stack for all of them.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -40,9 +49,10 @@
 namespace sh::rt {
 
 // Threaded: without a stack, neighbouring lanes together; Stack: each lane
-// on its own path, with a stack.
-enum class BvhWalk { Threaded, Stack };
-BvhWalk parse_bvh_walk(const std::string& name);  // threaded or stack; throws sh::Error
+// on its own path, with a stack; Wide: nodes of kBvhWidth children,
+// neighbouring lanes together, with a stack.
+enum class BvhWalk { Threaded, Stack, Wide };
+BvhWalk parse_bvh_walk(const std::string& name);  // threaded, stack or wide; throws sh::Error
 const char* bvh_walk_name(BvhWalk w);
 
 struct BvhSettings {
@@ -53,6 +63,7 @@ inline constexpr int kBvhMaxLeaf = 64;
 inline constexpr int kBvhBins = 16;
 inline constexpr int kBvhSahDepth = 48;
 inline constexpr int kBvhOrders = 6;
+inline constexpr int kBvhWidth = 4;
 
 // Each layout is filled only for its walk.
 struct Bvh {
@@ -61,7 +72,10 @@ struct Bvh {
   std::vector<std::int32_t> links;         // threaded: per order, per node: (hit, miss); see above
   std::vector<float> pair_lo, pair_hi;     // stack: 6 per inner node, child 0's box then child 1's
   std::vector<std::int32_t> children;      // stack: 2 per inner node; see above
-  std::int32_t root = 0;                   // stack: the root's reference (a leaf where the tree is one)
+  std::vector<float> wide_box;             // wide: 6 rows of kBvhWidth per node; see above
+  std::vector<std::int32_t> wide_children; // wide: kBvhWidth per node
+  std::vector<std::int32_t> wide_order;    // wide: per node, axis a's slots in bits 8a.., 2 bits each, lowest first
+  std::int32_t root = 0;                   // stack, wide: the root's reference (a leaf where the tree is one)
   std::vector<std::int32_t> triangles;     // the leaves' lists, each ended by -1
   int depth = 0;                           // of the deepest leaf; the root is at 0
   std::size_t node_count = 0;              // inner nodes and leaves
@@ -69,8 +83,9 @@ struct Bvh {
 
   std::size_t nodes() const { return node_count; }
   std::size_t bytes() const {
-    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size()) * sizeof(float) +
-           (links.size() + children.size() + triangles.size()) * sizeof(std::int32_t);
+    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size() + wide_box.size()) * sizeof(float) +
+           (links.size() + children.size() + wide_children.size() + wide_order.size() + triangles.size()) *
+               sizeof(std::int32_t);
   }
   // hit and miss of `node` in `order` (threaded).
   std::int32_t hit(int order, std::size_t node) const { return links[2 * (order * nodes() + node)]; }

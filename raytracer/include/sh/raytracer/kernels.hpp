@@ -48,7 +48,8 @@ struct GridTables {
 
 // The BVH's tables (bvh.hpp), its walk's layout only.  Threaded: links
 // holds the six orders one after the other, `nodes` entries each.  Stack:
-// child k of inner node i at 2 i + k.
+// child k of inner node i at 2 i + k.  Wide: node i's six rows of child
+// box coordinates at 6 i ...  6 i + 5.
 struct BvhTables {
   explicit BvhTables(const Bvh& bvh);
   BvhWalk walk;
@@ -58,6 +59,9 @@ struct BvhTables {
   Attrib1i nodes;
   Table1D<Attrib3f> pair_lo, pair_hi;
   Table1D<Attrib1i> children;
+  Table1D<Attrib4f> wide_box;
+  Table1D<Attrib4i> wide_children;
+  Table1D<Attrib1i> wide_order;
   Attrib1i root;
   Table1D<Attrib1i> triangles;
 };

@@ -1,0 +1,85 @@
+// The wide BVH's walk (bvh.hpp): a visit to a node tests its kBvhWidth
+// children's boxes, and the children any lane meets go on one stack for
+// all the lanes, the nearest last, so that it is popped next.  Nearest is
+// along the lanes' main direction (walk_order): the node lists its slots
+// by their boxes' centres along each axis.  Rays side by side in SIMD
+// lanes walk together, as in the threaded walk, so every lane reads the
+// same node with one load; a wide node needs half the visits of a binary
+// one, and its children's boxes arrive together instead of one link at a
+// time.
+#include "walk.hpp"
+
+namespace sh::rt::walk {
+namespace {
+
+// Component `slot` of v.
+template <class V>
+Attrib<1, typename V::scalar_type> pick(const V& v, const Attrib1i& slot) {
+  return cond(slot == 0, v(0), cond(slot == 1, v(1), cond(slot == 2, v(2), v(3))));
+}
+
+}  // namespace
+
+void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle,
+              Attrib2f& uv, bool any_hit) {
+  static_assert(kBvhWidth == 4, "a node's rows are four-wide vectors");
+  const BvhTables& b = *s.bvh;
+  // A visit pops one entry and pushes at most kBvhWidth, one level down.
+  // Beside each node pushed, where each lane enters its box: a node no
+  // lane enters before its nearest hit so far is passed over when popped,
+  // its box not read.
+  int deepest = (kBvhWidth - 1) * b.depth + 2;
+  LocalArray<Attrib1i> stack(deepest, "bvh_stack");
+  LocalArray<Attrib1f> entered(deepest, "bvh_entered");
+  Attrib1i order = walk_order(r).cast<std::int32_t>();
+  Attrib1i axis_bits = (order / 2) * 8, downwards = order % 2;
+  Attrib1i depth = 0;
+  Attrib1i node = b.root;  // >= 0 an inner node, <= -2 a leaf, -1 done
+  auto pop = [&] {
+    node = -1;
+    SH_WHILE(node == -1 && depth > 0) {
+      depth -= 1;
+      Attrib1i wanted = any_lane(entered[depth] <= best * kBeyondBest).cast<std::int32_t>();
+      node = cond(wanted, stack[depth], ConstAttrib1i(-1));
+    } SH_ENDWHILE;
+  };
+  auto walking = [&]() -> Attrib1i {
+    if (!any_hit) return node != -1;
+    return node != -1 && (best >= t_limit).cast<std::int32_t>();
+  };
+  SH_WHILE(walking()) {
+    SH_WHILE(node >= 0) {
+      Attrib1i row = node * 6;
+      Attrib4f lo_x = b.wide_box[row], lo_y = b.wide_box[row + 1], lo_z = b.wide_box[row + 2];
+      Attrib4f hi_x = b.wide_box[row + 3], hi_y = b.wide_box[row + 4], hi_z = b.wide_box[row + 5];
+      Attrib4i kids = b.wide_children[node];
+      Attrib1f clip_at = best * kBeyondBest;
+      Attrib4i met;
+      Attrib4f enters;
+      for (int k = 0; k < kBvhWidth; ++k) {
+        Attrib1f enter, leave;
+        clip(r, join(join(lo_x(k), lo_y(k)), lo_z(k)), join(join(hi_x(k), hi_y(k)), hi_z(k)), clip_at, enter, leave);
+        Attrib1f own = enter <= leave;
+        met(k) = any_lane(own).cast<std::int32_t>() && kids(k) != -1;
+        enters(k) = cond(own, enter, ConstAttrib1f(kFar));
+      }
+      Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
+      // Farthest first: the nearest child met is on top.
+      for (int j = 0; j < kBvhWidth; ++j) {
+        Attrib1i position = cond(downwards, ConstAttrib1i(j), ConstAttrib1i(kBvhWidth - 1 - j));
+        Attrib1i slot = bit_and(shr(by_centre, position * 2), 3);
+        stack.store(depth, pick(kids, slot));
+        entered.store(depth, pick(enters, slot));
+        depth += pick(met, slot);
+      }
+      pop();
+    } SH_ENDWHILE;
+    SH_IF(node <= -2) {
+      Attrib1i k = -node - 2;
+      test_listed(s, r, b.triangles, k, b.triangles[k], best, triangle, uv);
+      pop();
+    } SH_ENDIF;
+  } SH_ENDWHILE;
+}
+
+}  // namespace sh::rt::walk
