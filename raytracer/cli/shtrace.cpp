@@ -39,7 +39,7 @@ struct Common {
   std::string accel = "auto";
   OctreeLimits octree;
   BvhSettings bvh;
-  std::string bvh_walk = "threaded";
+  std::string bvh_walk = "wide";
   std::size_t triangles = 100000;
   std::string precision = "f32", math = "precise";
   int threads = 0;

@@ -165,9 +165,9 @@ void Intersector::count_lanes() {
   if (!s_.bvh)
     throw Error(std::string("lane counts: the scene's accelerator is ") + (s_.grid ? "a grid" : "an octree") +
                 "; lanes are counted in the BVH's walk, which rays side by side take together");
-  if (s_.bvh->walk != BvhWalk::Threaded)
-    throw Error("lane counts: the BVH is walked with a stack, where each lane walks its own path; lanes are counted "
-                "in the threaded walk, which rays side by side take together");
+  if (s_.bvh->walk == BvhWalk::Stack)
+    throw Error("lane counts: the BVH is walked with a stack by each lane alone; lanes are counted in the threaded and "
+                "wide walks, which rays side by side take together");
   counting_ = true;
   lanes_ = ConstAttrib4i(0, 0, 0, 0);
 }

@@ -52,8 +52,9 @@ void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f&
 // octree only).
 void octree(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, WalkState& state, Attrib4i* request,
             bool any_hit);
-// The BVH's walk its tables were laid out for.  With `lanes` (threaded
-// only), counts into it as Intersector::lanes() says.
+// The BVH's walk its tables were laid out for.  With `lanes` (the walks of
+// lanes together: threaded and wide), counts into it as
+// Intersector::lanes() says.
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri, Attrib2f& uv,
          bool any_hit, Attrib4i* lanes = nullptr);
 void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
@@ -61,7 +62,7 @@ void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, A
 void bvh_stack(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
                Attrib2f& uv, bool any_hit);
 void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& tri,
-              Attrib2f& uv, bool any_hit);
+              Attrib2f& uv, bool any_hit, Attrib4i* lanes);
 
 // The order the lanes walk together take: 2 * axis + (downwards) of the
 // direction's largest component, the lowest among the lanes.

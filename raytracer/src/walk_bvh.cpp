@@ -69,7 +69,7 @@ void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, A
 void bvh(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle, Attrib2f& uv,
          bool any_hit, Attrib4i* lanes) {
   if (s.bvh->walk == BvhWalk::Stack) return bvh_stack(s, r, t_limit, best, triangle, uv, any_hit);
-  if (s.bvh->walk == BvhWalk::Wide) return bvh_wide(s, r, t_limit, best, triangle, uv, any_hit);
+  if (s.bvh->walk == BvhWalk::Wide) return bvh_wide(s, r, t_limit, best, triangle, uv, any_hit, lanes);
   bvh_threaded(s, r, t_limit, best, triangle, uv, any_hit, lanes);
 }
 

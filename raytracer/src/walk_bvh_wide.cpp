@@ -7,6 +7,8 @@
 // same node with one load; a wide node needs half the visits of a binary
 // one, and its children's boxes arrive together instead of one link at a
 // time.
+#include <optional>
+
 #include "walk.hpp"
 
 namespace sh::rt::walk {
@@ -21,7 +23,7 @@ Attrib<1, typename V::scalar_type> pick(const V& v, const Attrib1i& slot) {
 }  // namespace
 
 void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f& best, Attrib1i& triangle,
-              Attrib2f& uv, bool any_hit) {
+              Attrib2f& uv, bool any_hit, Attrib4i* lanes) {
   static_assert(kBvhWidth == 4, "a node's rows are four-wide vectors");
   const BvhTables& b = *s.bvh;
   // A visit pops one entry and pushes at most kBvhWidth, one level down.
@@ -35,12 +37,17 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   Attrib1i axis_bits = (order / 2) * 8, downwards = order % 2;
   Attrib1i depth = 0;
   Attrib1i node = b.root;  // >= 0 an inner node, <= -2 a leaf, -1 done
+  // Counting: whether the node popped is this lane's own (its ray enters
+  // the box before its nearest hit so far); the root is every lane's.
+  std::optional<Attrib1i> own_node;
+  if (lanes) own_node = Attrib1i(1);
   auto pop = [&] {
     node = -1;
     SH_WHILE(node == -1 && depth > 0) {
       depth -= 1;
-      Attrib1i wanted = any_lane(entered[depth] <= best * kBeyondBest).cast<std::int32_t>();
-      node = cond(wanted, stack[depth], ConstAttrib1i(-1));
+      Attrib1i own = (entered[depth] <= best * kBeyondBest).cast<std::int32_t>();
+      node = cond(any_lane(own), stack[depth], ConstAttrib1i(-1));
+      if (lanes) *own_node = own;
     } SH_ENDWHILE;
   };
   auto walking = [&]() -> Attrib1i {
@@ -62,6 +69,10 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
         Attrib1f own = enter <= leave;
         met(k) = any_lane(own).cast<std::int32_t>() && kids(k) != -1;
         enters(k) = cond(own, enter, ConstAttrib1f(kFar));
+        if (lanes) {
+          Attrib1i tested = kids(k) != -1;
+          *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));
+        }
       }
       Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
       // Farthest first: the nearest child met is on top.
@@ -75,6 +86,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
       pop();
     } SH_ENDWHILE;
     SH_IF(node <= -2) {
+      if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), *own_node));
       Attrib1i k = -node - 2;
       test_listed(s, r, b.triangles, k, b.triangles[k], best, triangle, uv);
       pop();

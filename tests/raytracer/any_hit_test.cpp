@@ -23,7 +23,8 @@ TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
   std::vector<float> limits(rays.size());
   for (float& l : limits) l = u(rng);
   for (rt_test::Walked accel : {rt_test::Walked(Accel::Grid), rt_test::Walked(Accel::Octree), rt_test::Walked(Accel::Bvh),
-                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Stack)}) {
+                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Stack),
+                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Wide)}) {
     sh::rt::Renderer r(scene, accel.settings());
     sh::BackendChoice on = sh::backend(GetParam());
     std::vector<float> any = r.occluded(rays.origins, rays.directions, limits, on, true),

@@ -1,15 +1,18 @@
 // The BVH: every triangle in exactly one leaf, inside the leaf's box and
 // every box above it; every threaded order a pre-order of the whole tree
-// with the nearer child first; bounded on degenerate input (coincident,
+// with the nearer child first; the stack and wide walks' layouts whole
+// too; bounded on degenerate input (coincident,
 // zero-area, huge and tiny coordinates); the same tree on one thread and
 // on two; limits checked.  Its hits against Embree's are in
 // intersector_test, extremes_test and bounded_build_test, its images
 // against the grid's on every backend in octree_test.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
 
 #include <tbb/global_control.h>
 
@@ -97,6 +100,8 @@ sh::rt::Scene triangles(const std::vector<Vec3>& positions) {
   return s;
 }
 
+const sh::rt::BvhSettings kThreaded{.walk = sh::rt::BvhWalk::Threaded};
+
 std::size_t ceil_log2(std::size_t n) {
   std::size_t k = 0;
   while ((std::size_t{1} << k) < n) ++k;
@@ -106,7 +111,7 @@ std::size_t ceil_log2(std::size_t n) {
 TEST(Bvh, EveryTriangleIsInOneLeafInsideEveryBoxAboveIt) {
   for (std::string name : {"cornell", "spheres", "procedural"}) {
     sh::rt::Scene s = name == "procedural" ? sh::rt::builtin_scene(name, 20000) : sh::rt::builtin_scene(name);
-    Bvh bvh = sh::rt::build_bvh(s);
+    Bvh bvh = sh::rt::build_bvh(s, kThreaded);
     SCOPED_TRACE(name);
     expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
     expect_nearer_child_first(bvh);
@@ -165,7 +170,7 @@ TEST(Bvh, TheStackWalksLayoutHoldsEveryTriangleOnceUnderItsChildBoxes) {
   for (std::string name : {"cornell", "spheres", "procedural"}) {
     sh::rt::Scene s = name == "procedural" ? sh::rt::builtin_scene(name, 20000) : sh::rt::builtin_scene(name);
     SCOPED_TRACE(name);
-    Bvh bvh = sh::rt::build_bvh(s, stack), threaded = sh::rt::build_bvh(s);
+    Bvh bvh = sh::rt::build_bvh(s, stack), threaded = sh::rt::build_bvh(s, kThreaded);
     expect_pairs_well_formed(s, bvh, stack.max_leaf);
     EXPECT_EQ(bvh.nodes(), threaded.nodes());
     EXPECT_EQ(bvh.children.size(), threaded.nodes() - 1) << "two children for each inner node, the root a child of none";
@@ -179,11 +184,106 @@ TEST(Bvh, TheStackWalksLayoutHoldsEveryTriangleOnceUnderItsChildBoxes) {
   EXPECT_THROW(sh::rt::parse_bvh_walk("stackless"), sh::Error);
 }
 
+// The wide walk's layout: from the root's reference every node is reached
+// once; a node's filled slots come first, each child's box inside its
+// parent's and holding what lies below it; every triangle in one leaf;
+// each axis's order a permutation of the slots, by centre along the axis;
+// no node deeper than the binary tree's (the stack is sized by it).
+void expect_wide_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
+  constexpr int w = sh::rt::kBvhWidth;
+  std::size_t n = s.mesh.triangles(), nodes = bvh.wide_children.size() / w;
+  ASSERT_EQ(bvh.wide_box.size(), 6 * w * nodes);
+  ASSERT_EQ(bvh.wide_order.size(), nodes);
+  std::vector<int> seen_node(nodes, 0), seen_triangle(n, 0);
+  struct Visit {
+    std::int32_t ref;
+    Vec3 lo, hi;
+    int depth;
+  };
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  std::vector<Visit> todo{{bvh.root, {-inf, -inf, -inf}, {inf, inf, inf}, 0}};
+  while (!todo.empty()) {
+    Visit v = todo.back();
+    todo.pop_back();
+    EXPECT_LE(v.depth, bvh.depth);
+    if (v.ref <= -2) {
+      int count = 0;
+      for (std::size_t i = static_cast<std::size_t>(-v.ref - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
+        auto t = static_cast<std::size_t>(bvh.triangles[i]);
+        ASSERT_LT(t, n);
+        ++seen_triangle[t];
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(inside(s.mesh.positions[3 * t + k], v.lo, v.hi)) << "triangle " << t;
+      }
+      EXPECT_GE(count, 1);
+      EXPECT_LE(count, max_leaf);
+      continue;
+    }
+    ASSERT_GE(v.ref, 0);
+    auto at = static_cast<std::size_t>(v.ref);
+    ASSERT_LT(at, nodes);
+    ++seen_node[at];
+    const float* rows = &bvh.wide_box[6 * w * at];
+    int filled = 0;
+    std::array<float, w> centre[3];
+    for (int slot = 0; slot < w; ++slot) {
+      std::int32_t child = bvh.wide_children[w * at + static_cast<std::size_t>(slot)];
+      if (child == -1) continue;
+      EXPECT_EQ(slot, filled++) << "filled slots first in node " << at;
+      Vec3 lo{rows[0 * w + slot], rows[1 * w + slot], rows[2 * w + slot]};
+      Vec3 hi{rows[3 * w + slot], rows[4 * w + slot], rows[5 * w + slot]};
+      EXPECT_TRUE(inside(lo, v.lo, v.hi) && inside(hi, v.lo, v.hi)) << "slot " << slot << " of " << at;
+      for (int a = 0; a < 3; ++a) centre[a][static_cast<std::size_t>(slot)] = lo[a] + hi[a];
+      todo.push_back({child, lo, hi, v.depth + 1});
+    }
+    EXPECT_GE(filled, 2) << "node " << at;
+    for (int a = 0; a < 3; ++a) {
+      std::set<int> slots;
+      float last = -inf;
+      for (int j = 0; j < w; ++j) {
+        int slot = (bvh.wide_order[at] >> (8 * a + 2 * j)) & 3;
+        slots.insert(slot);
+        if (slot >= filled) continue;
+        EXPECT_LE(last, centre[a][static_cast<std::size_t>(slot)]) << "axis " << a << " of node " << at;
+        last = centre[a][static_cast<std::size_t>(slot)];
+      }
+      EXPECT_EQ(slots.size(), static_cast<std::size_t>(w)) << "axis " << a << " of node " << at;
+    }
+  }
+  for (std::size_t i = 0; i < nodes; ++i) ASSERT_EQ(seen_node[i], 1) << "node " << i;
+  for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(seen_triangle[t], 1) << "triangle " << t;
+}
+
+TEST(Bvh, TheWideWalksNodesHoldEveryTriangleOnceUnderTheirChildren) {
+  sh::rt::BvhSettings wide{.max_leaf = 8, .walk = sh::rt::BvhWalk::Wide};
+  for (std::string name : {"cornell", "spheres", "procedural"}) {
+    sh::rt::Scene s = name == "procedural" ? sh::rt::builtin_scene(name, 20000) : sh::rt::builtin_scene(name);
+    SCOPED_TRACE(name);
+    Bvh bvh = sh::rt::build_bvh(s, wide), binary = sh::rt::build_bvh(s, kThreaded);
+    expect_wide_well_formed(s, bvh, wide.max_leaf);
+    std::size_t inner = (binary.nodes() - 1) / 2, nodes = bvh.wide_children.size() / sh::rt::kBvhWidth;
+    EXPECT_LT(nodes, inner * 2 / 3) << "four children a node, mostly";
+    EXPECT_LT(bvh.bytes(), binary.bytes());
+  }
+  sh::rt::Scene one = triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  Bvh leaf = sh::rt::build_bvh(one, wide);
+  EXPECT_EQ(leaf.root, -2);
+  expect_wide_well_formed(one, leaf, wide.max_leaf);
+}
+
+// The tree in every walk's layout, each checked; gives the threaded one.
+Bvh expect_layouts_well_formed(const sh::rt::Scene& s, int max_leaf = sh::rt::BvhSettings{}.max_leaf) {
+  Bvh threaded = sh::rt::build_bvh(s, {max_leaf, sh::rt::BvhWalk::Threaded});
+  expect_well_formed(s, threaded, max_leaf);
+  expect_pairs_well_formed(s, sh::rt::build_bvh(s, {max_leaf, sh::rt::BvhWalk::Stack}), max_leaf);
+  expect_wide_well_formed(s, sh::rt::build_bvh(s, {max_leaf, sh::rt::BvhWalk::Wide}), max_leaf);
+  return threaded;
+}
+
 TEST(Bvh, LeafSizeLimitsFromOneToTheLargest) {
   sh::rt::Scene s = sh::rt::builtin_scene("spheres");
   for (int leaf : {1, 2, 8, sh::rt::kBvhMaxLeaf}) {
     SCOPED_TRACE(leaf);
-    expect_well_formed(s, sh::rt::build_bvh(s, {leaf}), leaf);
+    expect_layouts_well_formed(s, leaf);
   }
   for (int bad : {0, sh::rt::kBvhMaxLeaf + 1}) {
     try {
@@ -201,8 +301,7 @@ TEST(Bvh, CoincidentTrianglesMakeABalancedTree) {
   std::vector<Vec3> p;
   for (int i = 0; i < 5000; ++i) p.insert(p.end(), {{0, 0, 0}, {1, 0.2f, 0.1f}, {0.3f, 1, 0.7f}});
   sh::rt::Scene s = triangles(p);
-  Bvh bvh = sh::rt::build_bvh(s);
-  expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
+  Bvh bvh = expect_layouts_well_formed(s);
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), ceil_log2(s.mesh.triangles()));
 }
 
@@ -216,8 +315,7 @@ TEST(Bvh, ZeroAreaTrianglesAreListed) {
     p.insert(p.end(), {{0, x, 0}, {0, 2 * x, 0}, {0, 3 * x, 0}});
   }
   sh::rt::Scene s = triangles(p);
-  Bvh bvh = sh::rt::build_bvh(s);
-  expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
+  Bvh bvh = expect_layouts_well_formed(s);
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
 }
 
@@ -226,13 +324,12 @@ TEST(Bvh, ZeroAreaTrianglesAreListed) {
 // triangles, and the tree is the unscaled one's.
 TEST(Bvh, HugeAndTinyCoordinatesBuildTheUnscaledTree) {
   sh::rt::Scene base = sh::rt::builtin_scene("spheres");
-  Bvh unscaled = sh::rt::build_bvh(base);
+  Bvh unscaled = sh::rt::build_bvh(base, kThreaded);
   for (float scale : {1e17f, 1e-25f}) {
     sh::rt::Scene s = base;
     for (Vec3& v : s.mesh.positions) v = v * scale;
-    Bvh bvh = sh::rt::build_bvh(s);
     SCOPED_TRACE(scale);
-    expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
+    Bvh bvh = expect_layouts_well_formed(s);
     EXPECT_NEAR(static_cast<double>(bvh.nodes()), static_cast<double>(unscaled.nodes()), 0.02 * unscaled.nodes());
   }
 }
@@ -248,8 +345,7 @@ TEST(Bvh, ASoupOfLargeAndSmallTriangles) {
     for (int v = 0; v < 3; ++v) p.push_back(at + Vec3{u(rng), u(rng), u(rng)} * size);
   }
   sh::rt::Scene s = triangles(p);
-  Bvh bvh = sh::rt::build_bvh(s);
-  expect_well_formed(s, bvh, sh::rt::BvhSettings{}.max_leaf);
+  Bvh bvh = expect_layouts_well_formed(s);
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
 }
 
@@ -258,10 +354,10 @@ TEST(Bvh, TheSameTreeOnOneThreadAndOnTwo) {
   Bvh one;
   {
     tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
-    one = sh::rt::build_bvh(s);
+    one = sh::rt::build_bvh(s, kThreaded);
   }
   tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
-  Bvh both = sh::rt::build_bvh(s);
+  Bvh both = sh::rt::build_bvh(s, kThreaded);
   EXPECT_EQ(one.lo, both.lo);
   EXPECT_EQ(one.hi, both.hi);
   EXPECT_EQ(one.links, both.links);
@@ -303,14 +399,14 @@ TEST(Bvh, ASceneWithoutTrianglesIsAnError) {
   EXPECT_THROW(sh::rt::build_bvh(s), sh::Error);
 }
 
-// The walk's lane counts: a ray alone reaches only the leaves its own box
-// tests meet, and so does every ray of a backend that runs each alone, with
-// the same counts; rays side by side test leaves their neighbours met.
+// The walks' lane counts (threaded and wide): a ray alone reaches only the
+// leaves its own box tests meet, and so does every ray of a backend that
+// runs each alone, with the same counts; rays side by side test leaves
+// their neighbours met.  (With any hit, the wide walk's lanes together may
+// test only leaves each enters, but more of them: they go in the lanes'
+// order, not each ray's.)
 TEST(BvhWalkLanes, AloneEveryLeafIsTheRaysOwnSideBySideNot) {
   sh::rt::Scene scene = sh::rt::builtin_scene("spheres");
-  sh::rt::RenderSettings settings;
-  settings.accel = sh::rt::Accel::Bvh;
-  sh::rt::Renderer r(scene, settings);
   std::vector<float> origins, directions, limits;
   for (int i = 0; i < 400; ++i) {
     float a = 0.011f * static_cast<float>(i), b = 0.007f * static_cast<float>(i % 37);
@@ -321,7 +417,13 @@ TEST(BvhWalkLanes, AloneEveryLeafIsTheRaysOwnSideBySideNot) {
   }
   sh::Options scalar;
   scalar.set("cpu.width", "scalar");
-  for (bool any_hit : {false, true}) {
+  sh::rt::RenderSettings settings;
+  settings.accel = sh::rt::Accel::Bvh;
+  for (auto [walk, any_hit] : {std::pair{sh::rt::BvhWalk::Threaded, false}, std::pair{sh::rt::BvhWalk::Threaded, true},
+                               std::pair{sh::rt::BvhWalk::Wide, false}, std::pair{sh::rt::BvhWalk::Wide, true}}) {
+    settings.bvh.walk = walk;
+    sh::rt::Renderer r(scene, settings);
+    SCOPED_TRACE(sh::rt::bvh_walk_name(walk));
     sh::rt::WalkLanes alone = r.walk_lanes(origins, directions, limits, any_hit, sh::backend("interp"));
     ASSERT_GT(alone.leaves, 0) << any_hit;
     EXPECT_EQ(alone.own_leaves, alone.leaves) << any_hit;
@@ -334,10 +436,15 @@ TEST(BvhWalkLanes, AloneEveryLeafIsTheRaysOwnSideBySideNot) {
     sh::Options lanes;
     lanes.set("cpu.width", "16");
     sh::rt::WalkLanes together = r.walk_lanes(origins, directions, limits, any_hit, sh::backend("cpu", lanes));
-    EXPECT_LT(together.own_leaves, together.leaves) << any_hit;
+    if (walk == sh::rt::BvhWalk::Threaded || !any_hit) {
+      EXPECT_LT(together.own_leaves, together.leaves) << any_hit;
+    }
     EXPECT_GT(together.steps, alone.steps) << any_hit << ": boxes a neighbour met are steps too";
     EXPECT_GT(together.leaves, alone.leaves) << any_hit << ": neighbours' leaves are tested too";
   }
+  settings.bvh.walk = sh::rt::BvhWalk::Stack;
+  sh::rt::Renderer stack(scene, settings);
+  EXPECT_THROW(stack.walk_lanes(origins, directions, limits, false, sh::backend("interp")), sh::Error);
   settings.accel = sh::rt::Accel::Grid;
   sh::rt::Renderer grid(scene, settings);
   EXPECT_THROW(grid.walk_lanes(origins, directions, limits, false, sh::backend("interp")), sh::Error);

@@ -62,7 +62,8 @@ sh::rt::RenderSettings Walked::settings() const {
 
 std::vector<Walked> every_accelerator() {
   using sh::rt::Accel;
-  return {Accel::Grid, Accel::Octree, Accel::LazyOctree, Accel::Bvh, {Accel::Bvh, sh::rt::BvhWalk::Stack}};
+  return {Accel::Grid, Accel::Octree, Accel::LazyOctree, Accel::Bvh, {Accel::Bvh, sh::rt::BvhWalk::Stack},
+          {Accel::Bvh, sh::rt::BvhWalk::Wide}};
 }
 
 Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend, Walked accel) {

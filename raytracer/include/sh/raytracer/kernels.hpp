@@ -152,7 +152,8 @@ class Intersector {
  public:
   explicit Intersector(const SceneTables& s);
   // From here on its BVH walks count their lanes into lanes(): box steps
-  // the ray was walking at, those where its own box test met the box,
+  // the ray was walking at (in the wide walk, each child box tested),
+  // those where its own box test met the box,
   // leaves tested for it, and those it met itself.  Rays side by side walk
   // together, so the shares say how many of the lanes at work wanted it.
   void count_lanes();
