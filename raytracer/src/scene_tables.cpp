@@ -67,7 +67,9 @@ OctreeTables::OctreeTables(const Octree& tree, bool is_lazy)
   resolution = static_cast<float>(tree.resolution());
 }
 
-// A layout the walk does not read stays one zero element.
+// A layout the walk does not read, or one that is empty (a tree that is
+// one leaf has no inner node), stays one zero element: a kernel may name
+// it without reading it.
 BvhTables::BvhTables(const Bvh& b)
     : walk(b.walk),
       depth(b.depth),
@@ -85,7 +87,10 @@ BvhTables::BvhTables(const Bvh& b)
       triangles(at_least_one(b.triangles.size())) {
   auto fill = [](auto& table, const char* name, const auto& values) {
     table.name(name);
-    if (!values.empty()) table.assign(values);
+    if (values.empty())
+      table.assign(std::vector<typename std::decay_t<decltype(table)>::scalar>(table.size() * table.components));
+    else
+      table.assign(values);
   };
   fill(lo, "bvh_lo", b.lo);
   fill(hi, "bvh_hi", b.hi);

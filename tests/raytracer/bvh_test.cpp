@@ -394,6 +394,23 @@ TEST(AutoAccelerator, TheBvhInLanesAndAloneTheGridForAnEvenSoup) {
   EXPECT_EQ(chosen("opencl", ""), sh::lanes_of(sh::backend("opencl")) > 1 ? sh::rt::Accel::Bvh : sh::rt::Accel::Grid);
 }
 
+// A tree that is one leaf has no inner node: every walk starts at the leaf
+// (fuzz_models found a render refused for the wide walk's unfilled table).
+TEST(Bvh, EveryWalkOfATreeThatIsOneLeaf) {
+  sh::rt::Scene one = triangles({{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}});
+  for (sh::rt::BvhWalk walk : {sh::rt::BvhWalk::Threaded, sh::rt::BvhWalk::Stack, sh::rt::BvhWalk::Wide}) {
+    SCOPED_TRACE(sh::rt::bvh_walk_name(walk));
+    rt_test::Rays rays;
+    rays.add({0, 0, 5}, {0, 0, -1});
+    rays.add({3, 0, 5}, {0, 0, -1});
+    for (const std::string& backend : rt_test::in_process_backends()) {
+      sh::rt::Hits hits = rt_test::trace(one, rays, backend, rt_test::Walked(sh::rt::Accel::Bvh, walk));
+      EXPECT_FLOAT_EQ(hits.t[0], 5.0f) << backend;
+      EXPECT_LT(hits.t[1], 0.0f) << backend;
+    }
+  }
+}
+
 TEST(Bvh, ASceneWithoutTrianglesIsAnError) {
   sh::rt::Scene s = triangles({});
   EXPECT_THROW(sh::rt::build_bvh(s), sh::Error);

@@ -57,7 +57,7 @@ const char* bvh_walk_name(BvhWalk w);
 
 struct BvhSettings {
   int max_leaf = 8;  // 1 .. kBvhMaxLeaf triangles in a leaf
-  BvhWalk walk = BvhWalk::Wide;  // the fastest on SIMD lanes and on PoCL (BENCHMARKS.md)
+  BvhWalk walk = BvhWalk::Wide;  // the fastest on the cpu backend's lanes (BENCHMARKS.md)
 };
 inline constexpr int kBvhMaxLeaf = 64;
 inline constexpr int kBvhBins = 16;
