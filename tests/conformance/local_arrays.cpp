@@ -127,5 +127,34 @@ TEST_P(Conformance, LocalArraysWrittenAlikeOrApartAndReadAnywhere) {
   }
 }
 
+// A store under a branch some neighbours take, then one every element runs
+// at another index: the second leaves the first element as each element
+// had it.  A declaration inside a loop gives zeros every time it runs.
+TEST_P(Conformance, LocalArrayStoresLeaveTheOtherElementsAndDeclarationsFillWithZero) {
+  sh::Program p = SH_BEGIN_PROGRAM("array_partial") {
+    sh::Input<Attrib1i> i;
+    sh::Output<Attrib1i> kept, refilled;
+    sh::LocalArray<Attrib1i> a(2);
+    SH_IF(i % 2 == 0) { a.store(0, 7); } SH_ENDIF;
+    a.store(1, 3);
+    kept = a[0] + a[1] * 10;
+    refilled = 0;
+    SH_FOR(Attrib1i k = 0, k < 3 + i % 3, k += 1) {
+      sh::LocalArray<Attrib1i> fresh(4);
+      refilled += fresh[k - 1];
+      fresh.store(k, 5);
+    } SH_ENDFOR;
+  } SH_END;
+  constexpr std::size_t kElements = 70;
+  std::vector<std::int32_t> is(kElements);
+  for (std::size_t e = 0; e < kElements; ++e) is[e] = static_cast<std::int32_t>(e * 3 + e / 5);
+  sh::Channel<Attrib1i> in(is), kept, refilled;
+  run(p, {in}, {kept, refilled});
+  for (std::size_t e = 0; e < kElements; ++e) {
+    EXPECT_EQ(kept[e], is[e] % 2 == 0 ? 37 : 30) << "element " << e;
+    EXPECT_EQ(refilled[e], 0) << "element " << e << ": what the last trip stored is gone";
+  }
+}
+
 }  // namespace
 }  // namespace conformance

@@ -132,6 +132,34 @@ TEST(CpuBackend, LocalArraysAreScalarWhereLanesAgreeAndGatherWhereTheyDoNot) {
   EXPECT_EQ(count(scalar, "@llvm.masked"), 0u) << scalar;
 }
 
+// A stack declared in a branch some lanes take, inside a loop, is still
+// one for all lanes where they store into it alike: its declaration fills
+// it, so nothing stored on an earlier trip is read, and the lanes that
+// skip the branch need none of it (the BVH's walk for a shadow ray, in the
+// loop over lights).  The table read at the index it gives is one load,
+// not a gather.
+TEST(CpuBackend, AStackDeclaredInADivergentBranchStaysOneForAllLanes) {
+  Table1D<Attrib1f> tab(8);
+  Attrib1i u = 2;
+  Program p = SH_BEGIN_PROGRAM("stack_in_loop") {
+    InputAttrib1i n;
+    OutputAttrib1f out;
+    out = 0.0f;
+    SH_FOR(Attrib1i j = 0, j < 3, j += 1) {
+      SH_IF(n > j) {
+        LocalArray<Attrib1i> stack(4);
+        stack.store(u, u + 1);
+        out += tab[stack[u]];
+      } SH_ENDIF;
+    } SH_ENDFOR;
+  } SH_END;
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes16});
+  std::string ir = kernel_for(p, backend("cpu", o))->listing();
+  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.gather"), 0u) << ir;
+  EXPECT_EQ(count(ir, "call <16 x i32> @llvm.masked.gather"), 0u) << ir;
+}
+
 // Every edge mode keeps a stencil's vector load: inside the table the
 // coordinates need no wrapping or zeroing, so only the edge path pays.
 TEST(CpuBackend, EveryEdgeModeKeepsTheVectorLoad) {

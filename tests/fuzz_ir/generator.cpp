@@ -249,13 +249,14 @@ class Generator {
     return Assign{*d, mask(rank, p().type_of(*d).width), op, {}, t};
   }
 
-  // A local array's element, or a store into it.  Arrays hold only exact
+  // A local array's element, a store into it or a fill.  Arrays hold only exact
   // values, so that what an element read gives needs no tolerance; the
   // index is any i32 (outside the array it clamps).
   std::optional<Assign> array_access(Op op) {
     if (arrays_.empty()) return std::nullopt;
     VarId array = rng_.pick(arrays_);
     Type t = p().type_of(array);
+    if (op == Op::Fill) return Assign{array, Swizzle::identity(t.width), op, {operand(t.scalar, t.width, false, false)}, -1};
     Operand index = operand(Scalar::I32, 1, false, false);
     if (op == Op::Store) return Assign{array, Swizzle::identity(t.width), op, {index, operand(t.scalar, t.width, false, false)}, -1};
     std::optional<VarId> d = dest(t.scalar, t.width, false);

@@ -9,6 +9,7 @@
 
 namespace sh::cpu {
 
+using llvm::BasicBlock;
 using llvm::Value;
 
 llvm::Type* Lowering::array_type(ir::VarId v) const {
@@ -69,6 +70,32 @@ void Lowering::array_store(const ir::Assign& a) {
     if (masked) x = b_.CreateSelect(exec(), x, b_.CreateLoad(t, place));
     b_.CreateStore(x, place);
   }
+}
+
+// Element by element in a loop of its own (LLVM makes a fill of zero a
+// memset); under a mask the lanes not running keep theirs.
+void Lowering::array_fill(const ir::Assign& a) {
+  ir::VarId array = a.dest;
+  bool masked = varying(array) && !keep_.empty();
+  llvm::Type* t = var_type(array);
+  std::array<Value*, 4> value{};
+  for (int c = 0; c < a.mask.size; ++c) value[c] = varying(array) ? widen(read(a.args[0], c)) : read(a.args[0], c);
+  Value* running = masked ? exec() : nullptr;
+  BasicBlock* before = b_.GetInsertBlock();
+  BasicBlock* body = BasicBlock::Create(ctx_, "fill", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "fill.done", fn_);
+  b_.CreateBr(body);
+  b_.SetInsertPoint(body);
+  llvm::PHINode* k = b_.CreatePHI(b_.getInt32Ty(), 2);
+  k->addIncoming(b_.getInt32(0), before);
+  for (int c = 0; c < a.mask.size; ++c) {
+    Value* place = b_.CreateInBoundsGEP(array_type(array), slots_[array][c], {b_.getInt32(0), k});
+    b_.CreateStore(masked ? b_.CreateSelect(running, value[c], b_.CreateLoad(t, place)) : value[c], place);
+  }
+  Value* next = b_.CreateAdd(k, b_.getInt32(1));
+  k->addIncoming(next, body);
+  b_.CreateCondBr(b_.CreateICmpULT(next, b_.getInt32(static_cast<std::uint32_t>(p_.var(array).length))), body, done);
+  b_.SetInsertPoint(done);
 }
 
 }  // namespace sh::cpu

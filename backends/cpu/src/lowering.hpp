@@ -129,6 +129,7 @@ class Lowering {
   Value* lane_columns(ir::VarId array, int component, Value* index);
   void array_element(const ir::Assign& a, std::array<Value*, 4>& result);
   void array_store(const ir::Assign& a);
+  void array_fill(const ir::Assign& a);
   llvm::Align alignment(llvm::Type* scalar) const { return llvm::Align(scalar->getPrimitiveSizeInBits() / 8); }
   using ElementRead = std::function<std::array<Value*, 4>(Value*, bool)>;
   std::array<Value*, 4> same_or_gather(Value* flat, const ElementRead& element);

@@ -30,6 +30,7 @@ void Lowering::write(ir::VarId v, int component, Value* x) {
 void Lowering::assign(const ir::Assign& a) {
   std::array<Value*, 4> result{};
   if (a.op == ir::Op::Store) return array_store(a);
+  if (a.op == ir::Op::Fill) return array_fill(a);
   if (a.op == ir::Op::Element) {
     array_element(a, result);
   } else if (ir::is_table_read(a.op)) {
@@ -160,7 +161,7 @@ Value* Lowering::operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, 
     case Op::AnyLane: return any_lane(a, from);
     case Op::Extent: case Op::Load: break;  // table_read()
     case Op::Position: break;               // position()
-    case Op::Element: case Op::Store: break;  // arrays.cpp
+    case Op::Element: case Op::Store: case Op::Fill: break;  // arrays.cpp
     case Op::Fetch: case Op::Sample: break;  // not legal IR: the backend refuses it at compile
   }
   throw Error(std::string("cpu backend: ") + ir::op_name(op) + " reached the arithmetic lowering");

@@ -744,6 +744,7 @@ class Generator {
     std::string results[4];
     ir::Scalar to = scalar_of(a.dest);
     if (a.op == ir::Op::Store) return array_store(a, depth);
+    if (a.op == ir::Op::Fill) return array_fill(a, depth);
     if (a.op == ir::Op::Element) {
       array_element(a, results);
     } else if (ir::is_table_read(a.op)) {
@@ -861,7 +862,7 @@ class Generator {
         return "((" + vec(reg_type(to)) + ")(" + voted(pos(a)) + " ? " + number(to, 1) + " : " + number(to, 0) + "))";
       case Op::Extent: case Op::Load: break;   // table_read()
       case Op::Position: break;                 // assign()
-      case Op::Element: case Op::Store: break;  // array_element(), array_store()
+      case Op::Element: case Op::Store: case Op::Fill: break;  // array_element(), array_store(), array_fill()
       case Op::Fetch: case Op::Sample: break;  // not legal IR: generate() refuses it
     }
     throw Error(std::string("opencl backend: ") + ir::op_name(op) + " reached the arithmetic generator");
@@ -1064,6 +1065,17 @@ class Generator {
         line(depth + 1, std::string(masked() ? "if (exec" + lane(k) + ") " : "") + name + "[" + index_of(a.args[0], k) +
                             "]" + lane(k) + " = value" + lane(k) + ";");
       line(depth, "}");
+    }
+  }
+
+  // Every element; under a mask only the running lanes'.
+  void array_fill(const ir::Assign& a, int depth) {
+    ir::VarId array = a.dest;
+    std::string n = std::to_string(p_.var(array).length);
+    for (int c = 0; c < a.mask.size; ++c) {
+      std::string place = reg(array, c) + "[k]", value = read(a.args[0], c);
+      if (spmd() && masked()) value = "select(" + place + ", " + value + ", " + exec_for(scalar_of(array)) + ")";
+      line(depth, "for (int k = 0; k < " + n + "; ++k) " + place + " = " + value + ";");
     }
   }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Local arrays: memory of an element's own, a fixed number of values it
 // writes and reads back while it runs (a tree walk's stack of nodes still
-// to visit).  Every element starts with its array all zero; nothing of it
+// to visit).  The array is all zero where it is declared; nothing of it
 // outlives the element.  An index outside [0, length) reads or writes the
 // nearest end, as a table read clamps to its edge.
 //
@@ -22,10 +22,12 @@ class LocalArray {
  public:
   using element_type = E;
 
-  // Only inside a program.
+  // Only inside a program.  Every element is zero from here on, also where
+  // the declaration runs again (in a loop).
   explicit LocalArray(int length, const std::string& name = "")
       : array_(detail::declare_array(E::ir_type(), length)), length_(length) {
     if (!name.empty()) detail::set_name(array_, name);
+    detail::array_fill(array_, detail::constant(E::ir_type().scalar, 0));
   }
 
   int length() const { return length_; }

@@ -215,6 +215,13 @@ void array_store(const Value& array, const Value& index, const Value& value) {
   r->emit(ir::Assign{r->write_target(array), ir::Swizzle::identity(array.width()), ir::Op::Store, {at, v}, -1});
 }
 
+void array_fill(const Value& array, const Value& value) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("local arrays can only be written inside a program");
+  ir::Operand v = r->read(widened(as_scalar(value, array.scalar()), array.width()));
+  r->emit(ir::Assign{r->write_target(array), ir::Swizzle::identity(array.width()), ir::Op::Fill, {v}, -1});
+}
+
 void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& index, const Value& value) {
   Recorder* r = current_recorder();
   if (!r) host_fail("accumulators can only be added into inside a program");

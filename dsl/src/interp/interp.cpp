@@ -104,6 +104,11 @@ class Machine {
   void assign(const ir::Assign& a, const ir::Stmt& s) {
     Reg result{};
     int n = a.mask.size;
+    if (a.op == ir::Op::Fill) {
+      for (Reg& slot : arrays_[a.dest])
+        for (int i = 0; i < n; ++i) slot[i] = arg(a.args[0], i);
+      return;
+    }
     if (a.op == ir::Op::Store) {
       Reg& slot = arrays_[a.dest][array_index(a.dest, a.args[0], s)];
       for (int i = 0; i < n; ++i) slot[i] = arg(a.args[1], i);

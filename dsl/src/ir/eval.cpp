@@ -153,7 +153,7 @@ double eval(Op op, Scalar operand, Scalar result, Precision p, double a, double 
     case Op::Not: return !truthy(a);
     case Op::AnyLane: return truthy(a);  // the element alone: the group of one
     case Op::Cond: return truthy(a) ? b : c;
-    case Op::Fetch: case Op::Sample: case Op::Extent: case Op::Load: case Op::Position: case Op::Element: case Op::Store:
+    case Op::Fetch: case Op::Sample: case Op::Extent: case Op::Load: case Op::Position: case Op::Element: case Op::Store: case Op::Fill:
       break;
   }
   throw Error(std::string("ir::eval: ") + op_name(op) + " reads memory or the launch domain; only a backend evaluates it");

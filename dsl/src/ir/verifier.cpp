@@ -17,13 +17,18 @@ class Verifier {
     for (VarId id : p_.inputs) expect_kind(id, {VarKind::Input, VarKind::InOut}, "input list");
     for (VarId id : p_.outputs) expect_kind(id, {VarKind::Output, VarKind::InOut}, "output list");
     for (VarId id : p_.uniforms) expect_kind(id, {VarKind::Uniform}, "uniform list");
+    long array_values = 0;
     for (const Var& v : p_.vars) {
       if (v.type.width < 1 || v.type.width > 4) fail("a variable has width " + std::to_string(v.type.width));
+      if (v.kind == VarKind::Array) array_values += static_cast<long>(v.length) * v.type.width;
       bool array = v.kind == VarKind::Array;
       if (array ? v.length < 1 || v.length > kMaxArrayLength : v.length != 0)
         fail("a variable of kind " + std::string(var_kind_name(v.kind)) + " has length " + std::to_string(v.length) +
              (array ? " (an array holds 1 to " + std::to_string(kMaxArrayLength) + " elements)" : ""));
     }
+    if (array_values > kMaxArrayValues)
+      fail("local arrays of " + std::to_string(array_values) + " values in all; a program's hold at most " +
+           std::to_string(kMaxArrayValues) + " (a CPU thread's stack holds them for 16 elements at once)");
     block(p_.body, 0);
   }
 
@@ -71,8 +76,11 @@ class Verifier {
     for (int i = 0; i < a.mask.size; ++i)
       if (a.mask[i] >= dest.type.width) fail("write mask names a component the destination lacks", &s);
     if (static_cast<int>(a.args.size()) != op_arity(a.op)) fail("wrong number of operands", &s);
-    if ((dest.kind == VarKind::Array) != (a.op == Op::Store))
-      fail(a.op == Op::Store ? "stores into a variable that is not an array" : "writes an array other than by store", &s);
+    bool writes_array = a.op == Op::Store || a.op == Op::Fill;
+    if ((dest.kind == VarKind::Array) != writes_array)
+      fail(writes_array ? std::string(op_name(a.op)) + " into a variable that is not an array"
+                        : "writes an array other than by store or fill",
+           &s);
     if (is_array_access(a.op)) return array_access(a, s);
     for (const Operand& o : a.args) operand(o, s);
     if (is_table_read(a.op)) return table_read(a, s);
@@ -93,9 +101,17 @@ class Verifier {
   }
 
   // element: dest = array[index]; store: array[index] = value, written
-  // whole.  The index is one i32.
+  // whole; fill: every element = value.  The index is one i32.
   void array_access(const Assign& a, const Stmt& s) {
     if (a.table >= 0) fail("only table reads name a table", &s);
+    if (a.op == Op::Fill) {
+      operand(a.args[0], s);
+      Type element = p_.type_of(a.dest);
+      if (!a.mask.is_identity(element.width)) fail("a fill writes every component of the elements", &s);
+      if (Type{p_.type_of(a.args[0].var).scalar, a.args[0].width()} != element)
+        fail("the value's type differs from the array's element type " + type_name(element), &s);
+      return;
+    }
     bool store = a.op == Op::Store;
     const Operand& index = a.args[store ? 0 : 1];
     if (!store) operand(a.args[0], s, true);

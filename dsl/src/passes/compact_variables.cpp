@@ -31,7 +31,7 @@ ir::Program compact_variables(ir::Program p) {
   std::vector<bool> used(p.vars.size(), false);
   for (std::size_t i = 0; i < p.vars.size(); ++i) {
     ir::VarKind k = p.vars[i].kind;
-    used[i] = k != ir::VarKind::Temp && k != ir::VarKind::Const;
+    used[i] = k != ir::VarKind::Temp && k != ir::VarKind::Const && k != ir::VarKind::Array;
   }
   each_operand_and_dest(p.body, [&](ir::VarId& v) { used[v] = true; });
   std::vector<ir::VarId> renumber(p.vars.size(), -1);

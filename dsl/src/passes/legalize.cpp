@@ -34,7 +34,7 @@ class Legalizer : public ir::Mutator {
     if ((a.op == ir::Op::Div || a.op == ir::Op::Mod) && p_.type_of(a.dest).scalar == ir::Scalar::I32 && may_trap(a.args[1]))
       return integer_division(std::move(a), out);
     if ((a.op == ir::Op::Shl || a.op == ir::Op::Shr) && !count_in_range(a.args[1])) return shift(std::move(a), out);
-    if (ir::is_array_access(a.op)) array_index(a, out);
+    if (a.op == ir::Op::Element || a.op == ir::Op::Store) array_index(a, out);
     out.push_back(ir::Stmt{std::move(a)});
   }
 

@@ -70,6 +70,7 @@ Value position(int dimensions);
 Value declare_array(ir::Type element, int length);
 Value array_element(const Value& array, const Value& index);
 void array_store(const Value& array, const Value& index, const Value& value);
+void array_fill(const Value& array, const Value& value);
 
 // Host-side access to a uniform or constant (outside recording).
 std::array<double, 4> host_value(const Value& v);

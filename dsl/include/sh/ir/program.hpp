@@ -29,9 +29,12 @@ struct Var {
   int length = 0;                 // the array's elements (Array only)
 };
 
-// Arrays hold at most this many elements: they live in registers' memory
-// (the stack of a CPU thread, an OpenCL work-item's private memory).
+// Arrays hold at most this many elements, and a program's arrays this
+// many values in all: they live in registers' memory (a CPU thread's
+// stack, which holds them for 16 elements side by side; an OpenCL
+// work-item's private memory).
 inline constexpr int kMaxArrayLength = 4096;
+inline constexpr int kMaxArrayValues = 8192;
 
 // A read of a variable through a swizzle; the swizzle's size is the width
 // the operation sees.
@@ -67,7 +70,7 @@ using Block = std::vector<Stmt>;
 // dest[mask[i]] = op(args...)[i].  Table reads name their table.  A store
 // writes one element of the array `dest` (mask: all its components) and
 // leaves the others: the one assignment that does not overwrite its
-// destination (overwrites()).
+// destination (overwrites()); a fill writes every element.
 struct Assign {
   VarId dest = -1;
   Swizzle mask;
