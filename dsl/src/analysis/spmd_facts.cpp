@@ -92,45 +92,67 @@ class Uniformity {
 // ---- liveness at rejoin points --------------------------------------------------
 
 // Backward liveness on the structured body, per lane (a lane follows the
-// scalar program); loops iterate to a fixed point.  Each if and loop records
-// what is live where its inactive lanes wait.
+// scalar program), component by component: a variable built a component
+// at a time (a join) is dead above the writes that cover it, as one
+// written whole is.  Loops iterate to a fixed point.  Each if and loop
+// records what is live where its inactive lanes wait.
 class RejoinLiveness {
  public:
   RejoinLiveness(const ir::Program& p, SpmdFacts& facts) : p_(p), f_(facts) {}
 
   void run() {
-    VarSet at_end(p_.vars.size(), false);
-    for (ir::VarId v : p_.outputs) at_end[v] = true;
+    Live at_end(p_.vars.size(), 0);
+    for (ir::VarId v : p_.outputs) at_end[v] = kAll;
     block(p_.body, at_end);
   }
 
  private:
+  using Live = std::vector<std::uint8_t>;  // by VarId: the components live
+  static constexpr std::uint8_t kAll = 0xF;
+
   struct Targets {
-    VarSet exit, update;
+    Live exit, update;
   };
 
-  void use(VarSet& live, const ir::Operand& o) const { live[o.var] = true; }
+  static std::uint8_t bits(const ir::Swizzle& s) {
+    std::uint8_t b = 0;
+    for (int i = 0; i < s.size; ++i) b = static_cast<std::uint8_t>(b | 1u << s[i]);
+    return b;
+  }
+  static bool add(Live& to, const Live& from) {
+    bool changed = false;
+    for (std::size_t v = 0; v < to.size(); ++v)
+      if (from[v] & ~to[v]) changed = true, to[v] = static_cast<std::uint8_t>(to[v] | from[v]);
+    return changed;
+  }
+  static VarSet any_component(const Live& live) {
+    VarSet out(live.size(), false);
+    for (std::size_t v = 0; v < live.size(); ++v) out[v] = live[v] != 0;
+    return out;
+  }
 
-  VarSet block(const ir::Block& b, VarSet live) {
+  void use(Live& live, const ir::Operand& o) const { live[o.var] = static_cast<std::uint8_t>(live[o.var] | bits(o.swizzle)); }
+
+  Live block(const ir::Block& b, Live live) {
     for (auto s = b.rbegin(); s != b.rend(); ++s) live = statement(*s, std::move(live));
     return live;
   }
 
-  VarSet statement(const ir::Stmt& s, VarSet live) {
+  Live statement(const ir::Stmt& s, Live live) {
     if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-      if (ir::overwrites(*a) && a->mask.size == p_.type_of(a->dest).width) live[a->dest] = false;
+      if (ir::overwrites(*a)) live[a->dest] = static_cast<std::uint8_t>(live[a->dest] & ~bits(a->mask));
       for (const ir::Operand& o : a->args) use(live, o);
       return live;
     }
     if (auto* i = std::get_if<ir::If>(&s.node)) {
       // The then side runs first: its inactive lanes wait to run the else
       // side, so what the else side reads is live for them too.
-      VarSet else_in = block(i->else_body, live);
-      VarSet during_then = live;
+      Live else_in = block(i->else_body, live);
+      Live during_then = live;
       add(during_then, else_in);
-      f_.live_at_rejoin[&s] = live;
-      f_.live_during_then[&s] = during_then;
-      VarSet in = block(i->then_body, live);
+      f_.live_at_rejoin[&s] = any_component(live);
+      f_.live_during_then[&s] = any_component(during_then);
+      Live in = block(i->then_body, live);
       add(in, else_in);
       use(in, i->cond);
       return in;
@@ -144,13 +166,13 @@ class RejoinLiveness {
     return std::holds_alternative<ir::Break>(s.node) ? loops_.back().exit : loops_.back().update;
   }
 
-  VarSet loop(const ir::Stmt& s, const ir::Loop& l, VarSet exit) {
-    VarSet top(exit.size(), false);
-    VarSet update_in;
+  Live loop(const ir::Stmt& s, const ir::Loop& l, Live exit) {
+    Live top(exit.size(), 0);
+    Live update_in;
     for (bool changed = true; changed;) {
-      VarSet after_test = exit;
+      Live after_test = exit;
       use(after_test, l.cond);
-      VarSet test_in, body_in;
+      Live test_in, body_in;
       if (l.test_at_top) {
         update_in = block(l.update, top);
         loops_.push_back({exit, update_in});
@@ -170,9 +192,9 @@ class RejoinLiveness {
       }
     }
     // Lanes that left wait at the exit; lanes that continued, at the update.
-    VarSet rejoin = exit;
+    Live rejoin = exit;
     if (continues(l.body)) add(rejoin, update_in);
-    f_.live_at_rejoin[&s] = rejoin;
+    f_.live_at_rejoin[&s] = any_component(rejoin);
     return top;
   }
 
