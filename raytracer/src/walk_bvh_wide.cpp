@@ -54,43 +54,48 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
     if (!any_hit) return node != -1;
     return node != -1 && (best >= t_limit).cast<std::int32_t>();
   };
+  // Pushes the children any lane meets, farthest first: the nearest met
+  // is on top.
+  auto visit = [&] {
+    Attrib1i row = node * 6;
+    Attrib4f lo_x = b.wide_box[row], lo_y = b.wide_box[row + 1], lo_z = b.wide_box[row + 2];
+    Attrib4f hi_x = b.wide_box[row + 3], hi_y = b.wide_box[row + 4], hi_z = b.wide_box[row + 5];
+    Attrib4i kids = b.wide_children[node];
+    Attrib1f clip_at = best * kBeyondBest;
+    Attrib4i met;
+    Attrib4f enters;
+    for (int k = 0; k < kBvhWidth; ++k) {
+      Attrib1f enter, leave;
+      clip(r, join(join(lo_x(k), lo_y(k)), lo_z(k)), join(join(hi_x(k), hi_y(k)), hi_z(k)), clip_at, enter, leave);
+      Attrib1f own = enter <= leave;
+      met(k) = any_lane(own).cast<std::int32_t>() && kids(k) != -1;
+      enters(k) = cond(own, enter, ConstAttrib1f(kFar));
+      if (lanes) {
+        Attrib1i tested = kids(k) != -1;
+        *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));
+      }
+    }
+    Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
+    for (int j = 0; j < kBvhWidth; ++j) {
+      Attrib1i position = cond(downwards, ConstAttrib1i(j), ConstAttrib1i(kBvhWidth - 1 - j));
+      Attrib1i slot = bit_and(shr(by_centre, position * 2), 3);
+      stack.store(depth, pick(kids, slot));
+      entered.store(depth, pick(enters, slot));
+      depth += pick(met, slot);
+    }
+  };
+  // One loop, one pop: the lanes are all at the same node, so a loop of
+  // inner nodes of its own would gain nothing, and the walk's code is
+  // inlined at every ray the tracer casts.
   SH_WHILE(walking()) {
-    SH_WHILE(node >= 0) {
-      Attrib1i row = node * 6;
-      Attrib4f lo_x = b.wide_box[row], lo_y = b.wide_box[row + 1], lo_z = b.wide_box[row + 2];
-      Attrib4f hi_x = b.wide_box[row + 3], hi_y = b.wide_box[row + 4], hi_z = b.wide_box[row + 5];
-      Attrib4i kids = b.wide_children[node];
-      Attrib1f clip_at = best * kBeyondBest;
-      Attrib4i met;
-      Attrib4f enters;
-      for (int k = 0; k < kBvhWidth; ++k) {
-        Attrib1f enter, leave;
-        clip(r, join(join(lo_x(k), lo_y(k)), lo_z(k)), join(join(hi_x(k), hi_y(k)), hi_z(k)), clip_at, enter, leave);
-        Attrib1f own = enter <= leave;
-        met(k) = any_lane(own).cast<std::int32_t>() && kids(k) != -1;
-        enters(k) = cond(own, enter, ConstAttrib1f(kFar));
-        if (lanes) {
-          Attrib1i tested = kids(k) != -1;
-          *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));
-        }
-      }
-      Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
-      // Farthest first: the nearest child met is on top.
-      for (int j = 0; j < kBvhWidth; ++j) {
-        Attrib1i position = cond(downwards, ConstAttrib1i(j), ConstAttrib1i(kBvhWidth - 1 - j));
-        Attrib1i slot = bit_and(shr(by_centre, position * 2), 3);
-        stack.store(depth, pick(kids, slot));
-        entered.store(depth, pick(enters, slot));
-        depth += pick(met, slot);
-      }
-      pop();
-    } SH_ENDWHILE;
-    SH_IF(node <= -2) {
+    SH_IF(node >= 0) {
+      visit();
+    } SH_ELSE {
       if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), *own_node));
       Attrib1i k = -node - 2;
       test_listed(s, r, b.triangles, k, b.triangles[k], best, triangle, uv);
-      pop();
     } SH_ENDIF;
+    pop();
   } SH_ENDWHILE;
 }
 
