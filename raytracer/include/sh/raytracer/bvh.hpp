@@ -1,7 +1,9 @@
 #pragma once
 // A bounding volume hierarchy over the scene's triangles, built on the host
-// with the surface area heuristic and walked by the kernels without a
-// stack.
+// with the surface area heuristic and walked by the kernels in one of three
+// ways (BvhWalk), each reading a layout of its own: wide nodes with a
+// stack (the default), a binary tree threaded for walking without a
+// stack, or a binary tree walked by each ray alone with a stack.
 //
 // The build bins triangle centroids (kBvhBins per axis) and takes the split
 // of least SAH cost, or makes a leaf where no split pays; its subtrees are
@@ -12,11 +14,11 @@
 // kBvhSahDepth + log2(triangles) and a leaf never holds more than
 // `max_leaf` triangles.
 //
-// Layout: nodes in depth-first order, the root first.  Each node has a box
-// (widened by a hair, so rounding at a face never loses a triangle) and,
-// for each of six walking orders, two links: where a ray goes next when
-// it meets the box and when it misses it (the tree "threaded", after
-// multiple-threaded BVHs).  Order k = 2 * axis + (direction < 0 along it)
+// The threaded walk's layout: nodes in depth-first order, the root first.
+// Each node has a box (widened by a hair, so rounding at a face never
+// loses a triangle; every layout's boxes are) and, for each of six walking
+// orders, two links: where a ray goes next when it meets the box and when
+// it misses it (the tree "threaded", after multiple-threaded BVHs).  Order k = 2 * axis + (direction < 0 along it)
 // visits the children nearer the ray's start first for rays whose largest
 // direction component is along that axis with that sign.  Per node and
 // order:
