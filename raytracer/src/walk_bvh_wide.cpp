@@ -29,10 +29,14 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // A visit pops one entry and pushes at most kBvhWidth, one level down.
   // Beside each node pushed, where each lane enters its box: a node no
   // lane enters before its nearest hit so far is passed over when popped,
-  // its box not read.
+  // its box not read.  Where any hit will do (and lanes are not counted),
+  // neither the order nor the distances pay for their code: the walk is
+  // inlined at every shadow ray the tracer casts.
+  bool ordered = !any_hit || lanes;
   int deepest = (kBvhWidth - 1) * b.depth + 2;
   LocalArray<Attrib1i> stack(deepest, "bvh_stack");
-  LocalArray<Attrib1f> entered(deepest, "bvh_entered");
+  std::optional<LocalArray<Attrib1f>> entered;
+  if (ordered) entered.emplace(deepest, "bvh_entered");
   Attrib1i order = walk_order(r).cast<std::int32_t>();
   Attrib1i axis_bits = (order / 2) * 8, downwards = order % 2;
   Attrib1i depth = 0;
@@ -42,10 +46,16 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   std::optional<Attrib1i> own_node;
   if (lanes) own_node = Attrib1i(1);
   auto pop = [&] {
+    if (!ordered) {
+      Attrib1i some = depth > 0;
+      depth -= some;
+      node = cond(some, stack[depth], ConstAttrib1i(-1));
+      return;
+    }
     node = -1;
     SH_WHILE(node == -1 && depth > 0) {
       depth -= 1;
-      Attrib1i own = (entered[depth] <= best * kBeyondBest).cast<std::int32_t>();
+      Attrib1i own = ((*entered)[depth] <= best * kBeyondBest).cast<std::int32_t>();
       node = cond(any_lane(own), stack[depth], ConstAttrib1i(-1));
       if (lanes) *own_node = own;
     } SH_ENDWHILE;
@@ -69,18 +79,25 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
       clip(r, join(join(lo_x(k), lo_y(k)), lo_z(k)), join(join(hi_x(k), hi_y(k)), hi_z(k)), clip_at, enter, leave);
       Attrib1f own = enter <= leave;
       met(k) = any_lane(own).cast<std::int32_t>() && kids(k) != -1;
-      enters(k) = cond(own, enter, ConstAttrib1f(kFar));
+      if (ordered) enters(k) = cond(own, enter, ConstAttrib1f(kFar));
       if (lanes) {
         Attrib1i tested = kids(k) != -1;
         *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));
       }
+    }
+    if (!ordered) {
+      for (int k = 0; k < kBvhWidth; ++k) {
+        stack.store(depth, kids(k));
+        depth += met(k);
+      }
+      return;
     }
     Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
     for (int j = 0; j < kBvhWidth; ++j) {
       Attrib1i position = cond(downwards, ConstAttrib1i(j), ConstAttrib1i(kBvhWidth - 1 - j));
       Attrib1i slot = bit_and(shr(by_centre, position * 2), 3);
       stack.store(depth, pick(kids, slot));
-      entered.store(depth, pick(enters, slot));
+      entered->store(depth, pick(enters, slot));
       depth += pick(met, slot);
     }
   };
