@@ -7,12 +7,17 @@
 // same node with one load; a wide node needs half the visits of a binary
 // one, and its children's boxes arrive together instead of one link at a
 // time.
+#include <limits>
 #include <optional>
 
 #include "walk.hpp"
 
 namespace sh::rt::walk {
 namespace {
+
+// A lane's entry distance to a child it missed: beyond every nearest hit,
+// kFar (a ray that has hit nothing yet) widened by kBeyondBest included.
+constexpr float kMissed = std::numeric_limits<float>::max();
 
 // Component `slot` of v.
 template <class V>
@@ -79,7 +84,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
       clip(r, join(join(lo_x(k), lo_y(k)), lo_z(k)), join(join(hi_x(k), hi_y(k)), hi_z(k)), clip_at, enter, leave);
       Attrib1f own = enter <= leave;
       met(k) = any_lane(own).cast<std::int32_t>() && kids(k) != -1;
-      if (ordered) enters(k) = cond(own, enter, ConstAttrib1f(kFar));
+      if (ordered) enters(k) = cond(own, enter, ConstAttrib1f(kMissed));
       if (lanes) {
         Attrib1i tested = kids(k) != -1;
         *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));

@@ -246,4 +246,38 @@ TEST(Analysis, AWriteThatWaitingLanesReadVaries) {
   EXPECT_TRUE(facts.varying[std::get<ir::Assign>(body.back().node).dest]) << "the update reads it";
 }
 
+// Liveness goes component by component: a value built a component at a
+// time inside a divergent branch in a loop is dead where the lanes that
+// skipped the branch wait (each trip builds it again before reading it),
+// so it stays one value for all lanes; one whose other component is read
+// on a later trip varies.
+TEST(Analysis, AValueBuiltAComponentAtATimeInABranchStaysUniform) {
+  Attrib1f u = 1.5f;
+  Program p = SH_BEGIN_PROGRAM("built") {
+    InputAttrib1f x;
+    OutputAttrib1f out;
+    out = 0.0f;
+    SH_FOR(Attrib1i j = 0, j < 3, j += 1) {
+      SH_IF(x > j.cast<float>()) {
+        Attrib2f built, half;
+        built.name("built");
+        half.name("half");
+        built(0) = u;
+        built(1) = u * 2.0f;
+        half(0) = u * 3.0f;
+        out += built(0) * built(1) + half(0) * half(1);
+      } SH_ENDIF;
+    } SH_ENDFOR;
+  } SH_END;
+  ir::Program legal = passes::legalize(optimize(p.ir()));
+  analysis::SpmdFacts facts = analysis::analyse_spmd(legal);
+  auto varying = [&](const std::string& name) {
+    for (std::size_t v = 0; v < legal.vars.size(); ++v)
+      if (legal.vars[v].name == name) return static_cast<int>(facts.varying[v]);
+    return -1;
+  };
+  EXPECT_EQ(varying("built"), 0) << ir::print(legal);
+  EXPECT_EQ(varying("half"), 1) << ir::print(legal);
+}
+
 }  // namespace

@@ -102,13 +102,12 @@ class RejoinLiveness {
 
   void run() {
     Live at_end(p_.vars.size(), 0);
-    for (ir::VarId v : p_.outputs) at_end[v] = kAll;
+    for (ir::VarId v : p_.outputs) at_end[v] = static_cast<std::uint8_t>((1u << p_.type_of(v).width) - 1);
     block(p_.body, at_end);
   }
 
  private:
   using Live = std::vector<std::uint8_t>;  // by VarId: the components live
-  static constexpr std::uint8_t kAll = 0xF;
 
   struct Targets {
     Live exit, update;
