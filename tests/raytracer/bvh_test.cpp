@@ -118,27 +118,27 @@ TEST(Bvh, EveryTriangleIsInOneLeafInsideEveryBoxAboveIt) {
   }
 }
 
-// The stack walk's layout: from the root's reference, every inner node is
-// reached once, holds two children whose boxes hold what lies below them,
-// every triangle lies in one leaf, and no path is deeper than the tree
-// (the walk's stack is that deep).  A single leaf's tree is its root.
-void expect_pairs_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
-  std::size_t n = s.mesh.triangles(), inner = bvh.children.size() / 2;
-  ASSERT_EQ(bvh.pair_lo.size(), 6 * inner);
-  ASSERT_EQ(bvh.pair_hi.size(), 6 * inner);
-  EXPECT_TRUE(bvh.links.empty() && bvh.lo.empty()) << "the threaded layout is not kept beside";
-  std::vector<int> seen_inner(inner, 0), seen_triangle(n, 0);
-  struct Visit {
-    std::int32_t ref;
-    Vec3 lo, hi;
-    int depth;
-  };
+// A layout of references (>= 0 a node, <= -2 a leaf's list), walked from
+// the root's: every node is reached once, no deeper than the binary tree
+// (a walk's stack is sized by it), and every triangle lies in one leaf of
+// at most max_leaf, inside the box its parent gives it.  `node(at, lo,
+// hi, push)` checks node `at`, whose box is [lo, hi], and pushes each child
+// with its box: push(reference, lo, hi).
+struct Child {
+  std::int32_t ref;
+  Vec3 lo, hi;
+};
+template <class CheckNode>
+void expect_references_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf, std::size_t nodes,
+                                   CheckNode node) {
+  std::size_t n = s.mesh.triangles();
+  std::vector<int> seen_node(nodes, 0), seen_triangle(n, 0);
   constexpr float inf = std::numeric_limits<float>::infinity();
-  std::vector<Visit> todo{{bvh.root, {-inf, -inf, -inf}, {inf, inf, inf}, 0}};
+  std::vector<std::pair<Child, int>> todo{{{bvh.root, {-inf, -inf, -inf}, {inf, inf, inf}}, 0}};
   while (!todo.empty()) {
-    Visit v = todo.back();
+    auto [v, depth] = todo.back();
     todo.pop_back();
-    EXPECT_LE(v.depth, bvh.depth);
+    EXPECT_LE(depth, bvh.depth);
     if (v.ref <= -2) {
       int count = 0;
       for (std::size_t i = static_cast<std::size_t>(-v.ref - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
@@ -153,16 +153,28 @@ void expect_pairs_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_le
     }
     ASSERT_GE(v.ref, 0);
     auto at = static_cast<std::size_t>(v.ref);
-    ASSERT_LT(at, inner);
-    ++seen_inner[at];
+    ASSERT_LT(at, nodes);
+    ++seen_node[at];
+    node(at, v.lo, v.hi, [&, d = depth](std::int32_t ref, Vec3 lo, Vec3 hi) { todo.push_back({{ref, lo, hi}, d + 1}); });
+  }
+  for (std::size_t i = 0; i < nodes; ++i) ASSERT_EQ(seen_node[i], 1) << "node " << i;
+  for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(seen_triangle[t], 1) << "triangle " << t;
+}
+
+// The stack walk's layout: inner nodes that hold their two children's
+// boxes, each inside its parent's.  A single leaf's tree is its root.
+void expect_pairs_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
+  std::size_t inner = bvh.children.size() / 2;
+  ASSERT_EQ(bvh.pair_lo.size(), 6 * inner);
+  ASSERT_EQ(bvh.pair_hi.size(), 6 * inner);
+  EXPECT_TRUE(bvh.links.empty() && bvh.lo.empty()) << "the threaded layout is not kept beside";
+  expect_references_well_formed(s, bvh, max_leaf, inner, [&](std::size_t at, Vec3 box_lo, Vec3 box_hi, auto push) {
     for (std::size_t c = 0; c < 2; ++c) {
       Vec3 lo = corner(bvh.pair_lo, 2 * at + c), hi = corner(bvh.pair_hi, 2 * at + c);
-      EXPECT_TRUE(inside(lo, v.lo, v.hi) && inside(hi, v.lo, v.hi)) << "child " << c << " of " << at;
-      todo.push_back({bvh.children[2 * at + c], lo, hi, v.depth + 1});
+      EXPECT_TRUE(inside(lo, box_lo, box_hi) && inside(hi, box_lo, box_hi)) << "child " << c << " of " << at;
+      push(bvh.children[2 * at + c], lo, hi);
     }
-  }
-  for (std::size_t i = 0; i < inner; ++i) ASSERT_EQ(seen_inner[i], 1) << "inner node " << i;
-  for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(seen_triangle[t], 1) << "triangle " << t;
+  });
 }
 
 TEST(Bvh, TheStackWalksLayoutHoldsEveryTriangleOnceUnderItsChildBoxes) {
@@ -184,44 +196,15 @@ TEST(Bvh, TheStackWalksLayoutHoldsEveryTriangleOnceUnderItsChildBoxes) {
   EXPECT_THROW(sh::rt::parse_bvh_walk("stackless"), sh::Error);
 }
 
-// The wide walk's layout: from the root's reference every node is reached
-// once; a node's filled slots come first, each child's box inside its
-// parent's and holding what lies below it; every triangle in one leaf;
-// each axis's order a permutation of the slots, by centre along the axis;
-// no node deeper than the binary tree's (the stack is sized by it).
+// The wide walk's layout: a node's filled slots come first, each child's
+// box inside its parent's; each axis's order a permutation of the slots,
+// by centre along the axis.
 void expect_wide_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
   constexpr int w = sh::rt::kBvhWidth;
-  std::size_t n = s.mesh.triangles(), nodes = bvh.wide_children.size() / w;
+  std::size_t nodes = bvh.wide_children.size() / w;
   ASSERT_EQ(bvh.wide_box.size(), 6 * w * nodes);
   ASSERT_EQ(bvh.wide_order.size(), nodes);
-  std::vector<int> seen_node(nodes, 0), seen_triangle(n, 0);
-  struct Visit {
-    std::int32_t ref;
-    Vec3 lo, hi;
-    int depth;
-  };
-  constexpr float inf = std::numeric_limits<float>::infinity();
-  std::vector<Visit> todo{{bvh.root, {-inf, -inf, -inf}, {inf, inf, inf}, 0}};
-  while (!todo.empty()) {
-    Visit v = todo.back();
-    todo.pop_back();
-    EXPECT_LE(v.depth, bvh.depth);
-    if (v.ref <= -2) {
-      int count = 0;
-      for (std::size_t i = static_cast<std::size_t>(-v.ref - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
-        auto t = static_cast<std::size_t>(bvh.triangles[i]);
-        ASSERT_LT(t, n);
-        ++seen_triangle[t];
-        for (int k = 0; k < 3; ++k) EXPECT_TRUE(inside(s.mesh.positions[3 * t + k], v.lo, v.hi)) << "triangle " << t;
-      }
-      EXPECT_GE(count, 1);
-      EXPECT_LE(count, max_leaf);
-      continue;
-    }
-    ASSERT_GE(v.ref, 0);
-    auto at = static_cast<std::size_t>(v.ref);
-    ASSERT_LT(at, nodes);
-    ++seen_node[at];
+  expect_references_well_formed(s, bvh, max_leaf, nodes, [&](std::size_t at, Vec3 box_lo, Vec3 box_hi, auto push) {
     const float* rows = &bvh.wide_box[6 * w * at];
     int filled = 0;
     std::array<float, w> centre[3];
@@ -231,14 +214,14 @@ void expect_wide_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_lea
       EXPECT_EQ(slot, filled++) << "filled slots first in node " << at;
       Vec3 lo{rows[0 * w + slot], rows[1 * w + slot], rows[2 * w + slot]};
       Vec3 hi{rows[3 * w + slot], rows[4 * w + slot], rows[5 * w + slot]};
-      EXPECT_TRUE(inside(lo, v.lo, v.hi) && inside(hi, v.lo, v.hi)) << "slot " << slot << " of " << at;
+      EXPECT_TRUE(inside(lo, box_lo, box_hi) && inside(hi, box_lo, box_hi)) << "slot " << slot << " of " << at;
       for (int a = 0; a < 3; ++a) centre[a][static_cast<std::size_t>(slot)] = lo[a] + hi[a];
-      todo.push_back({child, lo, hi, v.depth + 1});
+      push(child, lo, hi);
     }
     EXPECT_GE(filled, 2) << "node " << at;
     for (int a = 0; a < 3; ++a) {
       std::set<int> slots;
-      float last = -inf;
+      float last = -std::numeric_limits<float>::infinity();
       for (int j = 0; j < w; ++j) {
         int slot = (bvh.wide_order[at] >> (8 * a + 2 * j)) & 3;
         slots.insert(slot);
@@ -248,9 +231,7 @@ void expect_wide_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_lea
       }
       EXPECT_EQ(slots.size(), static_cast<std::size_t>(w)) << "axis " << a << " of node " << at;
     }
-  }
-  for (std::size_t i = 0; i < nodes; ++i) ASSERT_EQ(seen_node[i], 1) << "node " << i;
-  for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(seen_triangle[t], 1) << "triangle " << t;
+  });
 }
 
 TEST(Bvh, TheWideWalksNodesHoldEveryTriangleOnceUnderTheirChildren) {

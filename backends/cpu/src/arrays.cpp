@@ -20,10 +20,8 @@ llvm::Type* Lowering::array_type(ir::VarId v) const {
 // the array seen as scalars, lane i's at index * W + i.
 Value* Lowering::lane_columns(ir::VarId array, int component, Value* index) {
   llvm::Type* scalar = var_type(array)->getScalarType();
-  std::vector<llvm::Constant*> ids;
-  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
   Value* at = b_.CreateAdd(b_.CreateMul(index, splat(b_.getInt32(static_cast<std::uint32_t>(width_)))),
-                           llvm::ConstantVector::get(ids));
+                           lane_numbers());
   return b_.CreateInBoundsGEP(scalar, slots_[array][component], at);
 }
 

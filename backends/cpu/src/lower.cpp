@@ -269,9 +269,7 @@ void Lowering::advance_place(Value* step) {
 Value* Lowering::position(int k, bool vary) {
   if (!vary) return position_[k];
   if (k > 0) return splat(position_[k]);
-  std::vector<llvm::Constant*> ids;
-  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
-  return b_.CreateAdd(splat(position_[0]), llvm::ConstantVector::get(ids));
+  return b_.CreateAdd(splat(position_[0]), lane_numbers());
 }
 
 // Constants and uniforms are SSA values; every other variable is one
@@ -339,12 +337,16 @@ void Lowering::clear_registers() {
   }
 }
 
+llvm::Constant* Lowering::lane_numbers() {
+  std::vector<llvm::Constant*> ids;
+  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
+  return llvm::ConstantVector::get(ids);
+}
+
 // In 32 bits: one compare of one register at every width (a compare of
 // 64-bit lanes would take two at 16, and their masks a merge at each use).
 Value* Lowering::live_lanes(Value* count) {
-  std::vector<llvm::Constant*> ids;
-  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
-  return b_.CreateICmpSLT(llvm::ConstantVector::get(ids), splat(b_.CreateTrunc(count, b_.getInt32Ty())), "live");
+  return b_.CreateICmpSLT(lane_numbers(), splat(b_.CreateTrunc(count, b_.getInt32Ty())), "live");
 }
 
 // Emits `emit` once for a full set of lanes (tail = nullptr) and once for

@@ -67,6 +67,7 @@ class Lowering {
   Value* interleave(const std::array<Value*, 4>& components, int width);
   Value* spread(Value* tail, int width);
   Value* live_lanes(Value* count);
+  llvm::Constant* lane_numbers();  // <0, 1, ..., W - 1> in i32
   void start_place(Value* begin, Value* domain);
   Value* place_batch(Value* count);
   void advance_place(Value* step);

@@ -537,9 +537,7 @@ std::array<Value*, 4> Lowering::same_or_gather(Value* flat, const ElementRead& e
 // reads clamp), a gather.
 std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, const ElementRead& element) {
   Value* start = b_.CreateExtractElement(flat, std::uint64_t{0});
-  std::vector<llvm::Constant*> ids;
-  for (int i = 0; i < width_; ++i) ids.push_back(b_.getInt32(static_cast<std::uint32_t>(i)));
-  Value* in_step = b_.CreateICmpEQ(flat, b_.CreateAdd(splat(start), llvm::ConstantVector::get(ids)));
+  Value* in_step = b_.CreateICmpEQ(flat, b_.CreateAdd(splat(start), lane_numbers()));
   Value* all_in_step = b_.CreateAndReduce(b_.CreateOr(in_step, b_.CreateNot(exec())));
   BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
   BasicBlock* many = BasicBlock::Create(ctx_, "read.gather", fn_);

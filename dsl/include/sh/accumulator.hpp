@@ -45,7 +45,8 @@ class Accumulator {
   // as table reads are).
   template <class I, class V>
   void add(const I& index, const V& value) const {
-    detail::scatter_add(storage_, as_value(index, ir::Scalar::I32), as_value(value, E::ir_type().scalar));
+    detail::scatter_add(storage_, detail::value_or_constant(index, ir::Scalar::I32),
+                        detail::value_or_constant(value, E::ir_type().scalar));
   }
 
   // On the host: the sums, element by element, components contiguous.
@@ -63,14 +64,6 @@ class Accumulator {
   const std::shared_ptr<detail::TableStorage>& storage() const { return storage_; }
 
  private:
-  template <class T>
-  static detail::Value as_value(const T& x, ir::Scalar number_type) {
-    if constexpr (Number<T>)
-      return detail::constant(number_type, static_cast<double>(x));
-    else
-      return x.value();
-  }
-
   std::shared_ptr<detail::TableStorage> storage_;
 };
 

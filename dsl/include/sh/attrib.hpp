@@ -41,6 +41,15 @@ class ValueHolder {
 };
 struct FromValue {};  // tag: wrap an existing Value
 
+// A program value, or a C++ number as a constant of scalar `number_type`.
+template <class T>
+Value value_or_constant(const T& x, ir::Scalar number_type) {
+  if constexpr (Number<T>)
+    return constant(number_type, static_cast<double>(x));
+  else
+    return x.value();
+}
+
 // Constructor arguments as four components; a single one fills them all.
 template <class... U>
 std::array<double, 4> components(U... xs) {

@@ -34,23 +34,16 @@ class LocalArray {
 
   template <class I>
   E operator[](const I& index) const {
-    return E(detail::FromValue{}, detail::array_element(array_, as_value(index, ir::Scalar::I32)));
+    return E(detail::FromValue{}, detail::array_element(array_, detail::value_or_constant(index, ir::Scalar::I32)));
   }
 
   template <class I, class V>
   void store(const I& index, const V& value) const {
-    detail::array_store(array_, as_value(index, ir::Scalar::I32), as_value(value, E::ir_type().scalar));
+    detail::array_store(array_, detail::value_or_constant(index, ir::Scalar::I32),
+                        detail::value_or_constant(value, E::ir_type().scalar));
   }
 
  private:
-  template <class T>
-  static detail::Value as_value(const T& x, ir::Scalar number_type) {
-    if constexpr (Number<T>)
-      return detail::constant(number_type, static_cast<double>(x));
-    else
-      return x.value();
-  }
-
   detail::Value array_;
   int length_;
 };
