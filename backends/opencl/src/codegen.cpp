@@ -236,9 +236,15 @@ class Generator {
   static std::string lane(int k) { return std::string(".s") + kLaneDigit[k]; }
 
   // A 1 or 0 in the type of `s` from a C comparison (1/0 for scalars, -1/0
-  // for vectors).
+  // for vectors).  One element a work-item: a choice of constants, not a
+  // conversion of the truth, which NVIDIA's OpenCL compiler (driver 580,
+  // an H100) got wrong: `(double)(a <= b)` gave 0 for a = b = -1 among the
+  // conformance suite's comparisons, right without its optimiser.
   std::string bit(const std::string& comparison, ir::Scalar s) const {
-    if (!spmd()) return std::string("(") + reg_type(s) + ")(" + comparison + ")";
+    if (!spmd()) {
+      std::string type = reg_type(s);
+      return "((" + comparison + ") ? (" + type + ")1 : (" + type + ")0)";
+    }
     return "convert_" + vec(reg_type(s)) + "(-(" + comparison + "))";
   }
   // yes where `comparison` holds, otherwise no, in the type of `s`.
