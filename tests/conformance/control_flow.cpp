@@ -188,5 +188,47 @@ TEST_P(Conformance, LoopIterationCapTurnsEndlessLoopIntoError) {
   }
 }
 
+// A variable read before anything is written to it reads zero, in every
+// element: on a loop's first trip, after a loop that did not run, after an
+// if whose other side wrote it, and in a component never written; however
+// many elements ran before (batches of SIMD lanes reuse their registers).
+TEST_P(Conformance, AVariableReadBeforeItsWriteReadsZeroInEveryElement) {
+  sh::Program p = SH_BEGIN_PROGRAM("read_unwritten") {
+    sh::Input<Attrib1i> trips;
+    sh::Input<Attrib1f> x;
+    sh::Output<sh::Attrib4f> out;
+    Attrib1f carried, after_loop, one_side;
+    sh::Attrib2f half;
+    Attrib1f seen = 0.0f;
+    SH_FOR(Attrib1i j = 0, j < trips, j += 1) {
+      seen += carried;
+      carried = x;
+      after_loop = x + 1.0f;
+    } SH_ENDFOR;
+    SH_IF(x > 4.0f) { one_side = x; } SH_ENDIF;
+    half(0) = x;
+    out = join(join(seen, after_loop), join(one_side, half(1) + half(0)));
+  } SH_END;
+  for (std::size_t length : {1, 17, 300}) {
+    std::vector<std::int32_t> ns(length);
+    std::vector<float> xs(length);
+    for (std::size_t e = 0; e < length; ++e) {
+      ns[e] = static_cast<std::int32_t>((e * 5 + 3) % 4);
+      xs[e] = static_cast<float>(e % 19) * 0.5f;
+    }
+    sh::Channel<Attrib1i> in_trips(ns);
+    sh::Channel<Attrib1f> in_x(xs);
+    sh::Channel<sh::Attrib4f> out;
+    run(p, {in_trips, in_x}, {out});
+    for (std::size_t e = 0; e < length; ++e) {
+      float x = xs[e];
+      int n = ns[e];
+      float want[] = {n > 0 ? static_cast<float>(n - 1) * x : 0.0f, n > 0 ? x + 1.0f : 0.0f, x > 4.0f ? x : 0.0f, x};
+      for (int c = 0; c < 4; ++c)
+        EXPECT_EQ(out[e * 4 + static_cast<std::size_t>(c)], want[c]) << "length " << length << ", element " << e << ", component " << c;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace conformance

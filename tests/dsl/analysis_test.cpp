@@ -280,4 +280,81 @@ TEST(Analysis, AValueBuiltAComponentAtATimeInABranchStaysUniform) {
   EXPECT_EQ(varying("half"), 1) << ir::print(legal);
 }
 
+// Bit c of a named variable's entry: component c may be read unwritten.
+int unwritten(const ir::Program& p, const std::string& name) {
+  std::vector<std::uint8_t> reads = analysis::unwritten_reads(p);
+  for (std::size_t v = 0; v < p.vars.size(); ++v)
+    if (p.vars[v].name == name) return reads[v];
+  return -1;
+}
+
+TEST(Analysis, UnwrittenReadsAreThoseSomePathReachesBeforeAWrite) {
+  Program p = SH_BEGIN_PROGRAM("unwritten") {
+    InputAttrib1f x;
+    OutputAttrib1f out;
+    OutputAttrib1f never;
+    never.name("never");
+    Attrib1f first, later, one_side, both_sides, in_loop, carried, before_loop, after_loop;
+    Attrib2f half;
+    first.name("first");
+    later.name("later");
+    one_side.name("one_side");
+    both_sides.name("both_sides");
+    in_loop.name("in_loop");
+    carried.name("carried");
+    before_loop.name("before_loop");
+    after_loop.name("after_loop");
+    half.name("half");
+    first = x * 2.0f;
+    Attrib1f sum = first + later;
+    later = x;
+    SH_IF(x > 0.0f) {
+      one_side = x;
+      both_sides = x;
+    } SH_ELSE {
+      both_sides = -x;
+    } SH_ENDIF;
+    sum += one_side + both_sides;
+    before_loop = x;
+    SH_FOR(Attrib1i j = 0, j < 3, j += 1) {
+      in_loop = x + j.cast<float>();
+      sum += in_loop + carried + before_loop;
+      carried = x;
+      after_loop = x;
+    } SH_ENDFOR;
+    half(0) = x;
+    out = sum + after_loop + half(0) + half(1);
+  } SH_END;
+  const ir::Program& ir = p.ir();
+  EXPECT_EQ(unwritten(ir, "first"), 0);
+  EXPECT_EQ(unwritten(ir, "later"), 1) << "read before its write";
+  EXPECT_EQ(unwritten(ir, "one_side"), 1) << "the else side does not write it";
+  EXPECT_EQ(unwritten(ir, "both_sides"), 0);
+  EXPECT_EQ(unwritten(ir, "in_loop"), 0);
+  EXPECT_EQ(unwritten(ir, "carried"), 1) << "the first trip reads it before the write";
+  EXPECT_EQ(unwritten(ir, "before_loop"), 0);
+  EXPECT_EQ(unwritten(ir, "after_loop"), 1) << "the loop may not run";
+  EXPECT_EQ(unwritten(ir, "half"), 2) << "component 1 only";
+  EXPECT_EQ(unwritten(ir, "never"), 1) << "an output read as the element ends";
+}
+
+TEST(Analysis, AnArrayIsWrittenByItsFillNotByAStore) {
+  Program p = SH_BEGIN_PROGRAM("arrays") {
+    InputAttrib1i i;
+    OutputAttrib1f out;
+    LocalArray<Attrib1f> declared(4, "declared");
+    declared.store(i, 1.0f);
+    out = declared[i + 1];
+  } SH_END;
+  const ir::Program& ir = p.ir();
+  EXPECT_EQ(unwritten(ir, "declared"), 0) << "its declaration fills it";
+  ir::Program stored = ir;
+  // Without the fill only stores write it: the other elements are unwritten.
+  std::erase_if(stored.body, [](const ir::Stmt& s) {
+    const auto* a = std::get_if<ir::Assign>(&s.node);
+    return a && a->op == ir::Op::Fill;
+  });
+  EXPECT_EQ(unwritten(stored, "declared"), 1) << ir::print(stored);
+}
+
 }  // namespace

@@ -26,6 +26,7 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
     tap_spans_ = analysis::tap_spans(p, access_);
   }
   reads_position_ = ir::uses(p, ir::Op::Position);
+  unwritten_reads_ = analysis::unwritten_reads(p);
   llvm::StringMap<bool> features;
   avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
 }
@@ -321,13 +322,17 @@ Value* Lowering::hidden_zero(llvm::Type* t, bool negative) {
   return known = negative ? b_.CreateFNeg(x) : x;
 }
 
-// Every register and array starts an element at zero.
+// Every register and array starts an element at zero, where a read may
+// find it so: a zero stored into every stack slot as each batch began
+// (1 600 in the 16-lane tracer, nearly all written before they are read)
+// took mem2reg 10 of its 12 ms.
 void Lowering::clear_registers() {
   const llvm::DataLayout& layout = module_->getDataLayout();
   for (std::size_t v = 0; v < p_.vars.size(); ++v) {
     if (ssa_[v]) continue;
     auto id = static_cast<ir::VarId>(v);
     for (int c = 0; c < p_.vars[v].type.width; ++c) {
+      if (!(unwritten_reads_[v] >> c & 1)) continue;
       if (p_.vars[v].kind == ir::VarKind::Array)
         b_.CreateMemSet(slots_[v][c], b_.getInt8(0), layout.getTypeAllocSize(array_type(id)).getFixedValue(),
                         llvm::MaybeAlign(alignment(var_type(id)->getScalarType())));

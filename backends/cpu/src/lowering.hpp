@@ -187,6 +187,7 @@ class Lowering {
   std::vector<Value*> input_base_, output_base_, table_base_;
   std::vector<std::array<Value*, 3>> table_dims_;
   std::vector<std::array<Value*, 4>> slots_;
+  std::vector<std::uint8_t> unwritten_reads_;  // by variable: components a read may find unwritten
   std::vector<std::array<Value*, 4>> written_zero_;  // float constants' zero components, as a move writes them
   std::map<std::pair<llvm::Type*, bool>, Value*> hidden_zeros_;  // hidden_zero()'s loads, by type and sign
   std::vector<bool> ssa_;
