@@ -1,5 +1,7 @@
 // Recorded control flow with data-dependent conditions and trip counts, on
 // every backend (Sh's own suite never tested this).
+#include <algorithm>
+
 #include "harness.hpp"
 
 namespace conformance {
@@ -190,8 +192,9 @@ TEST_P(Conformance, LoopIterationCapTurnsEndlessLoopIntoError) {
 
 // A variable read before anything is written to it reads zero, in every
 // element: on a loop's first trip, after a loop that did not run, after an
-// if whose other side wrote it, and in a component never written; however
-// many elements ran before (batches of SIMD lanes reuse their registers).
+// if whose other side wrote it, in a do/until body before its test, and in
+// a component never written; however many elements ran before (batches of
+// SIMD lanes reuse their registers).
 TEST_P(Conformance, AVariableReadBeforeItsWriteReadsZeroInEveryElement) {
   sh::Program p = SH_BEGIN_PROGRAM("read_unwritten") {
     sh::Input<Attrib1i> trips;
@@ -206,8 +209,16 @@ TEST_P(Conformance, AVariableReadBeforeItsWriteReadsZeroInEveryElement) {
       after_loop = x + 1.0f;
     } SH_ENDFOR;
     SH_IF(x > 4.0f) { one_side = x; } SH_ENDIF;
+    // A do/until loop's body runs before its test writes `tested`: its
+    // first trip reads zero, the others x.
+    Attrib1f tested, before_test = 0.0f;
+    Attrib1i k = 0;
+    SH_DO {
+      before_test += tested;
+      k += 1;
+    } SH_UNTIL((tested = x) * 0.0f + (k >= trips).cast<float>() > 0.5f);
     half(0) = x;
-    out = join(join(seen, after_loop), join(one_side, half(1) + half(0)));
+    out = join(join(seen, after_loop), join(one_side, half(1) + half(0) + before_test));
   } SH_END;
   for (std::size_t length : {1, 17, 300}) {
     std::vector<std::int32_t> ns(length);
@@ -223,7 +234,8 @@ TEST_P(Conformance, AVariableReadBeforeItsWriteReadsZeroInEveryElement) {
     for (std::size_t e = 0; e < length; ++e) {
       float x = xs[e];
       int n = ns[e];
-      float want[] = {n > 0 ? static_cast<float>(n - 1) * x : 0.0f, n > 0 ? x + 1.0f : 0.0f, x > 4.0f ? x : 0.0f, x};
+      float want[] = {n > 0 ? static_cast<float>(n - 1) * x : 0.0f, n > 0 ? x + 1.0f : 0.0f, x > 4.0f ? x : 0.0f,
+                      x + static_cast<float>(std::max(n, 1) - 1) * x};
       for (int c = 0; c < 4; ++c)
         EXPECT_EQ(out[e * 4 + static_cast<std::size_t>(c)], want[c]) << "length " << length << ", element " << e << ", component " << c;
     }

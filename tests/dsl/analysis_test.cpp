@@ -338,6 +338,43 @@ TEST(Analysis, UnwrittenReadsAreThoseSomePathReachesBeforeAWrite) {
   EXPECT_EQ(unwritten(ir, "never"), 1) << "an output read as the element ends";
 }
 
+// A do/until loop tests at the bottom: its body runs before the test's
+// writes.  A break or continue leaves the rest of a trip unwritten, and a
+// loop inside a loop runs its first trip on what came before it.
+TEST(Analysis, UnwrittenReadsFollowTheLoopsOrder) {
+  Program p = SH_BEGIN_PROGRAM("loop_order") {
+    InputAttrib1f x;
+    OutputAttrib1f out;
+    Attrib1f tested, before_break, before_continue, inner;
+    tested.name("tested");
+    before_break.name("before_break");
+    before_continue.name("before_continue");
+    inner.name("inner");
+    Attrib1f sum = 0.0f;
+    SH_DO { sum += tested; } SH_UNTIL((tested = x) > 0.0f);
+    SH_FOR(Attrib1i j = 0, j < 3, j += 1) {
+      SH_BREAK(x > j.cast<float>());
+      before_break = x;
+    } SH_ENDFOR;
+    SH_FOR(Attrib1i j = 0, j < 3, j += sum.cast<std::int32_t>() + before_continue.cast<std::int32_t>()) {
+      SH_CONTINUE(x > j.cast<float>());
+      before_continue = x;
+    } SH_ENDFOR;
+    SH_FOR(Attrib1i i = 0, i < 2, i += 1) {
+      SH_FOR(Attrib1i j = 0, j < 2, j += 1) {
+        sum += inner;
+        inner = x;
+      } SH_ENDFOR;
+    } SH_ENDFOR;
+    out = sum + before_break;
+  } SH_END;
+  const ir::Program& ir = p.ir();
+  EXPECT_EQ(unwritten(ir, "tested"), 1) << "the body's read comes before the test writes it";
+  EXPECT_EQ(unwritten(ir, "before_break"), 1) << "read after a loop that may break first";
+  EXPECT_EQ(unwritten(ir, "before_continue"), 1) << "the update after a continue";
+  EXPECT_EQ(unwritten(ir, "inner"), 1) << "the inner loop's first trip";
+}
+
 TEST(Analysis, AnArrayIsWrittenByItsFillNotByAStore) {
   Program p = SH_BEGIN_PROGRAM("arrays") {
     InputAttrib1i i;

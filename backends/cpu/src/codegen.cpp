@@ -49,9 +49,10 @@ constexpr std::size_t kCandidateLoops = 12;
 
 // The headers of the loops to outline from `f` so that it and the loops
 // make `parts` parts of about equal size: of its largest loops that fit in
-// a part, the set, none inside another, whose largest part is smallest.  (Taking the
-// largest loops that fit a share, as before, left the tracer's parts at
-// 1 : 2 where its bounce loop held both walks.)
+// a part, the set, none inside another, whose largest part is smallest.
+// The largest loops that fit are not enough: where one loop holds two
+// others (the tracer's bounce loop, its two walks), they leave parts of
+// 1 : 2.
 std::vector<llvm::BasicBlock*> loops_to_outline(llvm::Function& f, unsigned parts) {
   llvm::DominatorTree dominators(f);
   llvm::LoopInfo info(dominators);

@@ -137,7 +137,8 @@ bool continues(const ir::Block& body);
 // By VarId, bit c: component c of the variable may be read as it was when
 // the element began (zero), no write before the read on some path; an
 // output read so when the element ends.  A backend that starts every
-// variable at zero needs to only for these.
+// register and array at zero needs to only for these (constants and
+// uniforms, never written, have their read bits too).
 std::vector<std::uint8_t> unwritten_reads(const ir::Program& p);
 
 }  // namespace sh::analysis

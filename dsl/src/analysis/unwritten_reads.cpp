@@ -1,10 +1,11 @@
 // Which components of which variables a read may find as the element
 // began: a forward walk that carries the components written on every path
 // so far.  A branch keeps what both of its sides write; a loop keeps
-// nothing of its own (it may not run, or leave early), and within it the
-// update sees only what the header wrote (a continue skips the rest of the
-// body).  Arrays are written whole by a fill alone: a store leaves the
-// other elements.  Outputs are read when the element ends.
+// nothing of its own (it may not run, or leave early).  Within a loop the
+// update sees only what its test wrote, where the test comes first (a
+// continue skips the rest of the body), and a test at the bottom sees only
+// what came before the loop.  Arrays are written whole by a fill alone: a
+// store leaves the other elements.  Outputs are read when the element ends.
 #include "sh/analysis.hpp"
 
 namespace sh::analysis {
@@ -70,14 +71,21 @@ class UnwrittenReads {
       return;
     }
     if (const auto* l = std::get_if<ir::Loop>(&s.node)) {
-      Written header = written;
-      block(l->header, header);
-      read(l->cond, header);
-      Written body = header;
+      Written first = written;
+      if (l->test_at_top) test(*l, first);
+      Written body = first, update = first;
       block(l->body, body);
-      Written update = header;
       block(l->update, update);
+      if (!l->test_at_top) {
+        Written header = written;
+        test(*l, header);
+      }
     }
+  }
+
+  void test(const ir::Loop& l, Written& written) {
+    block(l.header, written);
+    read(l.cond, written);
   }
 
   const ir::Program& p_;
