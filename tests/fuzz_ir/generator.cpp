@@ -364,15 +364,18 @@ class Generator {
     for (int i = 0; i < n && budget_ > 0; ++i) statement(b, ctx);
   }
 
-  // Every temporary and output written whole before the body, from the
-  // signature (converted where its scalar differs) or constants: no
-  // backend ever reads an unwritten register.
+  // Temporaries and outputs written whole before the body, from the
+  // signature (converted where its scalar differs) or constants; a fifth
+  // are left as the element begins them, at zero, so that reads of
+  // unwritten registers (which a backend may skip zeroing where none can
+  // happen) are tried too.
   Block prologue() {
     Block b;
     std::vector<VarId> sources = p().inputs;
     sources.insert(sources.end(), p().uniforms.begin(), p().uniforms.end());
     std::erase_if(sources, [&](VarId v) { return !exact_class(v); });
     for (VarId id : needs_init_) {
+      if (rng_.chance(20)) continue;
       Type t = p().type_of(id);
       Assign a{id, Swizzle::identity(t.width), Op::Mov, {operand(t.scalar, t.width, false, true, false)}, -1};
       if (!sources.empty() && p().type_of(a.args[0].var).scalar == t.scalar && p().var(a.args[0].var).kind == VarKind::Const &&
