@@ -102,20 +102,21 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   };
   // Which lanes' rays meet a child's box before their nearest hit so far,
   // and where each enters it.
-  auto meets = [&](const Attrib3f& lo, const Attrib3f& hi, Attrib1f& enter) -> Attrib1f {
+  auto meets = [&](const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& clip_at, Attrib1f& enter) -> Attrib1f {
     Attrib1f leave;
-    clip(r, lo, hi, best * kBeyondBest, enter, leave);
+    clip(r, lo, hi, clip_at, enter, leave);
     return enter <= leave;
   };
   // Pushes the children any lane meets, farthest first: the nearest met
   // is on top.
   auto visit_ordered = [&] {
     WideNode n(b, node);
+    Attrib1f clip_at = best * kBeyondBest;
     Attrib4i met;
     Attrib4f enters;
     for (int k = 0; k < kBvhWidth; ++k) {
       Attrib1f enter;
-      Attrib1f own = meets(n.lo(k), n.hi(k), enter);
+      Attrib1f own = meets(n.lo(k), n.hi(k), clip_at, enter);
       met(k) = any_lane(own).cast<std::int32_t>() && n.kids(k) != -1;
       enters(k) = cond(own, enter, ConstAttrib1f(kMissed));
       if (lanes) {
@@ -139,9 +140,10 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // distances are a chain the loop does not overlap.)
   auto visit_any = [&] {
     WideNode n(b, node);
+    Attrib1f clip_at = best * kBeyondBest;
     SH_FOR(Attrib1i k = 0, k < kBvhWidth, k += 1) {
       Attrib1f enter;
-      Attrib1f own = meets(n.lo(k), n.hi(k), enter);
+      Attrib1f own = meets(n.lo(k), n.hi(k), clip_at, enter);
       Attrib1i kid = pick(n.kids, k);
       stack.store(depth, kid);
       depth += any_lane(own).cast<std::int32_t>() && kid != -1;

@@ -74,10 +74,11 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
 // pass, 12 000-13 500; every other kernel measured is under 4 300, the
 // intersector the largest) takes a short pipeline: registers to SSA
 // values, the common subexpressions before and after the instruction
-// combiner, the CFG simplified before and after.  Its loops run until rays finish, with little for O3's loop
-// passes to hoist or unroll, while O3 spent about 60 % of its compile on
-// them: renders ran at the same speed, with the same images, and compiled
-// in 35-45 % less time (with GVN where the second early CSE is now).
+// combiner, the CFG simplified before and after.  Its loops run until rays
+// finish, with little for O3's loop passes to hoist or unroll, while O3
+// spent about 60 % of its compile on them: renders ran at the same speed,
+// with the same images, and compiled in 35-45 % less time (with GVN where
+// the second early CSE is now).
 // Small kernels keep O3, which their loops pay for (ray-triangle's 9 % at
 // 16 lanes) and whose compile is short anyway.
 constexpr unsigned kLargeKernel = 5000;

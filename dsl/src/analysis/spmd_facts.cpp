@@ -102,7 +102,7 @@ class RejoinLiveness {
 
   void run() {
     Live at_end(p_.vars.size(), 0);
-    for (ir::VarId v : p_.outputs) at_end[v] = static_cast<std::uint8_t>((1u << p_.type_of(v).width) - 1);
+    for (ir::VarId v : p_.outputs) at_end[v] = ir::Swizzle::identity(p_.type_of(v).width).bits();
     block(p_.body, at_end);
   }
 
@@ -113,11 +113,6 @@ class RejoinLiveness {
     Live exit, update;
   };
 
-  static std::uint8_t bits(const ir::Swizzle& s) {
-    std::uint8_t b = 0;
-    for (int i = 0; i < s.size; ++i) b = static_cast<std::uint8_t>(b | 1u << s[i]);
-    return b;
-  }
   static bool add(Live& to, const Live& from) {
     bool changed = false;
     for (std::size_t v = 0; v < to.size(); ++v)
@@ -130,7 +125,7 @@ class RejoinLiveness {
     return out;
   }
 
-  void use(Live& live, const ir::Operand& o) const { live[o.var] = static_cast<std::uint8_t>(live[o.var] | bits(o.swizzle)); }
+  void use(Live& live, const ir::Operand& o) const { live[o.var] = static_cast<std::uint8_t>(live[o.var] | o.swizzle.bits()); }
 
   Live block(const ir::Block& b, Live live) {
     for (auto s = b.rbegin(); s != b.rend(); ++s) live = statement(*s, std::move(live));
@@ -139,7 +134,7 @@ class RejoinLiveness {
 
   Live statement(const ir::Stmt& s, Live live) {
     if (auto* a = std::get_if<ir::Assign>(&s.node)) {
-      if (ir::overwrites(*a)) live[a->dest] = static_cast<std::uint8_t>(live[a->dest] & ~bits(a->mask));
+      if (ir::overwrites(*a)) live[a->dest] = static_cast<std::uint8_t>(live[a->dest] & ~a->mask.bits());
       for (const ir::Operand& o : a->args) use(live, o);
       return live;
     }

@@ -26,7 +26,7 @@ class UnwrittenReads {
  private:
   using Written = std::vector<std::uint8_t>;  // by VarId: bit c, component c
 
-  std::uint8_t all(ir::VarId v) const { return static_cast<std::uint8_t>((1u << p_.type_of(v).width) - 1); }
+  std::uint8_t all(ir::VarId v) const { return ir::Swizzle::identity(p_.type_of(v).width).bits(); }
 
   void note_read(ir::VarId v, std::uint8_t components, const Written& written) {
     auto at = static_cast<std::size_t>(v);
@@ -34,11 +34,7 @@ class UnwrittenReads {
   }
 
   void read(const ir::Operand& o, const Written& written) {
-    if (o.var < 0) return;
-    if (p_.var(o.var).kind == ir::VarKind::Array) return note_read(o.var, all(o.var), written);
-    std::uint8_t components = 0;
-    for (int i = 0; i < o.width(); ++i) components = static_cast<std::uint8_t>(components | 1u << o.component(i));
-    note_read(o.var, components, written);
+    note_read(o.var, p_.var(o.var).kind == ir::VarKind::Array ? all(o.var) : o.swizzle.bits(), written);
   }
 
   void assign(const ir::Assign& a, Written& written) {
@@ -48,8 +44,7 @@ class UnwrittenReads {
       if (a.op == ir::Op::Fill) written[at] = all(a.dest);
       return;
     }
-    if (!ir::overwrites(a)) return;
-    for (int i = 0; i < a.mask.size; ++i) written[at] = static_cast<std::uint8_t>(written[at] | 1u << a.mask[i]);
+    if (ir::overwrites(a)) written[at] = static_cast<std::uint8_t>(written[at] | a.mask.bits());
   }
 
   void block(const ir::Block& b, Written& written) {

@@ -32,6 +32,12 @@ bool Swizzle::is_identity(int width) const {
   return true;
 }
 
+std::uint8_t Swizzle::bits() const {
+  std::uint8_t b = 0;
+  for (int i = 0; i < size; ++i) b = static_cast<std::uint8_t>(b | 1u << index[i]);
+  return b;
+}
+
 bool Swizzle::has_repeats() const {
   for (int i = 0; i < size; ++i)
     for (int j = i + 1; j < size; ++j)

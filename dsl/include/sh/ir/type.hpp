@@ -35,6 +35,8 @@ struct Swizzle {
   bool is_identity(int width) const;
   std::uint8_t operator[](int i) const { return index[i]; }
   bool has_repeats() const;
+  // The components it names, bit c for component c (the analyses' sets).
+  std::uint8_t bits() const;
 
   // Only the first `size` indices mean anything.
   friend bool operator==(const Swizzle& a, const Swizzle& b) {

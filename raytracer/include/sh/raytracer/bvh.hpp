@@ -18,10 +18,10 @@
 // Each node has a box (widened by a hair, so rounding at a face never
 // loses a triangle; every layout's boxes are) and, for each of six walking
 // orders, two links: where a ray goes next when it meets the box and when
-// it misses it (the tree "threaded", after multiple-threaded BVHs).  Order k = 2 * axis + (direction < 0 along it)
-// visits the children nearer the ray's start first for rays whose largest
-// direction component is along that axis with that sign.  Per node and
-// order:
+// it misses it (the tree "threaded", after multiple-threaded BVHs).
+// Order k = 2 * axis + (direction < 0 along it) visits the children
+// nearer the ray's start first for rays whose largest direction component
+// is along that axis with that sign.  Per node and order:
 //   hit  >= 0   an inner node: its first child in this order
 //   hit  <= -2  a leaf: its triangles are listed in `triangles` from -hit-2, ended by -1
 //   miss        the node after this one's subtree in this order; -1 after the last
