@@ -60,14 +60,20 @@ class Generator {
   Type random_type() { return {rng_.pick(kScalars), rng_.between(1, 4)}; }
 
   VarId add(VarKind kind, Type t, std::string name, bool exact, bool writable) {
+    VarId id = add_unwritten(kind, t, std::move(name), exact, writable);
+    // Observers (outputs the body never writes) are written at the end.
+    if (kind == VarKind::Temp || (kind == VarKind::Output && writable)) needs_init_.push_back(id);
+    return id;
+  }
+
+  // A register the prologue leaves as the element begins it.
+  VarId add_unwritten(VarKind kind, Type t, std::string name, bool exact, bool writable) {
     Var v;
     v.kind = kind;
     v.type = t;
     v.name = std::move(name);
     VarId id = p().add_var(std::move(v));
     regs_.push_back({id, exact, writable});
-    // Observers (outputs the body never writes) are written at the end.
-    if (kind == VarKind::Temp || (kind == VarKind::Output && writable)) needs_init_.push_back(id);
     return id;
   }
 
@@ -314,6 +320,8 @@ class Generator {
     b.push_back(Stmt{std::move(s)});
   }
 
+  static Operand whole(VarId v) { return Operand{v, Swizzle::identity(1)}; }
+
   static Stmt assign_stmt(VarId dest, Op op, std::vector<Operand> args) {
     return Stmt{Assign{dest, Swizzle::identity(1), op, std::move(args), -1}};
   }
@@ -328,22 +336,41 @@ class Generator {
     VarId counter = add(VarKind::Temp, {s, 1}, "i" + n, true, false);
     VarId test = add(VarKind::Temp, {s, 1}, "c" + n, true, false);
     auto number = [&](double v) { return Operand{p().add_const({s, 1}, {v, 0, 0, 0}), Swizzle::identity(1)}; };
-    auto var = [](VarId v) { return Operand{v, Swizzle::identity(1)}; };
     int limit = rng_.between(0, 4), form = rng_.below(3);
     b.push_back(assign_stmt(counter, Op::Mov, {number(0)}));
     Loop l;
     Block counting;
-    if (form != 1) counting.push_back(assign_stmt(counter, Op::Add, {var(counter), number(1)}));
-    counting.push_back(assign_stmt(test, form == 0 ? Op::Le : Op::Lt, {var(counter), number(limit)}));
-    if (rng_.chance(30)) counting.push_back(assign_stmt(test, Op::And, {var(test), operand(s, 1, false, false)}));
+    if (form != 1) counting.push_back(assign_stmt(counter, Op::Add, {whole(counter), number(1)}));
+    counting.push_back(assign_stmt(test, form == 0 ? Op::Le : Op::Lt, {whole(counter), number(limit)}));
+    if (rng_.chance(30)) counting.push_back(assign_stmt(test, Op::And, {whole(test), operand(s, 1, false, false)}));
     block_of_assignments(l.header, rng_.between(0, 1));
     for (Stmt& st : counting) l.header.push_back(std::move(st));
-    l.cond = var(test);
+    l.cond = whole(test);
     l.test_at_top = form != 2;  // 0: while, 1: for, 2: do/until
+    if (form == 2 && rng_.chance(50)) read_before_test(l, s, counter, number);
     block(l.body, Context{ctx.depth + 1, ctx.loops + 1, true}, rng_.between(1, 6));
-    if (form == 1) l.update.push_back(assign_stmt(counter, Op::Add, {var(counter), number(1)}));
+    if (form == 1) l.update.push_back(assign_stmt(counter, Op::Add, {whole(counter), number(1)}));
     block_of_assignments(l.update, rng_.between(0, 1));
     b.push_back(Stmt{std::move(l)});
+  }
+
+  // A do/until loop whose test writes a register that the body reads
+  // before it, on its first trip: there the register is as the element
+  // began it, zero, whatever the previous element left in it.  The first
+  // trip's read is kept in a register of its own, watched at the end.
+  template <class Number>
+  void read_before_test(Loop& l, Scalar s, VarId counter, const Number& number) {
+    std::string n = std::to_string(regs_.size());
+    VarId carried = add_unwritten(VarKind::Temp, {s, 1}, "d" + n, true, false);
+    VarId first_trip = add(VarKind::Temp, {s, 1}, "e" + n, true, false);
+    VarId seen = add_unwritten(VarKind::Temp, {s, 1}, "f" + n, true, false);
+    watched_.push_back(seen);
+    l.header.insert(l.header.begin(), assign_stmt(carried, Op::Mov, {operand(s, 1, false, false)}));
+    l.body.push_back(assign_stmt(first_trip, Op::Eq, {whole(counter), number(0)}));
+    If on_first;
+    on_first.cond = whole(first_trip);
+    on_first.then_body.push_back(assign_stmt(seen, Op::Mov, {whole(carried)}));
+    l.body.push_back(Stmt{std::move(on_first)});
   }
 
   void block_of_assignments(Block& b, int n) {
@@ -389,12 +416,14 @@ class Generator {
     return b;
   }
 
-  // Every register the body may write is observed by an output of its
-  // own at the end, so that no computation is dead to the optimiser.
+  // Every register the body may write, and every one watched, is observed
+  // by an output of its own at the end, so that no computation is dead to
+  // the optimiser.
   void epilogue(Block& b) {
     std::vector<Reg> observed;
     for (const Reg& r : regs_)
-      if (r.writable && p().var(r.id).kind == VarKind::Temp) observed.push_back(r);
+      if ((r.writable && p().var(r.id).kind == VarKind::Temp) || std::count(watched_.begin(), watched_.end(), r.id))
+        observed.push_back(r);
     for (const Reg& r : observed) {
       Type t = type_of(r);
       VarId out = add(VarKind::Output, t, "see_" + p().var(r.id).name, false, false);
@@ -408,6 +437,7 @@ class Generator {
   Case c_;
   std::vector<Reg> regs_;
   std::vector<VarId> needs_init_;
+  std::vector<VarId> watched_;  // observed at the end though the body does not write them
   std::vector<VarId> arrays_;
   int budget_ = 0;
 };

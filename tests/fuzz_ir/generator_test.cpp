@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include <sh/error.hpp>
@@ -26,9 +27,43 @@ using namespace sh::ir;
 
 constexpr int kPrograms = 400;
 
+class Writes : public Visitor {
+ public:
+  using Visitor::visit;
+  std::map<VarId, int> count;
+  void visit(const Assign& a) override { ++count[a.dest]; }
+};
+
+// The variables that only `header` writes in the whole program.
+std::set<VarId> written_only_by(const Block& header, const std::map<VarId, int>& everywhere) {
+  Writes here;
+  here.visit(header);
+  std::set<VarId> out;
+  for (const auto& [v, n] : here.count)
+    if (everywhere.at(v) == n) out.insert(v);
+  return out;
+}
+
+// Whether a statement of `body` reads one of `vars` before any statement
+// of it (at its own level) writes that variable.
+bool body_reads_before_writing(const Block& body, std::set<VarId> vars) {
+  for (const Stmt& s : body) {
+    if (const auto* a = std::get_if<Assign>(&s.node)) {
+      for (const Operand& o : a->args)
+        if (vars.count(o.var)) return true;
+      vars.erase(a->dest);
+    } else if (const auto* i = std::get_if<If>(&s.node)) {
+      if (vars.count(i->cond.var) || body_reads_before_writing(i->then_body, vars) || body_reads_before_writing(i->else_body, vars))
+        return true;
+    }
+  }
+  return false;
+}
+
 class Census : public Visitor {
  public:
   using Visitor::visit;
+  explicit Census(std::map<VarId, int> writes = {}) : writes_(std::move(writes)) {}
   std::set<Op> ops;
   std::set<std::string> forms;
   void visit(const Assign& a) override { ops.insert(a.op); }
@@ -38,11 +73,23 @@ class Census : public Visitor {
   }
   void visit(const Loop& s) override {
     forms.insert(s.test_at_top ? (s.update.empty() ? "while" : "for") : "do-until");
+    // What a do/until test alone writes (besides its condition, which is
+    // false whenever the loop ends, so the same in every element after
+    // it), read by the body first: on its first trip the body reads it as
+    // the element began it.
+    if (!s.test_at_top) {
+      std::set<VarId> test_only = written_only_by(s.header, writes_);
+      test_only.erase(s.cond.var);
+      if (body_reads_before_writing(s.body, test_only)) forms.insert("do-until body reading what only its test writes");
+    }
     Visitor::visit(s);
   }
   void visit(const Break&) override { forms.insert("break"); }
   void visit(const Continue&) override { forms.insert("continue"); }
   void visit(const Scatter&) override { forms.insert("scatter"); }
+
+ private:
+  std::map<VarId, int> writes_;
 };
 
 TEST(FuzzGenerator, ProgramsVerifyAndKeepInexactValuesOutOfConditions) {
@@ -66,12 +113,18 @@ TEST(FuzzGenerator, SameSeedSameProgram) {
 }
 
 TEST(FuzzGenerator, CoversEveryOperationScalarWidthAndStatementForm) {
-  Census census;
+  std::set<Op> ops;
+  std::set<std::string> forms;
   std::set<std::pair<Scalar, int>> types;
   std::set<int> ranks;
   for (int k = 0; k < kPrograms; ++k) {
     Case c = generate(program_seed(7, k));
+    Writes writes;
+    writes.visit(c.program.body);
+    Census census(writes.count);
     census.visit(c.program.body);
+    ops.insert(census.ops.begin(), census.ops.end());
+    forms.insert(census.forms.begin(), census.forms.end());
     for (const Var& v : c.program.vars) types.insert({v.type.scalar, v.type.width});
     for (const TableDecl& t : c.program.tables) ranks.insert(t.rank);
   }
@@ -82,9 +135,10 @@ TEST(FuzzGenerator, CoversEveryOperationScalarWidthAndStatementForm) {
     bool left_out = op_at(i) == Op::Load || is_lane_group(op_at(i));
     EXPECT_EQ(std::count(drawn.begin(), drawn.end(), op_at(i)), left_out ? 0 : 1) << op_name(op_at(i));
   }
-  for (Op op : generated_ops()) EXPECT_TRUE(census.ops.count(op)) << op_name(op) << " never generated";
-  for (const char* form : {"if", "if-else", "while", "for", "do-until", "break", "continue", "scatter"})
-    EXPECT_TRUE(census.forms.count(form)) << form << " never generated";
+  for (Op op : generated_ops()) EXPECT_TRUE(ops.count(op)) << op_name(op) << " never generated";
+  for (const char* form : {"if", "if-else", "while", "for", "do-until", "do-until body reading what only its test writes",
+                           "break", "continue", "scatter"})
+    EXPECT_TRUE(forms.count(form)) << form << " never generated";
   EXPECT_EQ(types.size(), 16u) << "every scalar at every width";
   EXPECT_EQ(ranks, (std::set<int>{1, 2, 3}));
 }
