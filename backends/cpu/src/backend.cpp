@@ -46,25 +46,32 @@ class CpuKernel : public Kernel {
     // Threads take whole sets of lanes, so only the stream's last set is
     // partly masked.
     std::int64_t lanes = jitted_.lanes(), sets = (n + lanes - 1) / lanes;
-    arena_.execute([&] {
-      // Many more chunks than threads, so divergent elements balance out.
-      std::int64_t threads = arena_.max_concurrency();
-      std::int64_t grain = std::clamp<std::int64_t>(sets / (threads * 16), 1, 4096 / lanes);
-      tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, sets, grain), [&](const tbb::blocked_range<std::int64_t>& r) {
-        auto call = [&](const void* const* its_tables) {
-          fn(r.begin() * lanes, std::min(r.end() * lanes, n), inputs.data(), outputs.data(), uniforms.data(), its_tables,
-             dims.data(), domain.data(), status);
-        };
-        if (!fetched_) return call(tables.data());
-        // Each task moves windows of its own.
-        std::vector<TableAccess> mine = accesses;
-        std::vector<const void*> its_tables = tables;
-        for (std::size_t i = 0; i < mine.size(); ++i)
-          if (!args.tables[i].sums) its_tables[i] = &mine[i];
-        call(its_tables.data());
-        for (std::size_t i = 0; i < mine.size(); ++i) inline_reads[i] += mine[i].inline_reads;
+    // Sets [begin, end) of lanes, on this thread.
+    auto sets_of = [&](std::int64_t begin, std::int64_t end) {
+      auto call = [&](const void* const* its_tables) {
+        fn(begin * lanes, std::min(end * lanes, n), inputs.data(), outputs.data(), uniforms.data(), its_tables, dims.data(),
+           domain.data(), status);
+      };
+      if (!fetched_) return call(tables.data());
+      // Each task moves windows of its own.
+      std::vector<TableAccess> mine = accesses;
+      std::vector<const void*> its_tables = tables;
+      for (std::size_t i = 0; i < mine.size(); ++i)
+        if (!args.tables[i].sums) its_tables[i] = &mine[i];
+      call(its_tables.data());
+      for (std::size_t i = 0; i < mine.size(); ++i) inline_reads[i] += mine[i].inline_reads;
+    };
+    if (args.on_this_thread) {
+      sets_of(0, sets);
+    } else {
+      arena_.execute([&] {
+        // Many more chunks than threads, so divergent elements balance out.
+        std::int64_t threads = arena_.max_concurrency();
+        std::int64_t grain = std::clamp<std::int64_t>(sets / (threads * 16), 1, 4096 / lanes);
+        tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, sets, grain),
+                          [&](const tbb::blocked_range<std::int64_t>& r) { sets_of(r.begin(), r.end()); });
       });
-    });
+    }
     for (std::size_t i = 0; i < args.tables.size(); ++i)
       if (!args.tables[i].data) args.tables[i].source->count_reads(static_cast<std::size_t>(inline_reads[i].load()));
     if (status[0] != 0) {
@@ -135,6 +142,8 @@ class CpuBackend : public Backend {
             {"w16_fetched", Options{.width = Width::Lanes16, .tables = Tables::Fetched}}};
   }
   int lanes(const sh::Options& o) const override { return lane_count(o); }
+  // Tables and streams are read where they lie; a run's state is its own.
+  bool runs_in_place() const override { return true; }
   // Fetched reads on one thread: a TableSource is called from one at a time.
   bool read_through_sources(sh::Options& o) const override {
     Options mine = o.get<Options>();

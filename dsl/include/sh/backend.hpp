@@ -92,6 +92,9 @@ struct RunArgs {
   std::vector<BufferView> inputs, outputs;
   std::vector<std::array<double, 4>> uniforms;  // parallel to ir.uniforms
   std::vector<TableView> tables;                // parallel to ir.tables
+  // Run on the calling thread alone: its caller spreads runs over threads
+  // itself (run_fused's strips).  A backend that runs in place honours it.
+  bool on_this_thread = false;
 };
 
 // Figures a backend reports beyond RunStats' own (the mpi backend's per
@@ -126,6 +129,9 @@ struct RunStats {
   // Runs in waves (waves.hpp): waves after the first, element runs they
   // took, and per part the refiner's summary of what it has built.
   std::size_t waves = 0, resumed = 0;
+  // run_fused: the strips of rows its two programs ran in together; 0
+  // where they ran one after the other (sh/fused.hpp).
+  std::size_t strips = 0;
   std::vector<std::string> refined;
   std::shared_ptr<RunDetails> details;  // the backend's own figures, where it has some
   template <class T>
@@ -200,6 +206,12 @@ class Backend {
     (void)options;
     return false;
   }
+
+  // Whether its kernels read and write in place, where RunArgs point in
+  // this process's memory (no copy of a table kept between runs), and may
+  // run on several threads at once for outputs that do not overlap: then
+  // run_fused hands them strips of buffers of its own.
+  virtual bool runs_in_place() const { return false; }
 };
 
 // The error every backend gives when an element runs a loop past

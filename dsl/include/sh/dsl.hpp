@@ -7,6 +7,7 @@
 #include "sh/channel.hpp"
 #include "sh/control.hpp"
 #include "sh/error.hpp"
+#include "sh/fused.hpp"
 #include "sh/library.hpp"
 #include "sh/library_more.hpp"
 #include "sh/local_array.hpp"

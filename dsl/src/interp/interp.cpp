@@ -243,6 +243,8 @@ class InterpBackend : public Backend {
   }
   // Every table read goes through the TableView; elements run one by one.
   bool read_through_sources(Options&) const override { return true; }
+  // In place, and a run keeps nothing of its own between elements.
+  bool runs_in_place() const override { return true; }
 };
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "../interp/interp.hpp"
+#include "running.hpp"
 #include "sh/detail/cpu_time.hpp"
 #include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
@@ -42,6 +43,10 @@ Registry& registry() {
   (void)builtin;
   return r;
 }
+
+}  // namespace
+
+namespace detail {
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -170,7 +175,13 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
   return args;
 }
 
-}  // namespace
+}  // namespace detail
+
+using detail::bind_arguments;
+using detail::cached_kernel;
+using detail::describe_slot;
+using detail::ms_since;
+using detail::resolve;
 
 void add_phases(std::vector<CompilePhase>& total, const std::vector<CompilePhase>& more) {
   for (const CompilePhase& phase : more) {

@@ -1,0 +1,239 @@
+#include "sh/fused.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "running.hpp"
+#include "sh/analysis.hpp"
+#include "sh/error.hpp"
+#include "sh/ir/visitor.hpp"
+
+namespace sh::detail {
+namespace {
+
+// About what a core's second-level cache holds with room to spare: a
+// strip's buffer of this many bytes or fewer stays there between the
+// producer's writes and the consumer's reads.
+constexpr std::size_t kStripBytes = 512 * 1024;
+
+// The rows above (low, negative) and below (high) an element's own that
+// the consumer reads of table `t`: none where one of its reads is not a
+// tap at a constant offset from position().
+struct Reach {
+  int low = 0, high = 0;
+};
+
+std::optional<Reach> row_reach(const ir::Program& consumer, int t) {
+  std::optional<Reach> reach;
+  for (const auto& [read, access] : analysis::table_access(consumer)) {
+    if (read->table != t) continue;
+    if (!access.offset) return std::nullopt;
+    int dy = (*access.offset)[1];
+    reach = reach ? Reach{std::min(reach->low, dy), std::max(reach->high, dy)} : Reach{dy, dy};
+  }
+  return reach;
+}
+
+// The consumer's reach into table `t` in the program its backend gets (the
+// analysis proves offsets of values written once, as the passes leave
+// them): found once per program and options.
+std::optional<Reach> reach_of(const Program& consumer, int t, const Options& options) {
+  static std::mutex mutex;
+  static std::map<std::string, std::optional<Reach>> known;
+  std::string key = std::to_string(consumer.hash()) + "|" + std::to_string(t) + "|" + options.key();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto found = known.find(key); found != known.end()) return found->second;
+  }
+  std::optional<Reach> reach = row_reach(legal_program(consumer, options), t);
+  std::lock_guard<std::mutex> lock(mutex);
+  return known.emplace(key, reach).first->second;
+}
+
+bool has_accumulator(const Program& p) {
+  return std::any_of(p.ir().tables.begin(), p.ir().tables.end(), [](const ir::TableDecl& t) { return t.accumulator; });
+}
+
+int table_index(const Program& p, const std::shared_ptr<TableStorage>& table) {
+  auto found = std::find(p.tables().begin(), p.tables().end(), table);
+  return found == p.tables().end() ? -1 : static_cast<int>(found - p.tables().begin());
+}
+
+std::string describe(const TableStorage& t) { return "table" + (t.decl.name.empty() ? "" : " '" + t.decl.name + "'"); }
+
+// The producer gives the table the consumer reads, and neither takes
+// input streams.
+void check_linked(const Program& producer, const TableStorage& through, int through_at, const Program& consumer) {
+  const ir::Program& p = producer.ir();
+  const ir::Program& c = consumer.ir();
+  if (!p.inputs.empty() || !c.inputs.empty())
+    throw Error("program '" + (p.inputs.empty() ? c.name : p.name) +
+                "': run_fused runs programs without input streams over their outputs' launch domain");
+  if (p.outputs.size() != 1)
+    throw Error("program '" + p.name + "': run_fused's producer gives one output, not " + std::to_string(p.outputs.size()));
+  if (p.type_of(p.outputs[0]) != through.decl.element)
+    throw Error("program '" + p.name + "': its output is " + ir::type_name(p.type_of(p.outputs[0])) + " but " +
+                describe(through) + " holds " + ir::type_name(through.decl.element));
+  if (through_at < 0)
+    throw Error("program '" + c.name + "': run_fused's consumer does not read the " + describe(through));
+}
+
+// The domain is a grid of the table's dimensions.
+void check_grid(const ir::Program& c, const TableStorage& through, const LaunchDomain& domain) {
+  if (through.decl.rank != 2 || domain.extent[2] != 1 || through.dims[0] != static_cast<int>(domain.extent[0]) ||
+      through.dims[1] != static_cast<int>(domain.extent[1]))
+    throw Error("program '" + c.name + "': run_fused runs over a grid of the " + describe(through) + "'s dimensions, " +
+                std::to_string(through.dims[0]) + " x " + std::to_string(through.dims[1]) +
+                ", but its outputs are shaped " + std::to_string(domain.extent[0]) + " x " +
+                std::to_string(domain.extent[1]) + " x " + std::to_string(domain.extent[2]));
+}
+
+// The producer's output in the table's own memory, shaped as the domain.
+std::shared_ptr<Buffer> table_as_output(TableStorage& through, const LaunchDomain& domain) {
+  auto view = std::make_shared<Buffer>(through.decl.element, 0);
+  view->view(through.buffer.memory(), through.buffer.size(), describe(through));
+  view->shape(domain.extent);
+  return view;
+}
+
+void add_run(RunStats& total, const RunStats& one) {
+  total.compiled = total.compiled || one.compiled;
+  total.compile_ms += one.compile_ms;
+  total.compile_cpu_ms += one.compile_cpu_ms;
+  add_phases(total.compile_phases, one.compile_phases);
+  total.diagnostics.insert(total.diagnostics.end(), one.diagnostics.begin(), one.diagnostics.end());
+}
+
+// `bytes` bytes before `p`: where row 0 of a table lies whose row `first`
+// is at p.  Only rows the strip holds are read through it.
+const void* shifted_back(const void* p, std::size_t bytes) {
+  return reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(p) - bytes);
+}
+
+// The strips of `rows` rows over the domain, spread over `threads`
+// threads, each with a buffer of its own for the producer's rows.
+class Strips {
+ public:
+  Strips(const RunArgs& producer, const RunArgs& consumer, int through_at, Reach reach, int rows)
+      : producer_(producer), consumer_(consumer), through_at_(through_at), reach_(reach), rows_(rows) {
+    width_ = consumer.domain.extent[0];
+    height_ = static_cast<int>(consumer.domain.extent[1]);
+    row_bytes_ = width_ * ir::storage_bytes(consumer.tables[through_at].element.scalar) *
+                 static_cast<std::size_t>(consumer.tables[through_at].element.width);
+  }
+
+  std::size_t count() const { return static_cast<std::size_t>((height_ + rows_ - 1) / rows_); }
+
+  void run(Kernel& make, Kernel& use, int threads) {
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;
+    auto work = [&] {
+      std::vector<std::uint64_t> buffer;  // 8-byte words, as a channel's storage
+      try {
+        for (std::size_t k = next++; k < count() && !failed; k = next++) strip(static_cast<int>(k), make, use, buffer);
+      } catch (...) {
+        if (!failed.exchange(true)) error = std::current_exception();
+      }
+    };
+    std::vector<std::thread> others;
+    for (int t = 1; t < std::min<int>(threads, static_cast<int>(count())); ++t) others.emplace_back(work);
+    work();
+    for (std::thread& t : others) t.join();
+    if (error) std::rethrow_exception(error);
+  }
+
+ private:
+  // Strip k: the producer's rows [low, high) into the buffer, then the
+  // consumer's rows [first, end) reading them there: its taps reach rows
+  // [first + reach.low, end - 1 + reach.high], clamped to the table's
+  // (or, where it gives zero outside, those of them inside it).
+  void strip(int k, Kernel& make, Kernel& use, std::vector<std::uint64_t>& buffer) const {
+    int first = k * rows_, end = std::min(height_, first + rows_);
+    int low = std::clamp(first + reach_.low, 0, height_ - 1), high = std::clamp(end - 1 + reach_.high, 0, height_ - 1) + 1;
+    std::size_t held = static_cast<std::size_t>(high - low);
+    buffer.resize((held * row_bytes_ + 7) / 8);
+    RunArgs p = producer_;
+    p.on_this_thread = true;
+    p.count = held * width_;
+    p.domain.first = static_cast<std::size_t>(low) * width_;
+    p.outputs[0].data = buffer.data();
+    p.outputs[0].count = p.count;
+    RunStats ignored;
+    make.run(p, ignored);
+    RunArgs c = consumer_;
+    c.on_this_thread = true;
+    c.count = static_cast<std::size_t>(end - first) * width_;
+    c.domain.first = static_cast<std::size_t>(first) * width_;
+    for (BufferView& out : c.outputs) {
+      std::size_t element_bytes = ir::storage_bytes(out.type.scalar) * static_cast<std::size_t>(out.type.width);
+      out.data = static_cast<char*>(out.data) + c.domain.first * element_bytes;
+      out.count = c.count;
+    }
+    c.tables[through_at_].data = shifted_back(buffer.data(), static_cast<std::size_t>(low) * row_bytes_);
+    use.run(c, ignored);
+  }
+
+  RunArgs producer_, consumer_;
+  int through_at_;
+  Reach reach_;
+  int rows_;
+  std::size_t width_ = 0, row_bytes_ = 0;
+  int height_ = 0;
+};
+
+}  // namespace
+
+RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>& through, const Program& consumer,
+                   const std::vector<std::shared_ptr<Buffer>>& outputs, const BackendChoice& choice, int strip_rows) {
+  RunStats stats;
+  stats.backend = resolve(choice);
+  int through_at = table_index(consumer, through);
+  check_linked(producer, *through, through_at, consumer);
+  through->touch();  // filled by the producer
+  RunArgs use_args = bind_arguments(consumer, {}, outputs);
+  check_grid(consumer.ir(), *through, use_args.domain);
+  std::shared_ptr<Buffer> rows = table_as_output(*through, use_args.domain);
+  RunArgs make_args = bind_arguments(producer, {}, {rows});
+  RunStats compiled;
+  std::shared_ptr<Kernel> make = cached_kernel(producer, stats.backend, choice.options, compiled);
+  add_run(stats, compiled);
+  compiled = {};
+  std::shared_ptr<Kernel> use = cached_kernel(consumer, stats.backend, choice.options, compiled);
+  add_run(stats, compiled);
+  stats.elements = use_args.count;
+  if (use_args.count == 0) return stats;
+
+  auto t0 = std::chrono::steady_clock::now();
+  std::optional<Reach> reach = reach_of(consumer, through_at, choice.options);
+  bool in_strips = find_backend(stats.backend).runs_in_place() && reach &&
+                   consumer.ir().tables[through_at].edge != ir::Edge::Repeat && table_index(producer, through) < 0 &&
+                   !has_accumulator(producer) && !has_accumulator(consumer);
+  if (in_strips) {
+    std::size_t row_bytes = rows->bytes_for(use_args.domain.extent[0]);
+    int rows_per_strip = strip_rows > 0 ? strip_rows : static_cast<int>(std::max<std::size_t>(1, kStripBytes / row_bytes));
+    Strips strips(make_args, use_args, through_at, *reach, rows_per_strip);
+    int threads = choice.options.threads > 0 ? choice.options.threads
+                                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    strips.run(*make, *use, threads);
+    stats.strips = strips.count();
+  } else {
+    RunStats one;
+    make->run(make_args, one);
+    rows->written();
+    use_args = bind_arguments(consumer, {}, outputs);  // the table's new version
+    use->run(use_args, one);
+    add_run(stats, one);
+  }
+  for (const auto& o : outputs) o->written();
+  stats.run_ms = ms_since(t0);
+  return stats;
+}
+
+}  // namespace sh::detail

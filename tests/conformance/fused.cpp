@@ -1,0 +1,136 @@
+// run_fused: a producer and a stencil consumer that reads its output as a
+// table, run together in strips of rows where the backend runs in place,
+// give what the two runs one after the other give, on every backend: at
+// every edge mode, with taps above and below an element's row or only
+// below it, in strips of one row, of a few and of the default height, over
+// rows of odd lengths.
+#include "harness.hpp"
+
+namespace conformance {
+namespace {
+
+using sh::Attrib1f;
+using sh::Attrib1i;
+using sh::Attrib2i;
+
+std::vector<float> picture(int w, int h) {
+  std::vector<float> v(static_cast<std::size_t>(w) * h);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>(i % 17) * 0.25f - static_cast<float>(i % 5);
+  return v;
+}
+
+// Rows: five taps along x of the image, plus the row's place, so that a
+// producer run at the wrong rows gives other values.
+sh::Program rows_program(const sh::Table2D<Attrib1f>& image) {
+  return SH_BEGIN_PROGRAM("fused_rows") {
+    sh::OutputAttrib1f out;
+    Attrib2i at = sh::position<2>();
+    Attrib1f sum = 0.0f;
+    for (int dx = -2; dx <= 2; ++dx) sum += image[at + sh::ConstAttrib2i(dx, 0)];
+    out = sum + 0.125f * at(1).cast<float>();
+  } SH_END;
+}
+
+// Columns: taps dy in [low, high] of the rows' table, weighted by their
+// offset, and the element's row as a second output.
+sh::Program columns_program(const sh::Table2D<Attrib1f>& rows, int low, int high) {
+  return SH_BEGIN_PROGRAM("fused_columns") {
+    sh::OutputAttrib1f out;
+    sh::OutputAttrib1i row;
+    Attrib2i at = sh::position<2>();
+    Attrib1f sum = 0.0f;
+    for (int dy = low; dy <= high; ++dy) sum += static_cast<float>(dy + 4) * rows[at + sh::ConstAttrib2i(1, dy)];
+    out = sum;
+    row = at(1);
+  } SH_END;
+}
+
+struct Outputs {
+  sh::Channel<Attrib1f> value;
+  sh::Channel<Attrib1i> row;
+  Outputs(int w, int h) {
+    value.shape(w, h);
+    row.shape(w, h);
+  }
+};
+
+TEST_P(Conformance, FusedStencilsGiveWhatTheirRunsOneAfterTheOtherGive) {
+  bool in_place = sh::find_backend(mode().backend).runs_in_place();
+  for (auto [w, h] : {std::pair{37, 29}, std::pair{19, 6}})
+    for (sh::Edge edge : {sh::Edge::Clamp, sh::Edge::Zero, sh::Edge::Repeat})
+      for (auto [low, high] : {std::pair{-2, 2}, std::pair{1, 3}}) {
+        sh::Table2D<Attrib1f> image(w, h), rows(w, h);
+        image.assign(picture(w, h));
+        rows.edge(edge);
+        sh::Program along = rows_program(image), down = columns_program(rows, low, high);
+        for (int strip_rows : {1, 3, 0}) {
+          Outputs fused(w, h);
+          sh::RunStats s = sh::run_fused(along, rows, down, {fused.value, fused.row}, choice(), strip_rows);
+          std::string what = std::to_string(w) + "x" + std::to_string(h) + ", edge " + std::to_string(static_cast<int>(edge)) +
+                             ", taps " + std::to_string(low) + ".." + std::to_string(high) + ", strips of " +
+                             std::to_string(strip_rows);
+          std::size_t strips = strip_rows ? static_cast<std::size_t>((h + strip_rows - 1) / strip_rows) : 1;
+          EXPECT_EQ(s.strips, in_place && edge != sh::Edge::Repeat ? strips : 0u) << what;
+          sh::Channel<Attrib1f> middle;
+          middle.shape(w, h);
+          run(along, {}, {middle});
+          rows.memory(middle.memory());
+          Outputs apart(w, h);
+          run(down, {}, {apart.value, apart.row});
+          ASSERT_EQ(fused.value.values(), apart.value.values()) << what;
+          ASSERT_EQ(fused.row.values(), apart.row.values()) << what;
+        }
+      }
+}
+
+// A read at a row the analysis cannot bound (from a value read in the
+// table) keeps the two runs apart, with the same outputs.
+TEST_P(Conformance, FusedStencilsReadingAnywhereRunOneAfterTheOther) {
+  const int w = 23, h = 11;
+  sh::Table2D<Attrib1f> image(w, h), rows(w, h);
+  image.assign(picture(w, h));
+  sh::Program along = rows_program(image);
+  sh::Program down = SH_BEGIN_PROGRAM("fused_anywhere") {
+    sh::OutputAttrib1f out;
+    Attrib2i at = sh::position<2>();
+    Attrib1i jump = sh::abs(rows[at]).cast<std::int32_t>();
+    out = rows[at + sh::join(Attrib1i(0), jump)];
+  } SH_END;
+  sh::Channel<Attrib1f> fused;
+  fused.shape(w, h);
+  EXPECT_EQ(sh::run_fused(along, rows, down, {fused}, choice(), 2).strips, 0u);
+  sh::Channel<Attrib1f> middle, apart;
+  middle.shape(w, h);
+  apart.shape(w, h);
+  run(along, {}, {middle});
+  rows.memory(middle.memory());
+  run(down, {}, {apart});
+  EXPECT_EQ(fused.values(), apart.values());
+}
+
+TEST_P(Conformance, FusedStencilsThatDoNotFitTogetherAreErrors) {
+  sh::Table2D<Attrib1f> image(8, 4), rows(8, 4), other(8, 4);
+  image.assign(picture(8, 4));
+  sh::Program along = rows_program(image), down = columns_program(rows, -1, 1);
+  sh::Channel<Attrib1f> value, small_value;
+  sh::Channel<Attrib1i> row, small_row;
+  value.shape(8, 4);
+  row.shape(8, 4);
+  small_value.shape(8, 3);
+  small_row.shape(8, 3);
+  auto message = [](const auto& call) {
+    try {
+      call();
+    } catch (const sh::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message([&] { sh::run_fused(along, other, down, {value, row}, choice()); }).find("does not read the table"),
+            std::string::npos);
+  EXPECT_NE(message([&] { sh::run_fused(along, rows, down, {small_value, small_row}, choice()); }).find("grid of the table"), std::string::npos);
+  EXPECT_NE(message([&] { sh::run_fused(down, rows, down, {value, row}, choice()); }).find("one output"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace conformance
