@@ -213,34 +213,64 @@ void blur_cpp(const Image& im, int y0, int y1) {
   });
 }
 
+namespace {
+
+// Row y of the rows' pass into `out`.
+void row_pass(const Image& im, int y, float* out) {
+  const float* r = row_at(im, y);
+  auto at = [&](int x) {
+    float sum = 0;
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[clamped(x + dx, im.w)];
+    return sum * kLineWeight;
+  };
+  for (int x = 0; x < std::min(interior_lo(im), im.w); ++x) out[x] = at(x);
+  for (int x = interior_lo(im); x < interior_hi(im); ++x) {
+    float sum = 0;
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[x + dx];
+    out[x] = sum * kLineWeight;
+  }
+  for (int x = std::max(interior_hi(im), interior_lo(im)); x < im.w; ++x) out[x] = at(x);
+}
+
+// A row of the columns' pass from the kTaps rows it reads.
+void column_pass(const float* const* r, int w, float* out) {
+  for (int x = 0; x < w; ++x) {
+    float sum = 0;
+    for (int k = 0; k < kTaps; ++k) sum += r[k][x];
+    out[x] = sum * kLineWeight;
+  }
+}
+
+// Output rows of a fused strip: a strip's rows pass stays in the cache.
+constexpr int kFusedRows = 64;
+
+}  // namespace
+
 void blur_rows_cpp(const Image& im, int y0, int y1) {
-  each_row(im, y0, y1, [&](int y, float* out) {
-    const float* r = row_at(im, y);
-    auto at = [&](int x) {
-      float sum = 0;
-      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[clamped(x + dx, im.w)];
-      return sum * kLineWeight;
-    };
-    for (int x = 0; x < std::min(interior_lo(im), im.w); ++x) out[x] = at(x);
-    for (int x = interior_lo(im); x < interior_hi(im); ++x) {
-      float sum = 0;
-      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum += r[x + dx];
-      out[x] = sum * kLineWeight;
-    }
-    for (int x = std::max(interior_hi(im), interior_lo(im)); x < im.w; ++x) out[x] = at(x);
-  });
+  each_row(im, y0, y1, [&](int y, float* out) { row_pass(im, y, out); });
 }
 
 void blur_columns_cpp(const Image& im, int y0, int y1) {
   each_row(im, y0, y1, [&](int y, float* out) {
     const float* r[kTaps];
     for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
-    for (int x = 0; x < im.w; ++x) {
-      float sum = 0;
-      for (int k = 0; k < kTaps; ++k) sum += r[k][x];
-      out[x] = sum * kLineWeight;
-    }
+    column_pass(r, im.w, out);
   });
+}
+
+void blur_fused_cpp(const Image& im, int y0, int y1) {
+  std::vector<float> strip(static_cast<std::size_t>(kFusedRows + 2 * kBlurRadius) * im.w);
+  for (int first = y0; first < y1; first += kFusedRows) {
+    int end = std::min(y1, first + kFusedRows);
+    int low = clamped(first - kBlurRadius, im.h), high = clamped(end - 1 + kBlurRadius, im.h) + 1;
+    for (int y = low; y < high; ++y) row_pass(im, y, strip.data() + static_cast<std::size_t>(y - low) * im.w);
+    auto strip_row = [&](int y) { return strip.data() + static_cast<std::size_t>(clamped(y, im.h) - low) * im.w; };
+    for (int y = first; y < end; ++y) {
+      const float* r[kTaps];
+      for (int k = 0; k < kTaps; ++k) r[k] = strip_row(y + k - kBlurRadius);
+      column_pass(r, im.w, im.out + static_cast<std::size_t>(y) * im.w);
+    }
+  }
 }
 
 // AVX-512: sixteen pixels per step, their taps loaded unaligned; the edges

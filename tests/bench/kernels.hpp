@@ -53,6 +53,8 @@ void blur_cpp(const Image& im, int y0, int y1);
 void blur_simd(const Image& im, int y0, int y1);
 void blur_rows_cpp(const Image& im, int y0, int y1);
 void blur_columns_cpp(const Image& im, int y0, int y1);
+// Both passes, fused in strips of rows that stay in the cache.
+void blur_fused_cpp(const Image& im, int y0, int y1);
 void blur_rows_simd(const Image& im, int y0, int y1);
 void blur_columns_simd(const Image& im, int y0, int y1);
 std::vector<float> blur_image(int w, int h);
