@@ -47,9 +47,14 @@ SplitTable::SplitTable(const BlockLayout& layout, const std::string& own_share, 
   // Memory MPI allocates: within a node it is shared memory that the
   // other ranks read directly; across nodes, memory registered for RDMA.
   MPI_Win_allocate(static_cast<MPI_Aint>(own_share.size()), 1, MPI_INFO_NULL, MPI_COMM_WORLD, &own_, &window_);
-  if (!own_share.empty()) std::memcpy(own_, own_share.data(), own_share.size());
   // One shared epoch for the table's life: each miss only flushes.
   MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
+  if (!own_share.empty()) std::memcpy(own_, own_share.data(), own_share.size());
+  // No rank reads a share before its owner has written it: a rank that
+  // went on at once read zeros from one still copying (a loaded machine's
+  // failure of the split-table tests).
+  MPI_Win_sync(window_);
+  MPI_Barrier(MPI_COMM_WORLD);
 }
 
 SplitTable::~SplitTable() {
