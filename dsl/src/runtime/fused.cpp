@@ -2,17 +2,19 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "running.hpp"
 #include "sh/analysis.hpp"
 #include "sh/error.hpp"
-#include "sh/ir/visitor.hpp"
 
 namespace sh::detail {
 namespace {
@@ -22,13 +24,14 @@ namespace {
 // producer's writes and the consumer's reads.
 constexpr std::size_t kStripBytes = 512 * 1024;
 
-// The rows above (low, negative) and below (high) an element's own that
-// the consumer reads of table `t`: none where one of its reads is not a
-// tap at a constant offset from position().
+// The rows above (low, negative) and below (high) an element's own that a
+// consumer reads of a table.
 struct Reach {
   int low = 0, high = 0;
 };
 
+// None where one of the reads of table `t` is not a tap at a constant
+// offset from position().
 std::optional<Reach> row_reach(const ir::Program& consumer, int t) {
   std::optional<Reach> reach;
   for (const auto& [read, access] : analysis::table_access(consumer)) {
@@ -108,6 +111,7 @@ void add_run(RunStats& total, const RunStats& one) {
   total.compile_cpu_ms += one.compile_cpu_ms;
   add_phases(total.compile_phases, one.compile_phases);
   total.diagnostics.insert(total.diagnostics.end(), one.diagnostics.begin(), one.diagnostics.end());
+  add_details(total.details, one.details);
 }
 
 // `bytes` bytes before `p`: where row 0 of a table lies whose row `first`
@@ -120,13 +124,9 @@ const void* shifted_back(const void* p, std::size_t bytes) {
 // threads, each with a buffer of its own for the producer's rows.
 class Strips {
  public:
-  Strips(const RunArgs& producer, const RunArgs& consumer, int through_at, Reach reach, int rows)
-      : producer_(producer), consumer_(consumer), through_at_(through_at), reach_(reach), rows_(rows) {
-    width_ = consumer.domain.extent[0];
-    height_ = static_cast<int>(consumer.domain.extent[1]);
-    row_bytes_ = width_ * ir::storage_bytes(consumer.tables[through_at].element.scalar) *
-                 static_cast<std::size_t>(consumer.tables[through_at].element.width);
-  }
+  Strips(const RunArgs& producer, const RunArgs& consumer, int through_at, Reach reach, int rows, std::size_t row_bytes)
+      : producer_(producer), consumer_(consumer), through_at_(through_at), reach_(reach), rows_(rows),
+        width_(consumer.domain.extent[0]), row_bytes_(row_bytes), height_(static_cast<int>(consumer.domain.extent[1])) {}
 
   std::size_t count() const { return static_cast<std::size_t>((height_ + rows_ - 1) / rows_); }
 
@@ -184,8 +184,8 @@ class Strips {
   int through_at_;
   Reach reach_;
   int rows_;
-  std::size_t width_ = 0, row_bytes_ = 0;
-  int height_ = 0;
+  std::size_t width_, row_bytes_;
+  int height_;
 };
 
 }  // namespace
@@ -218,7 +218,7 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   if (in_strips) {
     std::size_t row_bytes = rows->bytes_for(use_args.domain.extent[0]);
     int rows_per_strip = strip_rows > 0 ? strip_rows : static_cast<int>(std::max<std::size_t>(1, kStripBytes / row_bytes));
-    Strips strips(make_args, use_args, through_at, *reach, rows_per_strip);
+    Strips strips(make_args, use_args, through_at, *reach, rows_per_strip, row_bytes);
     int threads = choice.options.threads > 0 ? choice.options.threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     strips.run(*make, *use, threads);
