@@ -1,9 +1,12 @@
 // run_fused: a producer and a stencil consumer that reads its output as a
 // table, run together in strips of rows where the backend runs in place,
 // give what the two runs one after the other give, on every backend: at
-// every edge mode, with taps above and below an element's row or only
-// below it, in strips of one row, of a few and of the default height, over
-// rows of odd lengths.
+// every edge mode, with taps above and below an element's row, only below
+// or only above it, in strips of one row, of a few and of the default
+// height (one strip or several), over rows of odd lengths, for elements of
+// one component and of three.
+#include <algorithm>
+
 #include "harness.hpp"
 
 namespace conformance {
@@ -54,33 +57,109 @@ struct Outputs {
   }
 };
 
+// Rows the producer has not written read as NaN, so that a consumer that
+// reads the table's stale contents shows.
+void spoil(sh::Table2D<Attrib1f>& rows, int w, int h) {
+  rows.assign(std::vector<float>(static_cast<std::size_t>(w) * h, std::numeric_limits<float>::quiet_NaN()));
+}
+
 TEST_P(Conformance, FusedStencilsGiveWhatTheirRunsOneAfterTheOtherGive) {
   bool in_place = sh::find_backend(mode().backend).runs_in_place();
+  struct Case {
+    int w, h;
+    sh::Edge edge;
+    int low, high;
+    std::vector<int> strip_rows;
+  };
+  std::vector<Case> cases;
   for (auto [w, h] : {std::pair{37, 29}, std::pair{19, 6}})
     for (sh::Edge edge : {sh::Edge::Clamp, sh::Edge::Zero, sh::Edge::Repeat})
-      for (auto [low, high] : {std::pair{-2, 2}, std::pair{1, 3}}) {
-        sh::Table2D<Attrib1f> image(w, h), rows(w, h);
-        image.assign(picture(w, h));
-        rows.edge(edge);
-        sh::Program along = rows_program(image), down = columns_program(rows, low, high);
-        for (int strip_rows : {1, 3, 0}) {
-          Outputs fused(w, h);
-          sh::RunStats s = sh::run_fused(along, rows, down, {fused.value, fused.row}, choice(), strip_rows);
-          std::string what = std::to_string(w) + "x" + std::to_string(h) + ", edge " + std::to_string(static_cast<int>(edge)) +
-                             ", taps " + std::to_string(low) + ".." + std::to_string(high) + ", strips of " +
-                             std::to_string(strip_rows);
-          std::size_t strips = strip_rows ? static_cast<std::size_t>((h + strip_rows - 1) / strip_rows) : 1;
-          EXPECT_EQ(s.strips, in_place && edge != sh::Edge::Repeat ? strips : 0u) << what;
-          sh::Channel<Attrib1f> middle;
-          middle.shape(w, h);
-          run(along, {}, {middle});
-          rows.memory(middle.memory());
-          Outputs apart(w, h);
-          run(down, {}, {apart.value, apart.row});
-          ASSERT_EQ(fused.value.values(), apart.value.values()) << what;
-          ASSERT_EQ(fused.row.values(), apart.row.values()) << what;
-        }
-      }
+      for (auto [low, high] : {std::pair{-2, 2}, std::pair{1, 3}, std::pair{-3, -1}})
+        cases.push_back({w, h, edge, low, high, {1, 3, 0}});
+  // 16 KiB rows: the default strips are 32 rows, three of them here.
+  cases.push_back({4096, 70, sh::Edge::Clamp, -2, 2, {0}});
+  for (const Case& k : cases) {
+    auto [w, h, edge, low, high, strip_rows_tried] = k;
+    sh::Table2D<Attrib1f> image(w, h), rows(w, h);
+    image.assign(picture(w, h));
+    rows.edge(edge);
+    sh::Program along = rows_program(image), down = columns_program(rows, low, high);
+    for (int strip_rows : strip_rows_tried) {
+      spoil(rows, w, h);
+      Outputs fused(w, h);
+      sh::RunStats s = sh::run_fused(along, rows, down, {fused.value, fused.row}, choice(), strip_rows);
+      std::string what = std::to_string(w) + "x" + std::to_string(h) + ", edge " + std::to_string(static_cast<int>(edge)) +
+                         ", taps " + std::to_string(low) + ".." + std::to_string(high) + ", strips of " +
+                         std::to_string(strip_rows);
+      int rows_per_strip = strip_rows ? strip_rows : std::min(h, (512 * 1024) / (4 * w));
+      std::size_t strips = static_cast<std::size_t>((h + rows_per_strip - 1) / rows_per_strip);
+      EXPECT_EQ(s.strips, in_place && edge != sh::Edge::Repeat ? strips : 0u) << what;
+      sh::Channel<Attrib1f> middle;
+      middle.shape(w, h);
+      run(along, {}, {middle});
+      rows.memory(middle.memory());
+      Outputs apart(w, h);
+      run(down, {}, {apart.value, apart.row});
+      ASSERT_EQ(fused.value.values(), apart.value.values()) << what;
+      ASSERT_EQ(fused.row.values(), apart.row.values()) << what;
+    }
+  }
+}
+
+// Elements of three components: a strip's rows are three times as long in
+// bytes.
+TEST_P(Conformance, FusedStencilsOfThreeComponentsGiveWhatTheirRunsApartGive) {
+  const int w = 21, h = 13;
+  sh::Table2D<Attrib1f> image(w, h);
+  sh::Table2D<sh::Attrib3f> rows(w, h);
+  image.assign(picture(w, h));
+  sh::Program along = SH_BEGIN_PROGRAM("fused_rows3") {
+    sh::Output<sh::Attrib3f> out;
+    Attrib2i at = sh::position<2>();
+    Attrib1f left = image[at + sh::ConstAttrib2i(-1, 0)], right = image[at + sh::ConstAttrib2i(1, 0)];
+    out = sh::join(sh::join(left, right), left - right + 0.5f * at(1).cast<float>());
+  } SH_END;
+  sh::Program down = SH_BEGIN_PROGRAM("fused_columns3") {
+    sh::Output<sh::Attrib3f> out;
+    Attrib2i at = sh::position<2>();
+    out = rows[at + sh::ConstAttrib2i(0, -1)] * 2.0f + rows[at + sh::ConstAttrib2i(0, 2)];
+  } SH_END;
+  sh::Channel<sh::Attrib3f> fused, middle, apart;
+  fused.shape(w, h);
+  sh::RunStats s = sh::run_fused(along, rows, down, {fused}, choice(), 4);
+  EXPECT_EQ(s.strips, sh::find_backend(mode().backend).runs_in_place() ? 4u : 0u);
+  middle.shape(w, h);
+  apart.shape(w, h);
+  run(along, {}, {middle});
+  rows.memory(middle.memory());
+  run(down, {}, {apart});
+  EXPECT_EQ(fused.values(), apart.values());
+}
+
+// Outputs written into a table the producer reads (an in-place blur), and
+// checked runs, keep the two apart, with the outputs of the runs apart.
+TEST_P(Conformance, FusedStencilsRunApartWhereStripsWouldNotDo) {
+  const int w = 17, h = 9;
+  sh::Channel<Attrib1f> value;
+  sh::Channel<Attrib1i> row;
+  value.shape(w, h);
+  row.shape(w, h);
+  std::vector<float> start = picture(w, h);
+  std::copy(start.begin(), start.end(), value.data());
+  sh::Table2D<Attrib1f> image(w, h), rows(w, h), fresh(w, h), fresh_rows(w, h);
+  image.memory(value.memory());
+  sh::Program along = rows_program(image), down = columns_program(rows, -2, 2);
+  EXPECT_EQ(sh::run_fused(along, rows, down, {value, row}, choice(), 2).strips, 0u) << "in place";
+  fresh.assign(start);
+  sh::Program fresh_along = rows_program(fresh), fresh_down = columns_program(fresh_rows, -2, 2);
+  Outputs apart(w, h);
+  sh::run_fused(fresh_along, fresh_rows, fresh_down, {apart.value, apart.row}, choice(), 2);
+  EXPECT_EQ(value.values(), apart.value.values());
+  sh::Options checked;
+  checked.checked = true;
+  Outputs watched(w, h);
+  EXPECT_EQ(sh::run_fused(fresh_along, fresh_rows, fresh_down, {watched.value, watched.row}, choice(checked), 2).strips, 0u);
+  EXPECT_EQ(watched.value.values(), apart.value.values());
 }
 
 // A read at a row the analysis cannot bound (from a value read in the

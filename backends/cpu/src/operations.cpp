@@ -269,9 +269,8 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
       llvm::Type* flat_type = flat_index->getType();
       Value* index = b_.CreateAdd(b_.CreateMul(flat_index, llvm::ConstantInt::get(flat_type, t.element.width)),
                                   llvm::ConstantInt::get(flat_type, c));
-      if (as_gather)  // a lane that does not run reads element 0 if it reads at all
-        values[c] = gather_lanes(scalar, base, index, exec(), llvm::Constant::getNullValue(lanes(scalar)),
-                                 llvm::Constant::getNullValue(index->getType()));
+      if (as_gather)  // a lane that does not run reads a running lane's element if it reads at all
+        values[c] = gather_lanes(scalar, base, index, exec(), llvm::Constant::getNullValue(lanes(scalar)), nullptr);
       else
         values[c] = b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, base, index));
     }
@@ -300,12 +299,20 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
 // (AVX2 without AVX-512) has LLVM split a masked gather into a branch and
 // a block per lane, which multiplies the code generator's work; there a
 // gather is a call of one function per element and index type that loads
-// every lane one after another with no branch, the others at `readable`.
+// every lane one after another with no branch, the others at `readable`
+// (null: the first lane read's index, or lane 0's where none is).  Not
+// element 0: a table may hold only the rows its reads reach (run_fused's
+// strips), and element 0 need not be one of them.
 Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise,
                               Value* readable) {
   if (avx512_)
     return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), lanes_read,
                                  otherwise);
+  if (!readable) {
+    Value* first = first_lane(lanes_read);
+    first = b_.CreateAnd(first, llvm::ConstantInt::get(first->getType(), width_ - 1));
+    readable = splat(b_.CreateExtractElement(index, first));
+  }
   index = b_.CreateSelect(lanes_read, index, readable);
   llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, index});
   values->setCallingConv(llvm::CallingConv::Fast);

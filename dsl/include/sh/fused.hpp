@@ -13,7 +13,10 @@
 // offsets from its element's position (taps, as docs/stencils.md writes
 // them), with the table clamped or zero at its edges.  Otherwise the two
 // run one after the other, with the producer's output written into the
-// table.  The outputs are the same either way (RunStats::strips says which
+// table; so do programs that scatter, checked runs (Options::checked:
+// their findings name elements of the whole grid) and outputs that lie in
+// a table's memory (an in-place blur, whose strips would overwrite rows a
+// later strip reads).  The outputs are the same either way (RunStats::strips says which
 // it was); what the table holds afterwards is not part of the result.
 #include <memory>
 #include <vector>

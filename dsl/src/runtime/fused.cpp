@@ -97,6 +97,26 @@ void check_grid(const ir::Program& c, const TableStorage& through, const LaunchD
                 std::to_string(domain.extent[1]) + " x " + std::to_string(domain.extent[2]));
 }
 
+// Whether a run's output lies in memory a table of either program holds
+// (an in-place blur): strips write rows another strip's producer still
+// reads, where one run after the other does not.
+bool writes_a_table(const RunArgs& make, const RunArgs& use) {
+  auto range = [](const void* p, std::size_t bytes) {
+    auto at = reinterpret_cast<std::uintptr_t>(p);
+    return std::pair{at, at + bytes};
+  };
+  for (const BufferView& out : use.outputs) {
+    auto [out_begin, out_end] = range(out.data, out.count * ir::storage_bytes(out.type.scalar) *
+                                                    static_cast<std::size_t>(out.type.width));
+    for (const RunArgs* args : {&make, &use})
+      for (const TableView& t : args->tables) {
+        auto [table_begin, table_end] = range(t.data, t.bytes());
+        if (t.data && out_begin < table_end && table_begin < out_end) return true;
+      }
+  }
+  return false;
+}
+
 // The producer's output in the table's own memory, shaped as the domain.
 std::shared_ptr<Buffer> table_as_output(TableStorage& through, const LaunchDomain& domain) {
   auto view = std::make_shared<Buffer>(through.decl.element, 0);
@@ -143,7 +163,10 @@ class Strips {
       }
     };
     std::vector<std::thread> others;
-    for (int t = 1; t < std::min<int>(threads, static_cast<int>(count())); ++t) others.emplace_back(work);
+    try {
+      for (int t = 1; t < std::min<int>(threads, static_cast<int>(count())); ++t) others.emplace_back(work);
+    } catch (...) {  // no thread to be had: the ones there are do the strips
+    }
     work();
     for (std::thread& t : others) t.join();
     if (error) std::rethrow_exception(error);
@@ -155,8 +178,9 @@ class Strips {
   // [first + reach.low, end - 1 + reach.high], clamped to the table's
   // (or, where it gives zero outside, those of them inside it).
   void strip(int k, Kernel& make, Kernel& use, std::vector<std::uint64_t>& buffer) const {
-    int first = k * rows_, end = std::min(height_, first + rows_);
-    int low = std::clamp(first + reach_.low, 0, height_ - 1), high = std::clamp(end - 1 + reach_.high, 0, height_ - 1) + 1;
+    std::int64_t first = std::int64_t{k} * rows_, end = std::min<std::int64_t>(height_, first + rows_);
+    std::int64_t low = std::clamp<std::int64_t>(first + reach_.low, 0, height_ - 1);
+    std::int64_t high = std::clamp<std::int64_t>(end - 1 + reach_.high, 0, height_ - 1) + 1;
     std::size_t held = static_cast<std::size_t>(high - low);
     buffer.resize((held * row_bytes_ + 7) / 8);
     RunArgs p = producer_;
@@ -210,15 +234,19 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   stats.elements = use_args.count;
   if (use_args.count == 0) return stats;
 
-  auto t0 = std::chrono::steady_clock::now();
-  std::optional<Reach> reach = reach_of(consumer, through_at, choice.options);
-  bool in_strips = find_backend(stats.backend).runs_in_place() && reach &&
+  // Checked runs keep the two apart, so that their findings name elements
+  // of the whole grid.
+  bool may_strip = find_backend(stats.backend).runs_in_place() && !choice.options.checked &&
                    consumer.ir().tables[through_at].edge != ir::Edge::Repeat && table_index(producer, through) < 0 &&
-                   !has_accumulator(producer) && !has_accumulator(consumer);
-  if (in_strips) {
+                   !has_accumulator(producer) && !has_accumulator(consumer) && !writes_a_table(make_args, use_args);
+  std::optional<Reach> reach = may_strip ? reach_of(consumer, through_at, choice.options) : std::nullopt;
+  auto t0 = std::chrono::steady_clock::now();
+  if (reach) {
     std::size_t row_bytes = rows->bytes_for(use_args.domain.extent[0]);
-    int rows_per_strip = strip_rows > 0 ? strip_rows : static_cast<int>(std::max<std::size_t>(1, kStripBytes / row_bytes));
-    Strips strips(make_args, use_args, through_at, *reach, rows_per_strip, row_bytes);
+    std::size_t height = use_args.domain.extent[1];
+    std::size_t rows_per_strip = strip_rows > 0 ? static_cast<std::size_t>(strip_rows) : kStripBytes / row_bytes;
+    rows_per_strip = std::clamp<std::size_t>(rows_per_strip, 1, height);
+    Strips strips(make_args, use_args, through_at, *reach, static_cast<int>(rows_per_strip), row_bytes);
     int threads = choice.options.threads > 0 ? choice.options.threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     strips.run(*make, *use, threads);
