@@ -187,6 +187,33 @@ TEST_P(Conformance, FusedStencilsReadingAnywhereRunOneAfterTheOther) {
   EXPECT_EQ(fused.values(), apart.values());
 }
 
+// An element that runs a loop past the cap is named by its place in the
+// whole grid, not in its strip.
+TEST_P(Conformance, FusedStencilsNameARunawayElementByItsPlaceInTheGrid) {
+  const int w = 11, h = 8;
+  sh::Table2D<Attrib1f> image(w, h), rows(w, h);
+  image.assign(picture(w, h));
+  sh::Program along = rows_program(image);
+  sh::Program down = SH_BEGIN_PROGRAM("fused_runaway") {
+    sh::OutputAttrib1f out;
+    Attrib2i at = sh::position<2>();
+    Attrib1f r = rows[at] * 0.0f + 1.0f;
+    Attrib1f here = (at(0) == 3 && at(1) == 5).cast<float>();
+    SH_WHILE(r > 0.0f && here) { r += 1.0f; } SH_ENDWHILE;  // endless at (3, 5) alone
+    out = r;
+  } SH_END;
+  sh::Options o;
+  o.max_loop_iterations = 1000;
+  sh::Channel<Attrib1f> out;
+  out.shape(w, h);
+  try {
+    sh::run_fused(along, rows, down, {out}, choice(o), 2);
+    FAIL() << "an endless loop must be an error";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("element 58 "), std::string::npos) << e.what();
+  }
+}
+
 TEST_P(Conformance, FusedStencilsThatDoNotFitTogetherAreErrors) {
   sh::Table2D<Attrib1f> image(8, 4), rows(8, 4), other(8, 4);
   image.assign(picture(8, 4));

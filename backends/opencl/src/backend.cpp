@@ -140,7 +140,7 @@ class OpenClKernel : public Kernel {
             where("reading an accumulator"));
     check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
           where("finishing the run"));
-    if (status[0] != 0) throw runaway(status[0], status[1]);
+    if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.domain.first) + status[1]);
     stats.details = std::move(moved);
   }
 

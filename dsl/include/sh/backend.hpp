@@ -215,7 +215,9 @@ class Backend {
 };
 
 // The error every backend gives when an element runs a loop past
-// Options::max_loop_iterations: names the program, the element and the loop.
+// Options::max_loop_iterations: names the program, the element (by its
+// place in the whole launch domain, LaunchDomain::first plus its index in
+// the run, however the run was cut) and the loop.
 Error runaway_loop(const ir::Program& p, const ir::Stmt& loop, std::uint64_t element, std::uint64_t cap);
 
 using BackendFactory = std::function<std::unique_ptr<Backend>()>;

@@ -92,7 +92,7 @@ class Machine {
     };
     for (std::uint64_t n = 0;; ++n) {
       if (n >= o_.max_loop_iterations)
-        throw runaway_loop(p_, s, element_, o_.max_loop_iterations);
+        throw runaway_loop(p_, s, a_.domain.first + element_, o_.max_loop_iterations);
       if (l.test_at_top && !keep_going()) break;
       if (block(l.body) == Flow::Break) break;
       block(l.update);
