@@ -57,6 +57,18 @@ struct Outputs {
   }
 };
 
+// What the two programs give run one after the other: the producer's
+// output in a channel whose memory the consumer's table then views.
+template <class E>
+void run_apart(const sh::Program& along, sh::Table2D<E>& rows, const sh::Program& down,
+               const std::vector<std::shared_ptr<sh::detail::Buffer>>& outputs, const sh::BackendChoice& choice) {
+  sh::Channel<E> middle;
+  middle.shape(static_cast<std::size_t>(rows.dims()[0]), static_cast<std::size_t>(rows.dims()[1]));
+  sh::run(along, {}, {middle}, choice);
+  rows.memory(middle.memory());
+  sh::run(down, {}, outputs, choice);
+}
+
 // Rows the producer has not written read as NaN, so that a consumer that
 // reads the table's stale contents shows.
 void spoil(sh::Table2D<Attrib1f>& rows, int w, int h) {
@@ -94,12 +106,8 @@ TEST_P(Conformance, FusedStencilsGiveWhatTheirRunsOneAfterTheOtherGive) {
       int rows_per_strip = strip_rows ? strip_rows : std::min(h, (512 * 1024) / (4 * w));
       std::size_t strips = static_cast<std::size_t>((h + rows_per_strip - 1) / rows_per_strip);
       EXPECT_EQ(s.strips, in_place && edge != sh::Edge::Repeat ? strips : 0u) << what;
-      sh::Channel<Attrib1f> middle;
-      middle.shape(w, h);
-      run(along, {}, {middle});
-      rows.memory(middle.memory());
       Outputs apart(w, h);
-      run(down, {}, {apart.value, apart.row});
+      run_apart(along, rows, down, {apart.value, apart.row}, choice());
       ASSERT_EQ(fused.value.values(), apart.value.values()) << what;
       ASSERT_EQ(fused.row.values(), apart.row.values()) << what;
     }
@@ -124,15 +132,12 @@ TEST_P(Conformance, FusedStencilsOfThreeComponentsGiveWhatTheirRunsApartGive) {
     Attrib2i at = sh::position<2>();
     out = rows[at + sh::ConstAttrib2i(0, -1)] * 2.0f + rows[at + sh::ConstAttrib2i(0, 2)];
   } SH_END;
-  sh::Channel<sh::Attrib3f> fused, middle, apart;
+  sh::Channel<sh::Attrib3f> fused, apart;
   fused.shape(w, h);
   sh::RunStats s = sh::run_fused(along, rows, down, {fused}, choice(), 4);
   EXPECT_EQ(s.strips, sh::find_backend(mode().backend).runs_in_place() ? 4u : 0u);
-  middle.shape(w, h);
   apart.shape(w, h);
-  run(along, {}, {middle});
-  rows.memory(middle.memory());
-  run(down, {}, {apart});
+  run_apart(along, rows, down, {apart}, choice());
   EXPECT_EQ(fused.values(), apart.values());
 }
 
@@ -178,12 +183,9 @@ TEST_P(Conformance, FusedStencilsReadingAnywhereRunOneAfterTheOther) {
   sh::Channel<Attrib1f> fused;
   fused.shape(w, h);
   EXPECT_EQ(sh::run_fused(along, rows, down, {fused}, choice(), 2).strips, 0u);
-  sh::Channel<Attrib1f> middle, apart;
-  middle.shape(w, h);
+  sh::Channel<Attrib1f> apart;
   apart.shape(w, h);
-  run(along, {}, {middle});
-  rows.memory(middle.memory());
-  run(down, {}, {apart});
+  run_apart(along, rows, down, {apart}, choice());
   EXPECT_EQ(fused.values(), apart.values());
 }
 

@@ -20,8 +20,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::size_t element_bytes(ir::Type t) { return static_cast<std::size_t>(t.width) * ir::storage_bytes(t.scalar); }
-
 // Tables the serving ranks hold, by identity, at the version they hold.
 std::map<std::uint64_t, std::uint64_t>& tables_sent() {
   static std::map<std::uint64_t, std::uint64_t> sent;
@@ -318,7 +316,7 @@ class Coordinator : public Kernel {
     Packer p;
     p.put(static_cast<std::uint64_t>(begin)).put(static_cast<std::uint64_t>(n));
     for (const BufferView& in : s.args.inputs)
-      p.raw(static_cast<const char*>(in.data) + begin * element_bytes(in.type), n * element_bytes(in.type));
+      p.raw(static_cast<const char*>(in.data) + begin * ir::element_bytes(in.type), n * ir::element_bytes(in.type));
     send(p.bytes(), rank, kAssign, t);
     return 0;
   }
@@ -329,8 +327,8 @@ class Coordinator : public Kernel {
     auto begin = u.get<std::uint64_t>();
     auto n = u.get<std::uint64_t>();
     for (const BufferView& out : s.args.outputs) {
-      std::size_t bytes = n * element_bytes(out.type);
-      std::memcpy(static_cast<char*>(out.data) + begin * element_bytes(out.type), u.take(bytes), bytes);
+      std::size_t bytes = n * ir::element_bytes(out.type);
+      std::memcpy(static_cast<char*>(out.data) + begin * ir::element_bytes(out.type), u.take(bytes), bytes);
     }
   }
 
@@ -343,8 +341,8 @@ class Coordinator : public Kernel {
     RunArgs slice = s.args;
     slice.count = n;
     slice.domain.first += begin;
-    for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
-    for (BufferView& b : slice.outputs) b.data = static_cast<char*>(b.data) + begin * element_bytes(b.type);
+    for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * ir::element_bytes(b.type);
+    for (BufferView& b : slice.outputs) b.data = static_cast<char*>(b.data) + begin * ir::element_bytes(b.type);
     try {
       RunStats run;
       if (s.waves)

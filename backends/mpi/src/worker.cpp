@@ -191,12 +191,12 @@ class Worker {
     inputs.reserve(k.program.inputs.size());
     outputs.reserve(k.program.outputs.size());
     for (ir::VarId v : k.program.inputs) {
-      std::size_t n = args.count * element_bytes(k.program.type_of(v));
+      std::size_t n = args.count * ir::element_bytes(k.program.type_of(v));
       inputs.emplace_back(u.take(n), n);
       args.inputs.push_back({k.program.type_of(v), args.count, inputs.back().data()});
     }
     for (ir::VarId v : k.program.outputs) {
-      outputs.emplace_back(args.count * element_bytes(k.program.type_of(v)), '\0');
+      outputs.emplace_back(args.count * ir::element_bytes(k.program.type_of(v)), '\0');
       args.outputs.push_back({k.program.type_of(v), args.count, outputs.back().data()});
     }
     auto busy = Clock::now();
@@ -222,8 +222,6 @@ class Worker {
     stats.elements += args.count;
     ++stats.chunks;
   }
-
-  static std::size_t element_bytes(ir::Type t) { return static_cast<std::size_t>(t.width) * ir::storage_bytes(t.scalar); }
 
   int rank_ = 0;
   std::map<std::uint64_t, LocalKernel> kernels_;

@@ -106,8 +106,7 @@ bool writes_a_table(const RunArgs& make, const RunArgs& use) {
     return std::pair{at, at + bytes};
   };
   for (const BufferView& out : use.outputs) {
-    auto [out_begin, out_end] = range(out.data, out.count * ir::storage_bytes(out.type.scalar) *
-                                                    static_cast<std::size_t>(out.type.width));
+    auto [out_begin, out_end] = range(out.data, out.count * ir::element_bytes(out.type));
     for (const RunArgs* args : {&make, &use})
       for (const TableView& t : args->tables) {
         auto [table_begin, table_end] = range(t.data, t.bytes());
@@ -196,8 +195,7 @@ class Strips {
     c.count = static_cast<std::size_t>(end - first) * width_;
     c.domain.first = static_cast<std::size_t>(first) * width_;
     for (BufferView& out : c.outputs) {
-      std::size_t element_bytes = ir::storage_bytes(out.type.scalar) * static_cast<std::size_t>(out.type.width);
-      out.data = static_cast<char*>(out.data) + c.domain.first * element_bytes;
+      out.data = static_cast<char*>(out.data) + c.domain.first * ir::element_bytes(out.type);
       out.count = c.count;
     }
     c.tables[through_at_].data = shifted_back(buffer.data(), static_cast<std::size_t>(low) * row_bytes_);

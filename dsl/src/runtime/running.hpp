@@ -19,7 +19,6 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
                                       RunStats& stats);
 RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr<Buffer>>& inputs,
                        const std::vector<std::shared_ptr<Buffer>>& outputs);
-std::string describe_slot(const ir::Program& p, const char* what, std::size_t k);
 double ms_since(std::chrono::steady_clock::time_point t0);
 
 }  // namespace sh::detail

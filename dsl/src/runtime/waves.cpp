@@ -22,8 +22,6 @@ Refiners& refiners() {
   return r;
 }
 
-std::size_t element_bytes(const BufferView& b) { return static_cast<std::size_t>(b.type.width) * ir::storage_bytes(b.type.scalar); }
-
 // The elements of a run still waiting: where each one's results belong in
 // the caller's streams, and the gathered inputs they run on next.
 class Stopped {
@@ -81,7 +79,7 @@ RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_
   c.count = at.size();
   std::size_t slot = 0;
   auto gathered = [&](const BufferView& from) {
-    std::size_t n = element_bytes(from);
+    std::size_t n = ir::element_bytes(from.type);
     char* to = scratch.take(slot++, at.size() * n);
     for (std::size_t k = 0; k < at.size(); ++k) std::memcpy(to + k * n, static_cast<const char*>(from.data) + at[k] * n, n);
     return BufferView{from.type, at.size(), to};
@@ -90,7 +88,7 @@ RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_
     auto carried = std::find_if(w.carried.begin(), w.carried.end(), [&](const auto& p) { return p.second == static_cast<int>(i); });
     c.inputs[i] = gathered(carried == w.carried.end() ? full.inputs[i] : full.outputs[carried->first]);
   }
-  for (BufferView& out : c.outputs) out = BufferView{out.type, at.size(), scratch.take(slot++, at.size() * element_bytes(out))};
+  for (BufferView& out : c.outputs) out = BufferView{out.type, at.size(), scratch.take(slot++, at.size() * ir::element_bytes(out.type))};
   return c;
 }
 
@@ -104,7 +102,7 @@ void refine(Refiner& refiner, const Stopped& stopped) {
 
 void scatter(const RunArgs& part, const RunArgs& full, const std::vector<std::size_t>& at) {
   for (std::size_t o = 0; o < full.outputs.size(); ++o) {
-    std::size_t n = element_bytes(full.outputs[o]);
+    std::size_t n = ir::element_bytes(full.outputs[o].type);
     for (std::size_t k = 0; k < at.size(); ++k)
       std::memcpy(static_cast<char*>(full.outputs[o].data) + at[k] * n, static_cast<const char*>(part.outputs[o].data) + k * n, n);
   }

@@ -2,6 +2,7 @@
 // Value types of the IR: a scalar kind and a width of 1 to 4 components, and
 // the swizzles that select or permute components of a register.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -21,6 +22,9 @@ struct Type {
 
   friend bool operator==(const Type&, const Type&) = default;
 };
+
+// The bytes one element of type t takes, as stored.
+inline std::size_t element_bytes(Type t) { return static_cast<std::size_t>(t.width) * storage_bytes(t.scalar); }
 
 std::string type_name(Type t);  // "f32x3", "i32", "bool"
 
