@@ -237,6 +237,8 @@ TEST_P(Conformance, FusedStencilsThatDoNotFitTogetherAreErrors) {
   EXPECT_NE(message([&] { sh::run_fused(along, other, down, {value, row}, choice()); }).find("does not read the table"),
             std::string::npos);
   EXPECT_NE(message([&] { sh::run_fused(along, rows, down, {small_value, small_row}, choice()); }).find("grid of the table"), std::string::npos);
+  // The failed call did not run the producer: the table is as unfilled as before.
+  EXPECT_NE(message([&] { sh::run(down, {}, {value, row}, choice()); }).find("never filled"), std::string::npos);
   EXPECT_NE(message([&] { sh::run_fused(down, rows, down, {value, row}, choice()); }).find("one output"), std::string::npos);
 }
 

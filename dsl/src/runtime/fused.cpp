@@ -210,6 +210,25 @@ class Strips {
   int height_;
 };
 
+// The producer fills the table, so the consumer's arguments take it as
+// filled from the start; a call that fails before its run leaves the
+// table as it found it (a table never filled stays an error to read).
+class FilledByProducer {
+ public:
+  explicit FilledByProducer(TableStorage& table) : table_(table), was_filled_(table.filled) { table.touch(); }
+  FilledByProducer(const FilledByProducer&) = delete;
+  FilledByProducer& operator=(const FilledByProducer&) = delete;
+  ~FilledByProducer() {
+    if (!running_) table_.filled = was_filled_;
+  }
+  void running() { running_ = true; }
+
+ private:
+  TableStorage& table_;
+  bool was_filled_;
+  bool running_ = false;
+};
+
 }  // namespace
 
 RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>& through, const Program& consumer,
@@ -218,7 +237,7 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   stats.backend = resolve(choice);
   int through_at = table_index(consumer, through);
   check_linked(producer, *through, through_at, consumer);
-  through->touch();  // filled by the producer
+  FilledByProducer filled(*through);
   RunArgs use_args = bind_arguments(consumer, {}, outputs);
   check_grid(consumer.ir(), *through, use_args.domain);
   std::shared_ptr<Buffer> rows = table_as_output(*through, use_args.domain);
@@ -230,6 +249,7 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   std::shared_ptr<Kernel> use = cached_kernel(consumer, stats.backend, choice.options, compiled);
   add_run(stats, compiled);
   stats.elements = use_args.count;
+  filled.running();
   if (use_args.count == 0) return stats;
 
   // Checked runs keep the two apart, so that their findings name elements
