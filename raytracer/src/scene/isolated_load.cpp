@@ -109,8 +109,11 @@ class Decoder {
   }
 
  private:
+  // An empty vector's data() may be null, which memcpy may not be given
+  // even for no bytes.
   void take(void* to, std::size_t bytes) {
     if (bytes > bytes_.size() - at_) broken();
+    if (bytes == 0) return;
     std::memcpy(to, bytes_.data() + at_, bytes);
     at_ += bytes;
   }
