@@ -67,7 +67,6 @@ TEST_F(SceneFiles, JsonSceneWithEveryKindOfObject) {
   sh::rt::RenderSettings settings;
   settings.width = 32;
   settings.height = 24;
-  settings.backend = "cpu";
   sh::rt::Image img = sh::rt::Renderer(s, settings).render();
   EXPECT_EQ(img.rgb.size(), 32u * 24u * 3u);
 }
@@ -80,7 +79,6 @@ TEST_F(SceneFiles, BareModelFileIsFramedByDefaultCameraAndLight) {
   sh::rt::RenderSettings settings;
   settings.width = 32;
   settings.height = 32;
-  settings.backend = "cpu";
   sh::rt::Image img = sh::rt::Renderer(s, settings).render();
   EXPECT_GE(img.triangle[16 * 32 + 16], 0) << "the model is in the middle of the picture";
 }
