@@ -71,6 +71,13 @@ Value* Lowering::first_lane(Value* mask) {
   return b_.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, b_.getFalse());
 }
 
+// The element of `values` in the mask's lowest lane set; lane 0's where
+// none is (the lane count, masked, is 0: widths are powers of two).
+Value* Lowering::in_first_lane(Value* values, Value* mask) {
+  Value* first = first_lane(mask);
+  return b_.CreateExtractElement(values, b_.CreateAnd(first, llvm::ConstantInt::get(first->getType(), width_ - 1)));
+}
+
 Value* Lowering::condition(const ir::Operand& cond) { return truthy(read(cond, 0), p_.type_of(cond.var).scalar); }
 
 llvm::AllocaInst* Lowering::entry_alloca(llvm::Type* t, const char* name) {

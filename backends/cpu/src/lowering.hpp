@@ -88,6 +88,7 @@ class Lowering {
   Value* condition(const ir::Operand& cond);  // the i1 (or lanes of i1) an if or loop tests
   Value* any(Value* mask);
   Value* first_lane(Value* mask);
+  Value* in_first_lane(Value* values, Value* mask);
   // Masks wait in stack slots between statements (mem2reg makes them SSA
   // values).  Without AVX-512's mask registers LLVM keeps a vector of i1
   // that crosses blocks as packed 16-bit lanes and unpacks it at every

@@ -308,11 +308,7 @@ Value* Lowering::gather_lanes(llvm::Type* scalar, Value* base, Value* index, Val
   if (avx512_)
     return b_.CreateMaskedGather(lanes(scalar), b_.CreateInBoundsGEP(scalar, base, index), alignment(scalar), lanes_read,
                                  otherwise);
-  if (!readable) {
-    Value* first = first_lane(lanes_read);
-    first = b_.CreateAnd(first, llvm::ConstantInt::get(first->getType(), width_ - 1));
-    readable = splat(b_.CreateExtractElement(index, first));
-  }
+  if (!readable) readable = splat(in_first_lane(index, lanes_read));
   index = b_.CreateSelect(lanes_read, index, readable);
   llvm::CallInst* values = b_.CreateCall(lane_loads(scalar, index->getType()), {base, index});
   values->setCallingConv(llvm::CallingConv::Fast);
@@ -509,9 +505,7 @@ void Lowering::scatter(const ir::Scatter& sc) {
 // after every lane broke out) lane 0's clamped index is read, harmlessly.
 std::array<Value*, 4> Lowering::same_or_gather(Value* flat, const ElementRead& element) {
   Value* running = exec();
-  Value* first = first_lane(running);
-  first = b_.CreateAnd(first, llvm::ConstantInt::get(first->getType(), width_ - 1));
-  Value* index = b_.CreateExtractElement(flat, first);
+  Value* index = in_first_lane(flat, running);
   Value* same = b_.CreateOr(b_.CreateICmpEQ(flat, splat(index)), b_.CreateNot(running));
   BasicBlock* one = BasicBlock::Create(ctx_, "read.same", fn_);
   BasicBlock* many = BasicBlock::Create(ctx_, "read.gather", fn_);
