@@ -122,10 +122,23 @@ TEST(HostMemory, PointersFromOneRawPointerShareOneCount) {
 
 TEST(HostMemory, OwnMemoryIsZeroedAndAligned) {
   ShMemoryPtr m = new ShHostMemory(20, SH_DOUBLE);
-  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(m->data()) % 8, 0u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(m->data()) % 64, 0u);
   const unsigned char* bytes = static_cast<const unsigned char*>(m->data());
   for (int k = 0; k < 20; ++k) EXPECT_EQ(bytes[k], 0) << k;
   EXPECT_EQ(m->value_type(), SH_DOUBLE);
+}
+
+// A kernel's batch of 16 floats at a multiple of 16 elements fills one
+// cache line of the memory a channel or table owns: large blocks, which
+// malloc places 16 bytes past a page's start, included.
+TEST(HostMemory, ChannelsAndTablesOwnMemoryThatStartsACacheLine) {
+  for (std::size_t count : {1u, 1000u, 1u << 22}) {
+    sh::Channel<sh::Attrib1f> channel(count);
+    sh::Table1D<sh::Attrib3f> table(static_cast<int>(count));
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(channel.memory()->data()) % 64, 0u) << count;
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(table.memory()->data()) % 64, 0u) << count;
+  }
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(sh::HostMemory(1u << 24).data()) % 64, 0u);
 }
 
 TEST(HostMemory, DirtyGivesANewerVersion) {

@@ -17,13 +17,14 @@
 #include <string>
 #include <vector>
 
+#include "sh/detail/words.hpp"
 #include "sh/ir/type.hpp"
 
 namespace sh {
 
 class HostMemory : public std::enable_shared_from_this<HostMemory> {
  public:
-  // Allocates `bytes` zeroed bytes, aligned for any value type.
+  // Allocates `bytes` zeroed bytes, starting a cache line (detail/words.hpp).
   explicit HostMemory(std::size_t bytes, ir::Scalar type = ir::Scalar::F32);
   // Wraps the user's `bytes` bytes at `data`; nothing is copied or freed.
   HostMemory(std::size_t bytes, void* data, ir::Scalar type = ir::Scalar::F32);
@@ -51,12 +52,12 @@ class HostMemory : public std::enable_shared_from_this<HostMemory> {
 
   // The storage of an owning channel or table, moved in without a copy, so
   // that memory() can hand it out (detail::Buffer uses this).
-  static std::shared_ptr<HostMemory> adopt(std::vector<std::uint64_t>&& words, std::size_t bytes, ir::Scalar type);
+  static std::shared_ptr<HostMemory> adopt(detail::Words&& words, std::size_t bytes, ir::Scalar type);
 
  private:
-  HostMemory(std::vector<std::uint64_t>&& words, std::size_t bytes, ir::Scalar type);
+  HostMemory(detail::Words&& words, std::size_t bytes, ir::Scalar type);
 
-  std::vector<std::uint64_t> own_;  // empty where the bytes are the user's
+  detail::Words own_;  // empty where the bytes are the user's
   void* data_ = nullptr;
   std::size_t bytes_ = 0;
   ir::Scalar type_;

@@ -14,17 +14,17 @@ std::uint64_t next_version() {
 }  // namespace detail
 
 HostMemory::HostMemory(std::size_t bytes, ir::Scalar type)
-    : HostMemory(std::vector<std::uint64_t>((bytes + 7) / 8, 0), bytes, type) {}
+    : HostMemory(detail::Words((bytes + 7) / 8, 0), bytes, type) {}
 
 HostMemory::HostMemory(std::size_t bytes, void* data, ir::Scalar type) : data_(data), bytes_(bytes), type_(type) {
   if (!data && bytes > 0)
     throw Error("host memory of " + std::to_string(bytes) + " bytes wraps a null pointer");
 }
 
-HostMemory::HostMemory(std::vector<std::uint64_t>&& words, std::size_t bytes, ir::Scalar type)
+HostMemory::HostMemory(detail::Words&& words, std::size_t bytes, ir::Scalar type)
     : own_(std::move(words)), data_(own_.data()), bytes_(bytes), type_(type) {}
 
-std::shared_ptr<HostMemory> HostMemory::adopt(std::vector<std::uint64_t>&& words, std::size_t bytes, ir::Scalar type) {
+std::shared_ptr<HostMemory> HostMemory::adopt(detail::Words&& words, std::size_t bytes, ir::Scalar type) {
   return std::shared_ptr<HostMemory>(new HostMemory(std::move(words), bytes, type));
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sh/ir/program.hpp"
+#include "sh/detail/words.hpp"
 #include "sh/memory.hpp"
 
 namespace sh::detail {
@@ -62,7 +63,7 @@ class Buffer {
   ir::Type type_;
   std::size_t count_ = 0;
   std::array<std::size_t, 3> shape_{0, 1, 1};
-  std::vector<std::uint64_t> words_;  // owned storage, 8-byte aligned; empty for a view
+  Words words_;  // owned storage; empty for a view
   std::shared_ptr<HostMemory> memory_;
 };
 
