@@ -73,16 +73,22 @@ std::size_t gathers(const std::string& ir) {
 // A stencil's reads at x + c along a row are one vector load each: in a
 // full batch whose taps all lie inside the table, with no test and no mask,
 // such batches one after another in a loop of their own; elsewhere tested,
-// a masked load or a gather at the edges.  Reads at an input's index are
-// gathers only.
+// a masked load, and at the edges of a table that clamps a masked load of
+// the lanes in the row (of one that repeats, a gather).  Reads at an
+// input's index are gathers only.
 TEST(CpuBackend, StencilReadsAreVectorLoads) {
-  Table2D<Attrib1f> image(64, 64);
+  Table2D<Attrib1f> image(64, 64), wrapped(64, 64);
   image.assign(std::vector<float>(64 * 64, 1.0f));
-  Program stencil = SH_BEGIN_PROGRAM("stencil") {
-    OutputAttrib1f out;
-    Attrib2i at = position<2>();
-    out = image[at + ConstAttrib2i(-1, 0)] + image[at + ConstAttrib2i(1, 1)];
-  } SH_END;
+  wrapped.edge(Edge::Repeat);
+  wrapped.assign(std::vector<float>(64 * 64, 1.0f));
+  auto stencil_of = [](const Table2D<Attrib1f>& table) {
+    return SH_BEGIN_PROGRAM("stencil") {
+      OutputAttrib1f out;
+      Attrib2i at = position<2>();
+      out = table[at + ConstAttrib2i(-1, 0)] + table[at + ConstAttrib2i(1, 1)];
+    } SH_END;
+  };
+  Program stencil = stencil_of(image), repeating = stencil_of(wrapped);
   Program scattered = SH_BEGIN_PROGRAM("scattered") {
     InputAttrib2i at;
     OutputAttrib1f out;
@@ -97,8 +103,11 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   EXPECT_TRUE(label.find("%batches.inside,") != std::string::npos || label.ends_with("%batches.inside"))
       << "the block is a loop (one of its predecessors): " << ir;
   EXPECT_EQ(count(inside, "@llvm.masked"), 0u) << ir;
-  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << ir;
-  EXPECT_EQ(gathers(ir), 2u) << ir;
+  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 4u) << ir;
+  EXPECT_EQ(gathers(ir), 0u) << ir;
+  std::string wraps = kernel_for(repeating, backend("cpu", o))->listing();
+  EXPECT_EQ(count(wraps, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << wraps;
+  EXPECT_EQ(gathers(wraps), 2u) << wraps;
   std::string other = kernel_for(scattered, backend("cpu", o))->listing();
   EXPECT_EQ(count(other, "@llvm.masked.load.v16f32"), 0u) << other;
   EXPECT_EQ(gathers(other), 1u) << other;
@@ -175,7 +184,9 @@ TEST(CpuBackend, EveryEdgeModeKeepsTheVectorLoad) {
     o.set(cpu::Options{.width = cpu::Width::Lanes16});
     std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
     EXPECT_EQ(count(blocks(ir, "batches.inside:"), "load <16 x float>"), 1u) << ir::edge_name(edge) << ir;
-    EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), 1u) << ir::edge_name(edge) << ir;
+    // The tested path's masked load, and at the edge a second where reads clamp.
+    EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), edge == Edge::Repeat ? 1u : 2u)
+        << ir::edge_name(edge) << ir;
     // Wrapping divides: only a batch that reaches the edge may.
     EXPECT_EQ(count(blocks(ir, "read.edge"), "srem"), edge == Edge::Repeat ? count(ir, "srem") : 0u) << ir;
     EXPECT_EQ(count(ir, "srem") > 0, edge == Edge::Repeat) << ir;

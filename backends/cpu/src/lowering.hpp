@@ -147,7 +147,8 @@ class Lowering {
   Value* last_inside_x();
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
-  std::array<Value*, 4> masked_run(int table, Value* start);
+  std::array<Value*, 4> clamped_run(const ir::Assign& a, Value* flat);
+  std::array<Value*, 4> masked_run(int table, Value* start, Value* running);
   Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise,
                       Value* readable);
   llvm::Function* lane_loads(llvm::Type* scalar, llvm::Type* index_type);
