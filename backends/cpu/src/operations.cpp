@@ -554,8 +554,8 @@ std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, co
 // A read whose coordinates as asked are proven to run along the row
 // (table_access): where the batch's run lies inside the table, nothing is
 // clamped and it is one masked vector load, tested by its ends alone; at
-// the table's edges, the clamped run of a table that clamps, a gather of
-// the wrapped coordinates of one that repeats.
+// the table's edges, the clamped run of a table that clamps or reads zero,
+// a gather of the wrapped coordinates of one that repeats.
 std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
   Run r = run_of(a);
   BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
