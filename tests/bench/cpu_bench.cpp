@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
+#include <memory>
 
 #include "kernels.hpp"
 
@@ -49,11 +51,21 @@ BackendChoice cpu_with(const benchmark::State& state) {
   return backend("cpu", o);
 }
 
+// One arena per thread count for the whole program, as the cpu backend
+// keeps its own: an arena made per run would charge the C++ forms its
+// threads' start on every run.
+tbb::task_arena& arena_of(int threads) {
+  static std::map<int, std::unique_ptr<tbb::task_arena>> arenas;
+  std::unique_ptr<tbb::task_arena>& arena = arenas[threads];
+  int concurrency = threads > 0 ? threads : int{tbb::task_arena::automatic};
+  if (!arena) arena = std::make_unique<tbb::task_arena>(concurrency);
+  return *arena;
+}
+
 // Runs body(begin, end) over n elements on `threads` threads (0 = all).
 template <class F>
 void hand_parallel(int threads, std::size_t n, F body) {
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] {
+  arena_of(threads).execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
   });
