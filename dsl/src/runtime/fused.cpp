@@ -155,7 +155,7 @@ class Strips {
     std::atomic<bool> failed{false};
     std::exception_ptr error;
     auto work = [&] {
-      detail::Words buffer;  // as a channel's storage: starting a cache line
+      Words buffer;  // as a channel's storage: starting a cache line
       try {
         for (std::size_t k = next++; k < count() && !failed; k = next++) strip(static_cast<int>(k), make, use, buffer);
       } catch (...) {
@@ -177,7 +177,7 @@ class Strips {
   // consumer's rows [first, end) reading them there: its taps reach rows
   // [first + reach.low, end - 1 + reach.high], clamped to the table's
   // (or, where it gives zero outside, those of them inside it).
-  void strip(int k, Kernel& make, Kernel& use, detail::Words& buffer) const {
+  void strip(int k, Kernel& make, Kernel& use, Words& buffer) const {
     std::int64_t first = std::int64_t{k} * rows_, end = std::min<std::int64_t>(height_, first + rows_);
     std::int64_t low = std::clamp<std::int64_t>(first + reach_.low, 0, height_ - 1);
     std::int64_t high = std::clamp<std::int64_t>(end - 1 + reach_.high, 0, height_ - 1) + 1;

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "sh/ir/program.hpp"
 #include "sh/detail/words.hpp"
+#include "sh/ir/program.hpp"
 #include "sh/memory.hpp"
 
 namespace sh::detail {
