@@ -4,6 +4,7 @@
 #include <string>
 
 #include <llvm/ADT/StringMap.h>
+#include <llvm/IR/IntrinsicsX86.h>
 #include <llvm/Support/Host.h>
 
 #include "lowering.hpp"
@@ -29,6 +30,12 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
   unwritten_reads_ = analysis::unwritten_reads(p);
   llvm::StringMap<bool> features;
   avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
+  if (width_ == 16 && avx512_)
+    lane_permute_ = llvm::Intrinsic::x86_avx512_permvar_sf_512;
+  else if (width_ == 8 && features.lookup("avx2"))
+    lane_permute_ = llvm::Intrinsic::x86_avx2_permps;
+  else if (width_ == 4 && features.lookup("avx"))
+    lane_permute_ = llvm::Intrinsic::x86_avx_vpermilvar_ps;
 }
 
 Lowered Lowering::run() {

@@ -148,6 +148,9 @@ class Lowering {
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> clamped_run(const ir::Assign& a, Value* flat);
+  std::array<Value*, 4> window_run(const ir::Assign& a, Value* flat);
+  bool permutes(int table) const;
+  Value* permuted(Value* values, Value* index);
   std::array<Value*, 4> masked_run(int table, Value* start, Value* running);
   Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise,
                       Value* readable);
@@ -182,6 +185,9 @@ class Lowering {
   // spmd: the host has AVX-512, whose gather instruction is worth using and
   // whose mask registers hold i1 lanes (without it masks wait in 32-bit lanes)
   bool avx512_ = false;
+  // spmd: the host's one-instruction permute of 32-bit lanes at width_
+  // (vpermps), or none
+  llvm::Intrinsic::ID lane_permute_ = llvm::Intrinsic::not_intrinsic;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.

@@ -557,6 +557,7 @@ std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, co
 // the table's edges, the clamped run of a table that clamps or reads zero,
 // a gather of the wrapped coordinates of one that repeats.
 std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
+  if (p_.tables[a.table].edge != ir::Edge::Repeat && permutes(a.table)) return window_run(a, flat);
   Run r = run_of(a);
   BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
   BasicBlock* edge = BasicBlock::Create(ctx_, "read.edge", fn_);
@@ -601,6 +602,48 @@ std::array<Value*, 4> Lowering::clamped_run(const ir::Assign& a, Value* flat) {
     values[c] = b_.CreateSelect(before, element_at(row), b_.CreateSelect(past, element_at(last), values[c]));
   }
   return values;
+}
+
+// A proven run, where reads clamp (legal IR reads a Zero table at the
+// clamped place too) and the target permutes lanes: one load of the
+// `width_` elements of the row nearest the run, from which each lane takes
+// its clamped element by one permute.  The window starts where the run
+// does, moved into the row (a row shorter than the lanes is loaded
+// masked); inside the row the permute keeps every lane in place, so a read
+// needs no test of where it lies.
+std::array<Value*, 4> Lowering::window_run(const ir::Assign& a, Value* flat) {
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* asked_x = widen(read(a.args[1], 0));
+  Value* row_length = table_dims_[a.table][0];
+  Value* last_x = b_.CreateSub(row_length, b_.getInt32(1));
+  Value* clamped_x = b_.CreateBinaryIntrinsic(
+      llvm::Intrinsic::smin, b_.CreateBinaryIntrinsic(llvm::Intrinsic::smax, asked_x, splat(b_.getInt32(0))), splat(last_x));
+  Value* row = b_.CreateZExt(
+      b_.CreateSub(b_.CreateExtractElement(flat, std::uint64_t{0}), b_.CreateExtractElement(clamped_x, std::uint64_t{0})), i64);
+  Value* window = b_.CreateBinaryIntrinsic(
+      llvm::Intrinsic::smax,
+      b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateExtractElement(asked_x, std::uint64_t{0}),
+                               b_.CreateSub(row_length, b_.getInt32(width_))),
+      b_.getInt32(0));
+  Value* in_row = b_.CreateICmpSLT(lane_numbers(), splat(b_.CreateSub(row_length, window)));
+  std::array<Value*, 4> values = masked_run(a.table, b_.CreateAdd(row, b_.CreateZExt(window, i64)), in_row);
+  Value* index = b_.CreateSub(clamped_x, splat(window));
+  for (int c = 0; c < p_.tables[a.table].element.width; ++c) values[c] = permuted(values[c], index);
+  return values;
+}
+
+// Whether the target permutes a table's elements across lanes in one
+// instruction: 32-bit elements, where lane_permute_ names one.
+bool Lowering::permutes(int table) const {
+  return lane_permute_ != llvm::Intrinsic::not_intrinsic &&
+         storage_scalar(p_.tables[table].element.scalar)->getPrimitiveSizeInBits() == 32;
+}
+
+// Lane i of the result is lane index[i] of `values` (32-bit lanes).
+Value* Lowering::permuted(Value* values, Value* index) {
+  llvm::Type* floats = lanes(b_.getFloatTy());
+  Value* moved = b_.CreateIntrinsic(lane_permute_, {}, {b_.CreateBitCast(values, floats), index});
+  return b_.CreateBitCast(moved, values->getType());
 }
 
 // The run a proven read's lanes ask for: its start (the first lane's
