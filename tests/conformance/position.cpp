@@ -138,7 +138,8 @@ TEST_P(Conformance, StencilReadsNeighboursAndClampsAtTheEdges) {
 // dimensions, of elements of 2 and 4 components and of ints, that clamp
 // or read zero: a lane outside the row reads its first or last element
 // (or zero), whatever its neighbours read; inside an if too, where a
-// batch's first lane may not run.  Rows of 21: a batch of 16 lanes holds
+// batch's first lane may not run.  The doubles, a fraction apart from a
+// float, are 64-bit elements, which the cpu backend reads otherwise.  Rows of 21: a batch of 16 lanes holds
 // both ends of the taps' reach, and the next a short one; rows of 3, shorter
 // than any batch.
 TEST_P(Conformance, StencilTapsPastARowsEndsOnTablesOfEveryRankAndElement) {
@@ -149,37 +150,46 @@ TEST_P(Conformance, StencilTapsPastARowsEndsOnTablesOfEveryRankAndElement) {
       sh::Table1D<sh::Attrib2f> line(w);
       sh::Table3D<sh::Attrib4f> volume(w, h, d);
       sh::Table2D<Attrib1i> ints(w, h);
+      sh::Table2D<sh::Attrib1d> doubles(w, h);
+      constexpr double kFraction = 1e-9;
       line.edge(edge);
       volume.edge(edge);
       ints.edge(edge);
+      doubles.edge(edge);
       std::vector<float> line_values, volume_values;
       std::vector<std::int32_t> int_values;
+      std::vector<double> double_values;
       for (int z = 0; z < d; ++z)
         for (int y = 0; y < h; ++y)
           for (int x = 0; x < w; ++x) {
             for (int c = 0; c < 4; ++c) volume_values.push_back(static_cast<float>(value(x, y, z, c)));
             if (z == 0) int_values.push_back(value(x, y, 0, 0));
+            if (z == 0) double_values.push_back(value(x, y, 0, 0) + kFraction);
             if (z == 0 && y == 0)
               for (int c = 0; c < 2; ++c) line_values.push_back(static_cast<float>(value(x, 0, 0, c)));
           }
       line.assign(line_values);
       volume.assign(volume_values);
       ints.assign(int_values);
+      doubles.assign(double_values);
       sh::Program p = SH_BEGIN_PROGRAM("taps_every_rank") {
         sh::Output<sh::Attrib2f> from_line;
         sh::Output<sh::Attrib4f> from_volume;
         sh::Output<Attrib1i> from_ints;
+        sh::Output<sh::Attrib1d> from_doubles;
         Attrib3i at = sh::position<3>();
         from_line = line[at(0) + sh::ConstAttrib1i(-3)] + line[at(0) + sh::ConstAttrib1i(2)];
         from_volume = volume[at + sh::ConstAttrib3i(-2, 1, -1)];
         from_ints = 0;
         SH_IF(at(0) % 3 == 1) { from_ints = ints[at(0, 1) + sh::ConstAttrib2i(-4, 0)]; } SH_ENDIF;
+        from_doubles = doubles[at(0, 1) + sh::ConstAttrib2i(3, 0)];
       } SH_END;
       sh::Channel<sh::Attrib2f> from_line;
       sh::Channel<sh::Attrib4f> from_volume;
       sh::Channel<Attrib1i> from_ints;
+      sh::Channel<sh::Attrib1d> from_doubles;
       from_line.shape(w, h, d);
-      run(p, {}, {from_line, from_volume, from_ints});
+      run(p, {}, {from_line, from_volume, from_ints, from_doubles});
       // The element at (x, y, z) as the table's edge mode reads it.
       auto read = [&](int x, int y, int z, int c, std::array<int, 3> extent) {
         std::array<int, 3> at{x, y, z};
@@ -194,8 +204,7 @@ TEST_P(Conformance, StencilTapsPastARowsEndsOnTablesOfEveryRankAndElement) {
           for (int x = 0; x < w; ++x) {
             std::size_t e = static_cast<std::size_t>(x + w * (y + h * z));
             std::string where = std::string(sh::ir::edge_name(edge)) + ", rows of " + std::to_string(w) + ", at " +
-                                std::to_string(x) + ", " +
-                                std::to_string(y) + ", " + std::to_string(z);
+                                std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z);
             for (int c = 0; c < 2; ++c)
               ASSERT_EQ(from_line[2 * e + c], static_cast<float>(read(x - 3, 0, 0, c, {w, 1, 1}) +
                                                                  read(x + 2, 0, 0, c, {w, 1, 1})))
@@ -204,6 +213,8 @@ TEST_P(Conformance, StencilTapsPastARowsEndsOnTablesOfEveryRankAndElement) {
               ASSERT_EQ(from_volume[4 * e + c], static_cast<float>(read(x - 2, y + 1, z - 1, c, {w, h, d})))
                   << where << " component " << c;
             ASSERT_EQ(from_ints[e], x % 3 == 1 ? read(x - 4, y, 0, 0, {w, h, 1}) : 0) << where;
+            int from_double = read(x + 3, y, 0, 0, {w, h, 1});
+            ASSERT_EQ(from_doubles[e], from_double ? from_double + kFraction : 0.0) << where;
           }
     }
 }
