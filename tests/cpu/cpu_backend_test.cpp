@@ -79,7 +79,8 @@ std::size_t permutes(const std::string& ir) { return count(ir, "call <16 x float
 
 // A stencil's reads at x + c along a row are one vector load each: in a
 // full batch whose taps all lie inside the table, with no test and no mask,
-// such batches one after another in a loop of their own; elsewhere a
+// such batches one after another in a loop of their own, each fetching the
+// row that the next row of batches will first read; elsewhere a
 // masked load and, where it clamps, a permute (or a second masked load, as
 // above); of a table that repeats, a tested masked load and at the edges a
 // gather.  Reads at an input's index are gathers only.
@@ -110,6 +111,7 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   EXPECT_TRUE(label.find("%batches.inside,") != std::string::npos || label.ends_with("%batches.inside"))
       << "the block is a loop (one of its predecessors): " << ir;
   EXPECT_EQ(count(inside, "@llvm.masked"), 0u) << ir;
+  EXPECT_EQ(count(inside, "call void @llvm.prefetch"), 1u) << "the row the next row of batches reads first: " << ir;
   EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), permutes_16_lanes() ? 2u : 4u) << ir;
   EXPECT_EQ(permutes(ir), permutes_16_lanes() ? 2u : 0u) << ir;
   EXPECT_EQ(gathers(ir), 0u) << ir;
@@ -120,6 +122,7 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   std::string other = kernel_for(scattered, backend("cpu", o))->listing();
   EXPECT_EQ(count(other, "@llvm.masked.load.v16f32"), 0u) << other;
   EXPECT_EQ(gathers(other), 1u) << other;
+  EXPECT_EQ(count(other, "@llvm.prefetch"), 0u) << other;
 }
 
 // A local array that every lane writes alike is one array for all lanes:

@@ -185,6 +185,7 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   x->addIncoming(first_x, from);
   b_.CreateStore(at, element_);
   set_batch_x(x);
+  prefetch_next_rows();
   store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
   clear_registers();
   load_inputs(at, nullptr);
@@ -207,6 +208,28 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   b_.SetInsertPoint(edge);
   batch_count_ = count;
   set_batch_x(first_x);
+}
+
+// The row that the batch under this one (at y + 1) will read first, for
+// each two-dimensional table a stencil reads: its taps' lowest row moves
+// down by one, so only the row past their highest is new to the cache.
+// Fetched a row ahead, at this batch's x, it is there when the next row of
+// batches comes; the hardware's prefetcher, which stops at a page's end,
+// left the first load of each new row waiting on memory (5 % of a 5 x 5
+// blur's samples).  A prefetch past the table's end never faults.
+void Lowering::prefetch_next_rows() {
+  llvm::Type* i64 = b_.getInt64Ty();
+  for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
+    const ir::TableDecl& table = p_.tables[t];
+    if (!tap_spans_[t] || table.rank != 2) continue;
+    Value* x = b_.CreateAdd(batch_place_[0], b_.getInt64(tap_spans_[t]->low[0]));
+    Value* y = b_.CreateAdd(batch_place_[1], b_.getInt64(tap_spans_[t]->high[1] + 1));
+    Value* element = b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64)));
+    Value* at = b_.CreateGEP(storage_scalar(table.element.scalar), table_base_[t],
+                             b_.CreateMul(element, b_.getInt64(table.element.width)));
+    b_.CreateIntrinsic(llvm::Intrinsic::prefetch, {at->getType()},
+                       {at, b_.getInt32(0), b_.getInt32(3), b_.getInt32(1)});
+  }
 }
 
 // The x of the last batch along this row, from the one at first_x

@@ -73,6 +73,7 @@ class Lowering {
   void advance_place(Value* step);
   void inside_batches(Value* e, Value* end, BasicBlock* head);
   Value* last_batch_x(Value* e, Value* end, Value* first_x);
+  void prefetch_next_rows();
   void set_batch_x(Value* x);
   Value* position(int k, bool vary);
 
