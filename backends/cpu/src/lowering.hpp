@@ -15,6 +15,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -125,6 +126,8 @@ class Lowering {
   Value* fetched_element(int table, Value* flat);
   std::array<Value*, 4> fetch(int table, Value* flat);
   std::array<Value*, 4> fetch_lanes(int table, Value* flat);
+  llvm::Function* fetch_rounds(int table);
+  void fetch_round_loop(int table, Value* flat, Value* running, Value* out);
   void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);
   void scatter(const ir::Scatter& sc);
   // ---- local arrays (arrays.cpp) --------------------------------------------
@@ -156,6 +159,7 @@ class Lowering {
   Value* gather_lanes(llvm::Type* scalar, Value* base, Value* index, Value* lanes_read, Value* otherwise,
                       Value* readable);
   llvm::Function* lane_loads(llvm::Type* scalar, llvm::Type* index_type);
+  llvm::Function* helper_function(const std::string& name, llvm::FunctionType* type);
 
   struct LoopState {
     BasicBlock* exit;          // break, in a loop that branches

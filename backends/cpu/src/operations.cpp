@@ -322,12 +322,7 @@ llvm::Function* Lowering::lane_loads(llvm::Type* scalar, llvm::Type* index_type)
   llvm::raw_string_ostream os(name);
   os << "sh_lane_loads." << *scalar << "." << *index_type;
   if (llvm::Function* known = module_->getFunction(os.str())) return known;
-  auto* type = llvm::FunctionType::get(lanes(scalar), {b_.getPtrTy(), index_type}, false);
-  auto* f = llvm::Function::Create(type, llvm::Function::InternalLinkage, os.str(), module_.get());
-  f->setCallingConv(llvm::CallingConv::Fast);
-  f->addFnAttr(llvm::Attribute::NoInline);
-  for (const char* a : {"min-legal-vector-width", "prefer-vector-width"})
-    if (fn_->hasFnAttribute(a)) f->addFnAttr(fn_->getFnAttribute(a));
+  llvm::Function* f = helper_function(os.str(), llvm::FunctionType::get(lanes(scalar), {b_.getPtrTy(), index_type}, false));
   llvm::IRBuilder<> b(BasicBlock::Create(ctx_, "entry", f));
   Value* values = llvm::Constant::getNullValue(lanes(scalar));
   for (int i = 0; i < width_; ++i) {
@@ -335,6 +330,17 @@ llvm::Function* Lowering::lane_loads(llvm::Type* scalar, llvm::Type* index_type)
     values = b.CreateInsertElement(values, b.CreateLoad(scalar, at), static_cast<std::uint64_t>(i));
   }
   b.CreateRet(values);
+  return f;
+}
+
+// A function of the kernel's module that its code calls rather than
+// repeats: internal, never inlined, its vectors as wide as the kernel's.
+llvm::Function* Lowering::helper_function(const std::string& name, llvm::FunctionType* type) {
+  auto* f = llvm::Function::Create(type, llvm::Function::InternalLinkage, name, module_.get());
+  f->setCallingConv(llvm::CallingConv::Fast);
+  f->addFnAttr(llvm::Attribute::NoInline);
+  for (const char* a : {"min-legal-vector-width", "prefer-vector-width"})
+    if (fn_->hasFnAttribute(a)) f->addFnAttr(fn_->getFnAttribute(a));
   return f;
 }
 
@@ -389,20 +395,60 @@ std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
 // In SPMD, in rounds: the first lane still waiting brings its element into
 // the window (a call only where it lies outside), then every waiting lane
 // whose element lies in the window reads it, one gather per component.  A
-// whole table takes one round; lanes reading k blocks, k rounds.
+// whole table takes one round; lanes reading k blocks, k rounds.  The
+// rounds are a function per table, which each read of it calls: inlined
+// at every read (a tracer has dozens) they took a third of its fetched
+// kernel's machine-code time.
 std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
+  const ir::TableDecl& t = p_.tables[table];
+  llvm::Type* vector = lanes(storage_scalar(t.element.scalar));
+  llvm::AllocaInst* fetched = entry_alloca(llvm::ArrayType::get(vector, static_cast<std::uint64_t>(t.element.width)), "fetched");
+  llvm::CallInst* call = b_.CreateCall(fetch_rounds(table), {table_base_[table], flat, exec(), fetched});
+  call->setCallingConv(llvm::CallingConv::Fast);
+  std::array<Value*, 4> values{};
+  for (int c = 0; c < t.element.width; ++c)
+    values[c] = b_.CreateLoad(vector, b_.CreateConstInBoundsGEP2_32(fetched->getAllocatedType(), fetched, 0, static_cast<unsigned>(c)));
+  return values;
+}
+
+// fetch_lanes' function for one table: (its TableAccess, the lanes' flat
+// indices, the lanes that read, where the components go).  Lowered as the
+// kernel is, with the function and the table's access its own meanwhile.
+llvm::Function* Lowering::fetch_rounds(int table) {
+  std::string name = "sh_fetch_lanes." + std::to_string(table);
+  if (llvm::Function* known = module_->getFunction(name)) return known;
+  llvm::Type* ptr = b_.getPtrTy();
+  llvm::Function* f =
+      helper_function(name, llvm::FunctionType::get(b_.getVoidTy(), {ptr, lanes(b_.getInt32Ty()), mask_type(), ptr}, false));
+  llvm::Function* kernel = fn_;
+  Value* access = table_base_[table];
+  llvm::IRBuilderBase::InsertPoint resume = b_.saveIP();
+  fn_ = f;
+  table_base_[table] = f->getArg(0);
+  b_.SetInsertPoint(BasicBlock::Create(ctx_, "entry", f));
+  fetch_round_loop(table, f->getArg(1), f->getArg(2), f->getArg(3));
+  b_.CreateRetVoid();
+  fn_ = kernel;
+  table_base_[table] = access;
+  b_.restoreIP(resume);
+  return f;
+}
+
+// The rounds, into the array of component vectors at `out`.
+void Lowering::fetch_round_loop(int table, Value* flat, Value* running, Value* out) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   llvm::Type* vector = lanes(scalar);
   llvm::Type* i64 = b_.getInt64Ty();
   Value* indices = b_.CreateZExt(flat, lanes(i64));
-  std::array<llvm::AllocaInst*, 4> slots{};
+  llvm::Type* components = llvm::ArrayType::get(vector, static_cast<std::uint64_t>(t.element.width));
+  std::array<Value*, 4> slots{};
   for (int c = 0; c < t.element.width; ++c) {
-    slots[c] = entry_alloca(vector, "fetched");
+    slots[c] = b_.CreateConstInBoundsGEP2_32(components, out, 0, static_cast<unsigned>(c));
     b_.CreateStore(llvm::Constant::getNullValue(vector), slots[c]);
   }
   llvm::AllocaInst* waiting = entry_alloca(mask_slot_type(), "waiting");
-  store_mask(exec(), waiting);
+  store_mask(running, waiting);
   BasicBlock* head = BasicBlock::Create(ctx_, "fetch.rounds", fn_);
   BasicBlock* round = BasicBlock::Create(ctx_, "fetch.round", fn_);
   BasicBlock* done = BasicBlock::Create(ctx_, "fetch.rounds.done", fn_);
@@ -433,11 +479,7 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   b_.CreateStore(b_.CreateAdd(b_.CreateLoad(i64, access_field(table, 3)), others), access_field(table, 3));
   keep_lanes(waiting, b_.CreateNot(in_window));
   b_.CreateBr(head);
-
   b_.SetInsertPoint(done);
-  std::array<Value*, 4> values{};
-  for (int c = 0; c < t.element.width; ++c) values[c] = b_.CreateLoad(vector, slots[c]);
-  return values;
 }
 
 // Code for each lane that runs the current statement, lane by lane.
