@@ -401,50 +401,50 @@ std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
 // kernel's machine-code time.
 std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
-  llvm::Type* vector = lanes(storage_scalar(t.element.scalar));
-  llvm::AllocaInst* fetched = entry_alloca(llvm::ArrayType::get(vector, static_cast<std::uint64_t>(t.element.width)), "fetched");
-  llvm::CallInst* call = b_.CreateCall(fetch_rounds(table), {table_base_[table], flat, exec(), fetched});
+  llvm::CallInst* call = b_.CreateCall(fetch_rounds(table), {table_base_[table], flat, exec()});
   call->setCallingConv(llvm::CallingConv::Fast);
   std::array<Value*, 4> values{};
-  for (int c = 0; c < t.element.width; ++c)
-    values[c] = b_.CreateLoad(vector, b_.CreateConstInBoundsGEP2_32(fetched->getAllocatedType(), fetched, 0, static_cast<unsigned>(c)));
+  for (int c = 0; c < t.element.width; ++c) values[c] = b_.CreateExtractValue(call, {static_cast<unsigned>(c)});
   return values;
 }
 
 // fetch_lanes' function for one table: (its TableAccess, the lanes' flat
-// indices, the lanes that read, where the components go).  Lowered as the
-// kernel is, with the function and the table's access its own meanwhile.
+// indices, the lanes that read) to the components' vectors.  Lowered as
+// the kernel is, with the function and the table's access its own meanwhile.
 llvm::Function* Lowering::fetch_rounds(int table) {
   std::string name = "sh_fetch_lanes." + std::to_string(table);
   if (llvm::Function* known = module_->getFunction(name)) return known;
-  llvm::Type* ptr = b_.getPtrTy();
-  llvm::Function* f =
-      helper_function(name, llvm::FunctionType::get(b_.getVoidTy(), {ptr, lanes(b_.getInt32Ty()), mask_type(), ptr}, false));
+  const ir::TableDecl& t = p_.tables[table];
+  std::vector<llvm::Type*> components(static_cast<std::size_t>(t.element.width), lanes(storage_scalar(t.element.scalar)));
+  llvm::Type* vectors = llvm::StructType::get(ctx_, components);
+  llvm::Function* f = helper_function(
+      name, llvm::FunctionType::get(vectors, {b_.getPtrTy(), lanes(b_.getInt32Ty()), mask_type()}, false));
   llvm::Function* kernel = fn_;
   Value* access = table_base_[table];
   llvm::IRBuilderBase::InsertPoint resume = b_.saveIP();
   fn_ = f;
   table_base_[table] = f->getArg(0);
   b_.SetInsertPoint(BasicBlock::Create(ctx_, "entry", f));
-  fetch_round_loop(table, f->getArg(1), f->getArg(2), f->getArg(3));
-  b_.CreateRetVoid();
+  llvm::AllocaInst* out = entry_alloca(vectors, "fetched");
+  fetch_round_loop(table, f->getArg(1), f->getArg(2), out);
+  b_.CreateRet(b_.CreateLoad(vectors, out));
   fn_ = kernel;
   table_base_[table] = access;
   b_.restoreIP(resume);
   return f;
 }
 
-// The rounds, into the array of component vectors at `out`.
+// The rounds, into the struct of component vectors at `out`.
 void Lowering::fetch_round_loop(int table, Value* flat, Value* running, Value* out) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   llvm::Type* vector = lanes(scalar);
   llvm::Type* i64 = b_.getInt64Ty();
   Value* indices = b_.CreateZExt(flat, lanes(i64));
-  llvm::Type* components = llvm::ArrayType::get(vector, static_cast<std::uint64_t>(t.element.width));
+  llvm::Type* components = llvm::cast<llvm::AllocaInst>(out)->getAllocatedType();
   std::array<Value*, 4> slots{};
   for (int c = 0; c < t.element.width; ++c) {
-    slots[c] = b_.CreateConstInBoundsGEP2_32(components, out, 0, static_cast<unsigned>(c));
+    slots[c] = b_.CreateStructGEP(components, out, static_cast<unsigned>(c));
     b_.CreateStore(llvm::Constant::getNullValue(vector), slots[c]);
   }
   llvm::AllocaInst* waiting = entry_alloca(mask_slot_type(), "waiting");
