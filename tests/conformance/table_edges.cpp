@@ -125,5 +125,39 @@ TEST_P(Conformance, StencilOutsideTheTableRepeatsOrReadsZero) {
     }
 }
 
+// A stencil's run whose coordinates wrap past INT_MAX mid-batch: an offset
+// from a uniform near the ends of the int range, so that some lanes of a
+// batch ask far past the row's end and the others (wrapped) far before its
+// start, in either order.  Each lane reads what its own coordinate gives,
+// whatever its neighbours ask.
+TEST_P(Conformance, StencilRunWrappingPastTheIntRangeReadsEachLanesOwnEdge) {
+  const int w = 40, h = 2;
+  const std::int32_t int_max = std::numeric_limits<std::int32_t>::max(), int_min = std::numeric_limits<std::int32_t>::min();
+  for (sh::Edge edge : {sh::Edge::Clamp, sh::Edge::Repeat, sh::Edge::Zero})
+    for (std::int32_t offset : {int_max - 20, int_min}) {
+      sh::Table2D<Attrib1f> image(w, h);
+      image.edge(edge);
+      std::vector<float> values;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) values.push_back(pixel(x, y));
+      image.assign(values);
+      Attrib2i shift = sh::ConstAttrib2i(offset, 0);
+      sh::Program p = SH_BEGIN_PROGRAM("wrapping_run") {
+        sh::Output<Attrib1f> out;
+        out = image[sh::position<2>() + shift + sh::ConstAttrib2i(-1, 0)];
+      } SH_END;
+      sh::Channel<Attrib1f> out;
+      out.shape(static_cast<std::size_t>(w), h);
+      run(p, {}, {out});
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          auto asked = static_cast<std::int32_t>(static_cast<std::uint32_t>(x) + static_cast<std::uint32_t>(offset) - 1u);
+          int sx = landing(asked, w, edge);
+          ASSERT_EQ(out[static_cast<std::size_t>(y * w + x)], sx < 0 ? 0.f : pixel(sx, y))
+              << sh::ir::edge_name(edge) << " offset " << offset << " at " << x << ", " << y;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace conformance

@@ -152,6 +152,7 @@ class Lowering {
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> clamped_run(const ir::Assign& a, Value* flat);
+  std::array<Value*, 4> window_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element);
   std::array<Value*, 4> window_run(const ir::Assign& a, Value* flat);
   bool permutes(int table) const;
   Value* permuted(Value* values, Value* index);

@@ -7,6 +7,8 @@
 #include <functional>
 #include <limits>
 
+#include <llvm/IR/MDBuilder.h>
+
 namespace sh::cpu {
 
 using llvm::BasicBlock;
@@ -601,7 +603,7 @@ std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, co
 // a table that clamps or reads zero, a gather of the wrapped coordinates
 // of one that repeats.
 std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
-  if (p_.tables[a.table].edge != ir::Edge::Repeat && permutes(a.table)) return window_run(a, flat);
+  if (p_.tables[a.table].edge != ir::Edge::Repeat && permutes(a.table)) return window_or_gather(a, flat, element);
   Run r = run_of(a);
   BasicBlock* run = BasicBlock::Create(ctx_, "read.run", fn_);
   BasicBlock* edge = BasicBlock::Create(ctx_, "read.edge", fn_);
@@ -646,6 +648,24 @@ std::array<Value*, 4> Lowering::clamped_run(const ir::Assign& a, Value* flat) {
     values[c] = b_.CreateSelect(before, element_at(row), b_.CreateSelect(past, element_at(last), values[c]));
   }
   return values;
+}
+
+// A run whose x passes INT_MAX within the batch has lanes far past the row
+// and lanes wrapped far before it, which no window of the row holds: those
+// (never in practice) gather at the clamped places; all others read their
+// window.
+std::array<Value*, 4> Lowering::window_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
+  Value* first_x = b_.CreateExtractElement(widen(read(a.args[1], 0)), std::uint64_t{0});
+  Value* wraps = b_.CreateICmpSGT(first_x, b_.getInt32(std::numeric_limits<std::int32_t>::max() - (width_ - 1)));
+  BasicBlock* window = BasicBlock::Create(ctx_, "read.window", fn_);
+  BasicBlock* wrapped = BasicBlock::Create(ctx_, "read.wrapped", fn_);
+  b_.CreateCondBr(wraps, wrapped, window, llvm::MDBuilder(ctx_).createBranchWeights(1, 1 << 20));
+  b_.SetInsertPoint(window);
+  std::array<Value*, 4> in_window = window_run(a, flat);
+  BasicBlock* window_end = b_.GetInsertBlock();
+  b_.SetInsertPoint(wrapped);
+  std::array<Value*, 4> gathered = element(flat, true);
+  return joined(in_window, window_end, gathered, b_.GetInsertBlock(), p_.tables[a.table].element.width);
 }
 
 // A proven run, where reads clamp (legal IR reads a Zero table at the
