@@ -192,7 +192,7 @@ class Lowering {
   // whose mask registers hold i1 lanes (without it masks wait in 32-bit lanes)
   bool avx512_ = false;
   // spmd: the host's one-instruction permute of 32-bit lanes at width_
-  // (vpermps), or none
+  // (vpermps; vpermilps at 4 lanes), or none
   llvm::Intrinsic::ID lane_permute_ = llvm::Intrinsic::not_intrinsic;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
