@@ -597,11 +597,11 @@ std::array<Value*, 4> Lowering::consecutive_or_gather(int table, Value* flat, co
 
 // A read whose coordinates as asked are proven to run along the row
 // (table_access).  Of a table that clamps or reads zero, where the target
-// permutes lanes: its window, untested.  Otherwise, where the batch's run
-// lies inside the table, nothing is clamped and it is one masked vector
-// load, tested by its ends alone; at the table's edges, the clamped run of
-// a table that clamps or reads zero, a gather of the wrapped coordinates
-// of one that repeats.
+// permutes lanes: its window, tested only for x wrapping past INT_MAX.
+// Otherwise, where the batch's run lies inside the table, nothing is
+// clamped and it is one masked vector load, tested by its ends alone; at
+// the table's edges, the clamped run of a table that clamps or reads zero,
+// a gather of the wrapped coordinates of one that repeats.
 std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
   if (p_.tables[a.table].edge != ir::Edge::Repeat && permutes(a.table)) return window_or_gather(a, flat, element);
   Run r = run_of(a);
