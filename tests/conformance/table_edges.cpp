@@ -89,18 +89,24 @@ TEST_P(Conformance, Table3DFetchOutsideRepeatsOrGivesZeroPerDimension) {
 
 float pixel(int x, int y) { return static_cast<float>((x * 7 + y * 13) % 17 + 1); }
 
+// A w x h table of pixel(x, y) with edge mode `edge`.
+sh::Table2D<Attrib1f> pixels(int w, int h, sh::Edge edge) {
+  sh::Table2D<Attrib1f> image(w, h);
+  image.edge(edge);
+  std::vector<float> values;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) values.push_back(pixel(x, y));
+  image.assign(values);
+  return image;
+}
+
 // A 7 x 3 box, wider than the narrowest rows, so that a tap wraps more
 // than once; rows of odd lengths so that runs meet the edges mid-batch.
 TEST_P(Conformance, StencilOutsideTheTableRepeatsOrReadsZero) {
   for (sh::Edge edge : kOutsideModes)
     for (int w : {1, 3, 19, 40, 67}) {
       const int h = 4;
-      sh::Table2D<Attrib1f> image(w, h);
-      image.edge(edge);
-      std::vector<float> values;
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) values.push_back(pixel(x, y));
-      image.assign(values);
+      sh::Table2D<Attrib1f> image = pixels(w, h, edge);
       sh::Program p = SH_BEGIN_PROGRAM("box_edges") {
         sh::Output<Attrib1f> box;
         Attrib2i at = sh::position<2>();
@@ -135,12 +141,7 @@ TEST_P(Conformance, StencilRunWrappingPastTheIntRangeReadsEachLanesOwnEdge) {
   const std::int32_t int_max = std::numeric_limits<std::int32_t>::max(), int_min = std::numeric_limits<std::int32_t>::min();
   for (sh::Edge edge : {sh::Edge::Clamp, sh::Edge::Repeat, sh::Edge::Zero})
     for (std::int32_t offset : {int_max - 20, int_min}) {
-      sh::Table2D<Attrib1f> image(w, h);
-      image.edge(edge);
-      std::vector<float> values;
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) values.push_back(pixel(x, y));
-      image.assign(values);
+      sh::Table2D<Attrib1f> image = pixels(w, h, edge);
       Attrib2i shift = sh::ConstAttrib2i(offset, 0);
       sh::Program p = SH_BEGIN_PROGRAM("wrapping_run") {
         sh::Output<Attrib1f> out;

@@ -153,7 +153,9 @@ class Lowering {
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> clamped_run(const ir::Assign& a, Value* flat);
   std::array<Value*, 4> window_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element);
-  std::array<Value*, 4> window_run(const ir::Assign& a, Value* flat);
+  std::array<Value*, 4> window_run(const ir::Assign& a, Value* asked_x, Value* flat);
+  Value* row_start(const ir::Assign& a, Value* asked_x, Value* flat);
+  Value* clamped(Value* v, Value* low, Value* high);
   bool permutes(int table) const;
   Value* permuted(Value* values, Value* index);
   std::array<Value*, 4> masked_run(int table, Value* start, Value* running);

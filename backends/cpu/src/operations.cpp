@@ -630,13 +630,9 @@ std::array<Value*, 4> Lowering::clamped_run(const ir::Assign& a, Value* flat) {
   Value* row_length = table_dims_[a.table][0];
   Value* before = b_.CreateICmpSLT(asked_x, splat(b_.getInt32(0)));
   Value* past = b_.CreateICmpSGE(asked_x, splat(row_length));
-  // Lane 0's clamped flat index less its clamped x: the row's first element.
-  Value* first_x = b_.CreateExtractElement(asked_x, std::uint64_t{0});
-  Value* first_x_clamped = b_.CreateBinaryIntrinsic(
-      llvm::Intrinsic::smin, b_.CreateBinaryIntrinsic(llvm::Intrinsic::smax, first_x, b_.getInt32(0)),
-      b_.CreateSub(row_length, b_.getInt32(1)));
-  Value* row = b_.CreateZExt(b_.CreateSub(b_.CreateExtractElement(flat, std::uint64_t{0}), first_x_clamped), i64);
+  Value* row = row_start(a, asked_x, flat);
   Value* in_row = b_.CreateAnd(exec(), b_.CreateNot(b_.CreateOr(before, past)));
+  Value* first_x = b_.CreateExtractElement(asked_x, std::uint64_t{0});
   std::array<Value*, 4> values = masked_run(a.table, b_.CreateAdd(row, b_.CreateSExt(first_x, i64)), in_row);
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   Value* last = b_.CreateAdd(row, b_.CreateZExt(b_.CreateSub(row_length, b_.getInt32(1)), i64));
@@ -650,18 +646,34 @@ std::array<Value*, 4> Lowering::clamped_run(const ir::Assign& a, Value* flat) {
   return values;
 }
 
+// The flat index of the first element of the row a proven run reads: lane
+// 0's clamped flat index less its clamped x.
+Value* Lowering::row_start(const ir::Assign& a, Value* asked_x, Value* flat) {
+  Value* first_x = b_.CreateExtractElement(asked_x, std::uint64_t{0});
+  Value* last_x = b_.CreateSub(table_dims_[a.table][0], b_.getInt32(1));
+  Value* first_x_clamped = clamped(first_x, b_.getInt32(0), last_x);
+  return b_.CreateZExt(b_.CreateSub(b_.CreateExtractElement(flat, std::uint64_t{0}), first_x_clamped), b_.getInt64Ty());
+}
+
+// `v` no less than `low` and no more than `high` (signed; lane by lane
+// where they are vectors).
+Value* Lowering::clamped(Value* v, Value* low, Value* high) {
+  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateBinaryIntrinsic(llvm::Intrinsic::smax, v, low), high);
+}
+
 // A run whose x passes INT_MAX within the batch has lanes far past the row
 // and lanes wrapped far before it, which no window of the row holds: those
 // (never in practice) gather at the clamped places; all others read their
 // window.
 std::array<Value*, 4> Lowering::window_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element) {
-  Value* first_x = b_.CreateExtractElement(widen(read(a.args[1], 0)), std::uint64_t{0});
+  Value* asked_x = widen(read(a.args[1], 0));
+  Value* first_x = b_.CreateExtractElement(asked_x, std::uint64_t{0});
   Value* wraps = b_.CreateICmpSGT(first_x, b_.getInt32(std::numeric_limits<std::int32_t>::max() - (width_ - 1)));
   BasicBlock* window = BasicBlock::Create(ctx_, "read.window", fn_);
   BasicBlock* wrapped = BasicBlock::Create(ctx_, "read.wrapped", fn_);
   b_.CreateCondBr(wraps, wrapped, window, llvm::MDBuilder(ctx_).createBranchWeights(1, 1 << 20));
   b_.SetInsertPoint(window);
-  std::array<Value*, 4> in_window = window_run(a, flat);
+  std::array<Value*, 4> in_window = window_run(a, asked_x, flat);
   BasicBlock* window_end = b_.GetInsertBlock();
   b_.SetInsertPoint(wrapped);
   std::array<Value*, 4> gathered = element(flat, true);
@@ -675,22 +687,18 @@ std::array<Value*, 4> Lowering::window_or_gather(const ir::Assign& a, Value* fla
 // does, moved into the row (a row shorter than the lanes is loaded
 // masked); inside the row the permute keeps every lane in place, so a read
 // needs no test of where it lies.
-std::array<Value*, 4> Lowering::window_run(const ir::Assign& a, Value* flat) {
-  llvm::Type* i64 = b_.getInt64Ty();
-  Value* asked_x = widen(read(a.args[1], 0));
+std::array<Value*, 4> Lowering::window_run(const ir::Assign& a, Value* asked_x, Value* flat) {
   Value* row_length = table_dims_[a.table][0];
-  Value* last_x = b_.CreateSub(row_length, b_.getInt32(1));
-  Value* clamped_x = b_.CreateBinaryIntrinsic(
-      llvm::Intrinsic::smin, b_.CreateBinaryIntrinsic(llvm::Intrinsic::smax, asked_x, splat(b_.getInt32(0))), splat(last_x));
-  Value* row = b_.CreateZExt(
-      b_.CreateSub(b_.CreateExtractElement(flat, std::uint64_t{0}), b_.CreateExtractElement(clamped_x, std::uint64_t{0})), i64);
+  Value* clamped_x = clamped(asked_x, splat(b_.getInt32(0)), splat(b_.CreateSub(row_length, b_.getInt32(1))));
+  // Where the row is shorter than the lanes, the window starts at 0.
+  Value* last_start = b_.CreateSub(row_length, b_.getInt32(width_));
   Value* window = b_.CreateBinaryIntrinsic(
       llvm::Intrinsic::smax,
-      b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateExtractElement(asked_x, std::uint64_t{0}),
-                               b_.CreateSub(row_length, b_.getInt32(width_))),
+      b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateExtractElement(asked_x, std::uint64_t{0}), last_start),
       b_.getInt32(0));
   Value* in_row = b_.CreateICmpSLT(lane_numbers(), splat(b_.CreateSub(row_length, window)));
-  std::array<Value*, 4> values = masked_run(a.table, b_.CreateAdd(row, b_.CreateZExt(window, i64)), in_row);
+  Value* start = b_.CreateAdd(row_start(a, asked_x, flat), b_.CreateZExt(window, b_.getInt64Ty()));
+  std::array<Value*, 4> values = masked_run(a.table, start, in_row);
   Value* index = b_.CreateSub(clamped_x, splat(window));
   for (int c = 0; c < p_.tables[a.table].element.width; ++c) values[c] = permuted(values[c], index);
   return values;
