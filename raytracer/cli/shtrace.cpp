@@ -79,6 +79,10 @@ void add_common(CLI::App* app, Common& c) {
       ->capture_default_str()->check(CLI::Range(1, 1 << 20));
   app->add_option("--bvh-leaf", c.bvh.max_leaf, "bvh: most triangles in a leaf")
       ->capture_default_str()->check(CLI::Range(1, kBvhMaxLeaf));
+  app->add_option("--bvh-prefetch-above", c.bvh.prefetch_above,
+                  "bvh: the wide walk asks for each node's children ahead of visiting them where the tree is larger than "
+                  "this many bytes (0: always)")
+      ->capture_default_str();
   app->add_option("--bvh-walk", c.bvh_walk,
                   "bvh: threaded (no stack; rays side by side walk together), stack (each ray its own path, with a stack) or wide (nodes of 4 children, rays side by side together, with a stack)")
       ->check(CLI::IsMember({"threaded", "stack", "wide"}))->capture_default_str();

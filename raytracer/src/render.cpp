@@ -265,8 +265,9 @@ std::string Renderer::describe_accelerator() const {
     std::snprintf(line, sizeof line, "grid %dx%dx%d (%.1f ms, %.2f MiB)", grid_->dims[0], grid_->dims[1], grid_->dims[2],
                   grid_->build_ms, grid_->bytes() / 1048576.0);
   } else if (bvh_) {
-    std::snprintf(line, sizeof line, "bvh depth %d, leaves of at most %d: %zu nodes (%.1f ms, %.2f MiB)", bvh_->depth,
-                  settings_.bvh.max_leaf, bvh_->nodes(), bvh_->build_ms, bvh_->bytes() / 1048576.0);
+    std::snprintf(line, sizeof line, "bvh depth %d, leaves of at most %d: %zu nodes (%.1f ms, %.2f MiB%s)", bvh_->depth,
+                  settings_.bvh.max_leaf, bvh_->nodes(), bvh_->build_ms, bvh_->bytes() / 1048576.0,
+                  bvh_->prefetch ? ", children asked ahead" : "");
   } else {
     std::snprintf(line, sizeof line, "%s depth %d, leaves of %d: %zu nodes (%.1f ms, %.2f MiB%s)", accel_name(settings_.accel),
                   octree_->limits().max_depth, octree_->limits().leaf_size, octree_->nodes().size(), octree_->build_ms(),

@@ -73,6 +73,7 @@ OctreeTables::OctreeTables(const Octree& tree, bool is_lazy)
 BvhTables::BvhTables(const Bvh& b)
     : walk(b.walk),
       depth(b.depth),
+      prefetch(b.prefetch),
       lo(at_least_one(b.lo.size() / 3)),
       hi(at_least_one(b.hi.size() / 3)),
       links(at_least_one(b.links.size() / 2)),

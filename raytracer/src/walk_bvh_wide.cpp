@@ -41,6 +41,14 @@ struct WideNode {
   Attrib3f hi(const Slot& slot) const {
     return join(join(pick(hi_x, slot), pick(hi_y, slot)), pick(hi_z, slot));
   }
+  // Asks for what a visit to each child will read: an inner child's
+  // boxes (its six rows span two cache lines: rows 0 and 4 lie in one
+  // each), children and, where the walk is ordered, its slots' order; a
+  // leaf's list.  A large tree misses the cache at every level, and a walk
+  // that waits for each node before it knows the next one pays a memory
+  // latency a step; asked here, the children come in while this node's
+  // boxes are tested, and the siblings pushed are there when popped.
+  void prefetch_children(const BvhTables& b, bool ordered) const;
   Attrib4f lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
   Attrib4i kids;
 };
@@ -54,6 +62,19 @@ WideNode::WideNode(const BvhTables& b, const Attrib1i& node) {
   hi_y = b.wide_box[row + 4];
   hi_z = b.wide_box[row + 5];
   kids = b.wide_children[node];
+}
+
+void WideNode::prefetch_children(const BvhTables& b, bool ordered) const {
+  for (int k = 0; k < kBvhWidth; ++k) {
+    // A leaf or an empty slot asks for the root's rows, a node for the
+    // list's first entry: both already near, and no test.
+    Attrib1i inner = max(kids(k), 0), listed = max(-kids(k) - 2, 0);
+    b.wide_box.prefetch(inner * 6);
+    b.wide_box.prefetch(inner * 6 + 4);
+    b.wide_children.prefetch(inner);
+    if (ordered) b.wide_order.prefetch(inner);
+    b.triangles.prefetch(listed);
+  }
 }
 
 }  // namespace
@@ -111,6 +132,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // is on top.
   auto visit_ordered = [&] {
     WideNode n(b, node);
+    if (b.prefetch) n.prefetch_children(b, true);
     Attrib1f clip_at = best * kBeyondBest;
     Attrib4i met;
     Attrib4f enters;
@@ -140,6 +162,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // distances are a chain the loop does not overlap.)
   auto visit_any = [&] {
     WideNode n(b, node);
+    if (b.prefetch) n.prefetch_children(b, false);
     Attrib1f clip_at = best * kBeyondBest;
     SH_FOR(Attrib1i k = 0, k < kBvhWidth, k += 1) {
       Attrib1f enter;

@@ -77,6 +77,32 @@ std::size_t gathers(const std::string& ir) {
 bool permutes_16_lanes() { return __builtin_cpu_supports("avx512f"); }
 std::size_t permutes(const std::string& ir) { return count(ir, "call <16 x float> @llvm.x86.avx512.permvar.sf.512("); }
 
+// A prefetch is one prefetch instruction where the lanes agree on the
+// coordinates (a walk's node) and one a lane where they may differ; scalar
+// code asks once; a table the kernel fetches (mpi's tables split across
+// ranks) is not in this process's memory, so nothing is asked.
+TEST(CpuBackend, PrefetchesOneALaneOrOneForLanesThatAgree) {
+  Table1D<Attrib1f> t(64);
+  t.assign(std::vector<float>(64, 1.0f));
+  Attrib1i shared = 3;
+  Program asks = SH_BEGIN_PROGRAM("asks") {
+    InputAttrib1i i;
+    OutputAttrib1f out;
+    t.prefetch(i + 1);
+    t.prefetch(shared * 2);
+    out = t[i];
+  } SH_END;
+  auto asked = [&](cpu::Width width, cpu::Tables tables) {
+    Options o;
+    o.set(cpu::Options{.width = width, .tables = tables});
+    return count(kernel_for(asks, backend("cpu", o))->listing(), "call void @llvm.prefetch");
+  };
+  EXPECT_EQ(asked(cpu::Width::Lanes8, cpu::Tables::Memory), 8u + 1u);
+  EXPECT_EQ(asked(cpu::Width::Lanes16, cpu::Tables::Memory), 16u + 1u);
+  EXPECT_EQ(asked(cpu::Width::Scalar, cpu::Tables::Memory), 2u);
+  EXPECT_EQ(asked(cpu::Width::Lanes16, cpu::Tables::Fetched), 0u);
+}
+
 // A stencil's reads at x + c along a row are one vector load each: in a
 // full batch whose taps all lie inside the table, with no test and no mask,
 // such batches one after another in a loop of their own, each fetching the

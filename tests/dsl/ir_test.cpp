@@ -93,6 +93,55 @@ TEST(Scatter, PrintedKeptByThePassesAndVerified) {
   EXPECT_THROW(ir::verify(reads_sums), Error);
 }
 
+// A prefetch, like a scatter, survives the passes though no output reads
+// it, and keeps what its coordinates are computed from; legalisation
+// clamps them to the table; the verifier refuses an accumulator or
+// coordinates of the wrong rank.
+TEST(Prefetch, PrintedKeptByThePassesClampedAndVerified) {
+  Table2D<Attrib1f> t(4, 3);
+  t.name("t");
+  Accumulator<Attrib1f> sums(2, "sums");
+  Program p = SH_BEGIN_PROGRAM("prefetches") {
+    Input<Attrib1i> i;
+    Output<Attrib1f> r;
+    Attrib1i unused = i * 7;
+    t.prefetch(join(i + 1, i * 2));
+    r = t[join(i, i)];
+    sums.add(0, r);
+  } SH_END;
+  ir::Program o = optimize(p.ir());
+  EXPECT_EQ(print(o),
+            "program prefetches\n"
+            "  input %0: i32\n"
+            "  output %1: f32\n"
+            "  table #0 t: f32 rank 2\n"
+            "  accumulator #1 sums: f32 rank 1\n"
+            "body\n"
+            "  %3 = mul %0, 2\n"
+            "  %5.x = add %0, 1\n"
+            "  %5.y = mov %3\n"
+            "  prefetch #0 %5\n"
+            "  %6.x = mov %0\n"
+            "  %6.y = mov %0\n"
+            "  %1 = fetch #0 %6\n"
+            "  scatter-add #1 0, %1\n");
+  std::string legal = print(passes::legalize(o));
+  EXPECT_NE(legal.find("  %8 = extent #0\n"
+                       "  %10 = sub %8, 1\n"
+                       "  %12 = max %5, 0\n"
+                       "  %13 = min %12, %10\n"
+                       "  prefetch #0 %13\n"),
+            std::string::npos)
+      << legal;
+
+  ir::Program from_sums = o;
+  std::get<ir::Prefetch>(from_sums.body[3].node).table = 1;
+  EXPECT_THROW(ir::verify(from_sums), Error);
+  ir::Program one_coordinate = o;
+  std::get<ir::Prefetch>(one_coordinate.body[3].node).index.swizzle = ir::Swizzle::identity(1);
+  EXPECT_THROW(ir::verify(one_coordinate), Error);
+}
+
 TEST(Verifier, AcceptsRecordedProgramsAndRejectsBrokenOnes) {
   Attrib1f scale = 1.0f;
   ir::Program p = saxpy_like(scale).ir();

@@ -135,6 +135,20 @@ TEST(RecordingErrors, ScatterOfTheWrongShape) {
   EXPECT_THROW(Accumulator<Attrib1f>(0), Error);
 }
 
+TEST(RecordingErrors, PrefetchOfTheWrongRankOrOutsideAProgram) {
+  Table2D<Attrib1f> t(2, 2);
+  t.name("grid");
+  expect_error(
+      [&] {
+        SH_BEGIN_PROGRAM("one_coordinate") {
+          InputAttrib1i i;
+          t.prefetch(i);
+        } SH_END;
+      },
+      {"one_coordinate", "table 'grid'", "2 dimensions", "prefetched with 1 coordinates"});
+  expect_error([&] { t.prefetch(ConstAttrib2i(0, 1)); }, {"prefetch", "only be asked inside a program"});
+}
+
 TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {
   EXPECT_THROW(SH_BEGIN_PROGRAM("bad") { SH_ELSE; } SH_END, Error);
   // Outside any recording again: a variable is a uniform.

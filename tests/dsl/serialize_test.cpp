@@ -30,6 +30,7 @@ Program sample() {
       n += 1;
     } SH_ENDFOR;
     acc = acc + c;
+    t.prefetch(join(n, n - 1));
     energy.add(n, c);
   } SH_END;
 }

@@ -24,7 +24,8 @@ TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
   for (float& l : limits) l = u(rng);
   for (rt_test::Walked accel : {rt_test::Walked(Accel::Grid), rt_test::Walked(Accel::Octree), rt_test::Walked(Accel::Bvh),
                                 rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Stack),
-                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Wide)}) {
+                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Wide),
+                                rt_test::Walked(Accel::Bvh, sh::rt::BvhWalk::Wide, true)}) {
     sh::rt::Renderer r(scene, accel.settings());
     sh::BackendChoice on = sh::backend(GetParam());
     std::vector<float> any = r.occluded(rays.origins, rays.directions, limits, on, true),

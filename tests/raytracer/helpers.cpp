@@ -50,20 +50,22 @@ Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
 
 std::string Walked::name() const {
   std::string n = sh::rt::accel_name(accel);
-  return accel == sh::rt::Accel::Bvh && walk != sh::rt::BvhWalk::Threaded ? n + "-" + sh::rt::bvh_walk_name(walk) : n;
+  if (accel != sh::rt::Accel::Bvh || walk == sh::rt::BvhWalk::Threaded) return n;
+  return n + "-" + sh::rt::bvh_walk_name(walk) + (prefetch ? "-prefetch" : "");
 }
 
 sh::rt::RenderSettings Walked::settings() const {
   sh::rt::RenderSettings s;
   s.accel = accel;
   s.bvh.walk = walk;
+  if (prefetch) s.bvh.prefetch_above = 0;
   return s;
 }
 
 std::vector<Walked> every_accelerator() {
   using sh::rt::Accel;
   return {Accel::Grid, Accel::Octree, Accel::LazyOctree, Accel::Bvh, {Accel::Bvh, sh::rt::BvhWalk::Stack},
-          {Accel::Bvh, sh::rt::BvhWalk::Wide}};
+          {Accel::Bvh, sh::rt::BvhWalk::Wide}, {Accel::Bvh, sh::rt::BvhWalk::Wide, true}};
 }
 
 Hits trace(const sh::rt::Scene& scene, const Rays& rays, const std::string& backend, Walked accel) {

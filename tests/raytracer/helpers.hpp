@@ -48,11 +48,15 @@ std::vector<std::string> in_process_backends();
 Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);
 
 // An accelerator as a test walks it: the BVH with either of its walks.
+// prefetch: the wide walk asks for nodes ahead whatever the tree's size
+// (the suite's scenes are all below kBvhPrefetchBytes).
 struct Walked {
-  Walked(sh::rt::Accel a, sh::rt::BvhWalk w = sh::rt::BvhWalk::Threaded) : accel(a), walk(w) {}
+  Walked(sh::rt::Accel a, sh::rt::BvhWalk w = sh::rt::BvhWalk::Threaded, bool prefetch = false)
+      : accel(a), walk(w), prefetch(prefetch) {}
   sh::rt::Accel accel;
   sh::rt::BvhWalk walk;
-  std::string name() const;  // grid, octree, lazy-octree, bvh, bvh-stack
+  bool prefetch;
+  std::string name() const;  // grid, octree, lazy-octree, bvh, bvh-stack, bvh-wide, bvh-wide-prefetch
   sh::rt::RenderSettings settings() const;
 };
 // Every accelerator and walk the suite checks against each other.

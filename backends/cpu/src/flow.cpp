@@ -22,6 +22,8 @@ void Lowering::block(const ir::Block& body) {
       loop(*l, s, spmd() && facts_.divergent.at(&s));
     } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
       scatter(*sc);
+    } else if (auto* pf = std::get_if<ir::Prefetch>(&s.node)) {
+      prefetch(*pf);
     } else {
       leave(std::holds_alternative<ir::Break>(s.node));
       return;

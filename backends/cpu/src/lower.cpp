@@ -224,11 +224,7 @@ void Lowering::prefetch_next_rows() {
     if (!tap_spans_[t] || table.rank != 2) continue;
     Value* x = b_.CreateAdd(batch_place_[0], b_.getInt64(tap_spans_[t]->low[0]));
     Value* y = b_.CreateAdd(batch_place_[1], b_.getInt64(tap_spans_[t]->high[1] + 1));
-    Value* element = b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64)));
-    Value* at = b_.CreateGEP(storage_scalar(table.element.scalar), table_base_[t],
-                             b_.CreateMul(element, b_.getInt64(table.element.width)));
-    b_.CreateIntrinsic(llvm::Intrinsic::prefetch, {at->getType()},
-                       {at, b_.getInt32(0), b_.getInt32(3), b_.getInt32(1)});
+    prefetch_element(static_cast<int>(t), b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64))));
   }
 }
 

@@ -130,6 +130,8 @@ class Lowering {
   void fetch_round_loop(int table, Value* flat, Value* running, Value* out);
   void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);
   void scatter(const ir::Scatter& sc);
+  void prefetch(const ir::Prefetch& pf);
+  void prefetch_element(int table, Value* element);
   // ---- local arrays (arrays.cpp) --------------------------------------------
   llvm::Type* array_type(ir::VarId v) const;
   Value* lane_columns(ir::VarId array, int component, Value* index);

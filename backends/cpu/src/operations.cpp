@@ -543,6 +543,26 @@ void Lowering::scatter(const ir::Scatter& sc) {
   });
 }
 
+// A prefetch instruction never faults, so a lane that does not run asks
+// for its (clamped, legal IR) element too: cheaper than a branch a lane.
+// A fetched table is not in this process's memory: nothing to bring.
+void Lowering::prefetch(const ir::Prefetch& pf) {
+  if (fetches_tables(o_)) return;
+  bool per_lane = varying(pf.index.var);
+  Value* flat = flat_index(pf.table, pf.index, per_lane);
+  if (!per_lane) return prefetch_element(pf.table, flat);
+  for (int lane = 0; lane < width_; ++lane)
+    prefetch_element(pf.table, b_.CreateZExt(b_.CreateExtractElement(flat, static_cast<std::uint64_t>(lane)), b_.getInt64Ty()));
+}
+
+// Asks for the cache line of a table's element (an i64 flat index).
+void Lowering::prefetch_element(int table, Value* element) {
+  const ir::TableDecl& t = p_.tables[table];
+  Value* at = b_.CreateGEP(storage_scalar(t.element.scalar), table_base_[table],
+                           b_.CreateMul(element, b_.getInt64(t.element.width)));
+  b_.CreateIntrinsic(llvm::Intrinsic::prefetch, {at->getType()}, {at, b_.getInt32(0), b_.getInt32(3), b_.getInt32(1)});
+}
+
 // Gathers cost a load per lane.  Where every running lane reads the same
 // element (coherent rays in one grid cell, say) one load serves them all:
 // checked at run time, per table read.  With no lane running (statements

@@ -147,6 +147,7 @@ class Generator {
   // The exec mask as a select between values of scalar `s` takes it.
   std::string exec_for(ir::Scalar s) const { return std::string(mask_type(s)) == "int" ? "exec" : convert("long", "exec"); }
   void scatter(const ir::Scatter& sc, int depth);
+  void prefetch(const ir::Prefetch& pf, int depth);
 
   // A masked loop's active mask, or how a branching loop is left.
 

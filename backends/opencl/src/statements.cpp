@@ -18,6 +18,8 @@ void Generator::block(const ir::Block& b, int depth) {
       divergent(s) ? masked_loop(*l, s, depth) : loop(*l, s, depth);
     } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
       scatter(*sc, depth);
+    } else if (auto* pf = std::get_if<ir::Prefetch>(&s.node)) {
+      prefetch(*pf, depth);
     } else {
       leave(std::holds_alternative<ir::Break>(s.node), depth);
       return;

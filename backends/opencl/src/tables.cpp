@@ -1,5 +1,5 @@
 // Table reads (one load for lanes that agree, a vector load for a run, a
-// gather otherwise), local arrays and atomic scatters.
+// gather otherwise), local arrays, atomic scatters and prefetches.
 #include "generator.hpp"
 
 namespace sh::opencl {
@@ -137,6 +137,21 @@ void Generator::array_fill(const ir::Assign& a, int depth) {
     if (spmd() && masked()) value = "select(" + place + ", " + value + ", " + exec_for(scalar_of(array)) + ")";
     line(depth, "for (int k = 0; k < " + n + "; ++k) " + place + " = " + value + ";");
   }
+}
+
+// OpenCL's own prefetch.  In the SPMD form every lane asks where lanes
+// may differ, those not running too (legal IR's coordinates lie inside the
+// table in every lane, as table_read says), and lane 0 alone where they
+// agree.
+void Generator::prefetch(const ir::Prefetch& pf, int depth) {
+  std::string table = "table" + std::to_string(pf.table), count = std::to_string(p_.tables[pf.table].element.width);
+  std::string at = flat_index(pf.table, pf.index);
+  if (!spmd()) return line(depth, "prefetch(" + table + " + " + at + ", " + count + ");");
+  line(depth, "{");
+  line(depth + 1, "const " + vec(index_type_) + " at = " + at + ";");
+  int asking = facts_.varying[pf.index.var] ? lanes_ : 1;
+  for (int k = 0; k < asking; ++k) line(depth + 1, "prefetch(" + table + " + at" + lane(k) + ", " + count + ");");
+  line(depth, "}");
 }
 
 // OpenCL 1.2 adds ints atomically; floats by compare-and-swap on their

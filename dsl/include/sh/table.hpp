@@ -78,6 +78,17 @@ class Table {
   E operator()(const I& coords) const {
     return read(ir::Op::Sample, coords);
   }
+  // Asks for element `coords` (integer coordinates, clamped to the edge) to
+  // be brought near the processor ahead of a read of it that would
+  // otherwise wait on memory: a tree walk's children, say, prefetched when
+  // their parent is read.  Changes no result; a backend may ignore it.
+  template <class I>
+  void prefetch(const I& coords) const {
+    if constexpr (Number<I>)
+      detail::table_prefetch(storage_, detail::constant(ir::Scalar::I32, static_cast<double>(coords)));
+    else
+      detail::table_prefetch(storage_, coords.value());
+  }
 
   // From now on the table's elements are the first size() elements of
   // `memory` (Sh's texture.memory(m)), read in place where the backend can.

@@ -157,6 +157,10 @@ class RejoinLiveness {
       use(live, sc->value);
       return live;
     }
+    if (auto* pf = std::get_if<ir::Prefetch>(&s.node)) {
+      use(live, pf->index);
+      return live;
+    }
     return std::holds_alternative<ir::Break>(s.node) ? loops_.back().exit : loops_.back().update;
   }
 

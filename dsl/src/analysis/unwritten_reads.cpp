@@ -57,6 +57,7 @@ class UnwrittenReads {
       read(sc->index, written);
       return read(sc->value, written);
     }
+    if (const auto* pf = std::get_if<ir::Prefetch>(&s.node)) return read(pf->index, written);
     if (const auto* i = std::get_if<ir::If>(&s.node)) {
       read(i->cond, written);
       Written then_side = written, else_side = written;

@@ -109,6 +109,9 @@ class Glue {
         sc->index.var = vars[sc->index.var];
         sc->value.var = vars[sc->value.var];
         sc->table = tables[sc->table];
+      } else if (auto* pf = std::get_if<ir::Prefetch>(&s.node)) {
+        pf->index.var = vars[pf->index.var];
+        pf->table = tables[pf->table];
       }
     }
   }

@@ -28,6 +28,7 @@ class Recorder {
   int table_index(const std::shared_ptr<TableStorage>& table);
   void emit(ir::Assign a);
   void emit_scatter(ir::Scatter s) { current_->push_back(ir::Stmt{s}); }
+  void emit_prefetch(ir::Prefetch p) { current_->push_back(ir::Stmt{p}); }
   // Emits op(args) into a new temporary and returns the variable.
   Value emit_result(ir::Type type, ir::Op op, std::vector<ir::Operand> args, int table = -1);
   const ir::Program& program() const { return prog_; }

@@ -178,6 +178,15 @@ Value table_read(const std::shared_ptr<TableStorage>& table, ir::Op op, const Va
   return r->emit_result(table->decl.element, op, {r->read(c)}, r->table_index(table));
 }
 
+void table_prefetch(const std::shared_ptr<TableStorage>& table, const Value& coords) {
+  Recorder* r = current_recorder();
+  if (!r) host_fail("a prefetch brings a table's element near a program's reads, so it can only be asked inside a program");
+  if (coords.width() != table->decl.rank)
+    r->fail("table '" + table->decl.name + "' has " + std::to_string(table->decl.rank) + " dimensions but is prefetched with " +
+            std::to_string(coords.width()) + " coordinates");
+  r->emit_prefetch(ir::Prefetch{r->table_index(table), r->read(as_scalar(coords, ir::Scalar::I32))});
+}
+
 Value position(int dimensions) {
   Recorder* r = current_recorder();
   if (!r) host_fail("position() names an element of a run, so it can only be read inside a program");

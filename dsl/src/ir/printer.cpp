@@ -48,6 +48,7 @@ class Printer {
     if (auto* l = std::get_if<Loop>(&s.node)) return loop_head(*l);
     if (auto* sc = std::get_if<Scatter>(&s.node))
       return "scatter-add #" + std::to_string(sc->table) + " " + operand(sc->index) + ", " + operand(sc->value);
+    if (auto* pf = std::get_if<Prefetch>(&s.node)) return "prefetch #" + std::to_string(pf->table) + " " + operand(pf->index);
     if (std::holds_alternative<Break>(s.node)) return "break";
     return "continue";
   }

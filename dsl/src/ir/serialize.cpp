@@ -8,8 +8,8 @@
 namespace sh::ir {
 namespace {
 
-enum class Tag : std::uint8_t { Assign, If, Loop, Break, Continue, Scatter };
-constexpr int kTagCount = 6;
+enum class Tag : std::uint8_t { Assign, If, Loop, Break, Continue, Scatter, Prefetch };
+constexpr int kTagCount = 7;
 
 constexpr char kMagic[] = "SHIR";
 // Bumped whenever the layout or the meaning of a number in it (the op
@@ -92,6 +92,10 @@ class Writer {
       i32(sc->table);
       operand(sc->index);
       operand(sc->value);
+    } else if (auto* pf = std::get_if<Prefetch>(&s.node)) {
+      tag(Tag::Prefetch);
+      i32(pf->table);
+      operand(pf->index);
     } else {
       tag(std::holds_alternative<Break>(s.node) ? Tag::Break : Tag::Continue);
     }
@@ -296,6 +300,12 @@ class ProgramReader {
         sc.index = operand("scatter index");
         sc.value = operand("scatter value");
         return Stmt{sc};
+      }
+      case Tag::Prefetch: {
+        Prefetch pf;
+        pf.table = r_.i32_in(0, static_cast<int>(p_.tables.size()), "prefetch table");
+        pf.index = operand("prefetch index");
+        return Stmt{pf};
       }
     }
     r_.fail("unknown statement");  // unreachable: the tag was range-checked

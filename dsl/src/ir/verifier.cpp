@@ -156,6 +156,15 @@ class Verifier {
       fail("scatter value differs from the accumulator's element type", &s);
   }
 
+  void prefetch(const Prefetch& pf, const Stmt& s) {
+    if (pf.table < 0 || pf.table >= static_cast<int>(p_.tables.size())) fail("prefetches from an undeclared table", &s);
+    const TableDecl& t = p_.tables[pf.table];
+    if (t.accumulator) fail("prefetches from an accumulator (the program never reads it)", &s);
+    operand(pf.index, s);
+    if (pf.index.width() != t.rank || p_.type_of(pf.index.var).scalar != Scalar::I32)
+      fail("prefetch coordinates must be i32, one per dimension", &s);
+  }
+
   void block(const Block& b, int loop_depth) {
     for (const Stmt& s : b) {
       if (auto* a = std::get_if<Assign>(&s.node)) {
@@ -171,6 +180,8 @@ class Verifier {
         block(l->update, loop_depth);
       } else if (auto* sc = std::get_if<Scatter>(&s.node)) {
         scatter(*sc, s);
+      } else if (auto* pf = std::get_if<Prefetch>(&s.node)) {
+        prefetch(*pf, s);
       } else if (loop_depth == 0) {
         fail("break or continue outside a loop body", &s);
       }

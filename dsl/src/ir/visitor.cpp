@@ -47,6 +47,7 @@ void Mutator::mutate(Loop s, Block& out) {
 void Mutator::mutate(Break s, Block& out) { out.push_back(Stmt{s}); }
 void Mutator::mutate(Continue s, Block& out) { out.push_back(Stmt{s}); }
 void Mutator::mutate(Scatter s, Block& out) { out.push_back(Stmt{s}); }
+void Mutator::mutate(Prefetch s, Block& out) { out.push_back(Stmt{s}); }
 
 bool uses(const Program& p, Op op) {
   struct Finder : Visitor {

@@ -1,7 +1,7 @@
-// Dead-code elimination: keeps what can reach an output or an accumulator.
-// A variable is live if an output is it or a live assignment, a scatter or
-// a kept control construct reads it; a loop is kept if it holds a live
-// assignment or a scatter, and with it the conditions of the branches that
+// Dead-code elimination: keeps what can reach an output, an accumulator or
+// a prefetch.  A variable is live if an output is it or a live assignment,
+// a scatter, a prefetch or a kept control construct reads it; a loop is
+// kept if it holds a live assignment, a scatter or a prefetch, and with it the conditions of the branches that
 // leave or restart it.  Everything else,
 // including branches and loops left empty, goes.
 #include "sh/ir/visitor.hpp"
@@ -28,6 +28,7 @@ class Liveness {
       bool found = false;
       void visit(const ir::Assign& a) override { found = found || l->live(a.dest); }
       void visit(const ir::Scatter&) override { found = true; }
+      void visit(const ir::Prefetch&) override { found = true; }
     } f;
     f.l = this;
     f.visit(b);
@@ -56,6 +57,8 @@ class Liveness {
       } else if (auto* sc = std::get_if<ir::Scatter>(&s->node)) {
         changed |= mark(sc->index.var);
         changed |= mark(sc->value.var);
+      } else if (auto* pf = std::get_if<ir::Prefetch>(&s->node)) {
+        changed |= mark(pf->index.var);
       } else if (auto* f = std::get_if<ir::If>(&s->node)) {
         changed |= grow(f->else_body, in_live_loop);
         changed |= grow(f->then_body, in_live_loop);

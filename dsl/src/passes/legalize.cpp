@@ -7,7 +7,8 @@
 //     by the extent, floored and converted (NaN gives 0, out of range
 //     saturates) first.  Both become `load`, whose coordinates are in
 //     range; it keeps the coordinates as asked so that a checked run can
-//     say which read was clamped.  Scatter indices are always clamped.
+//     say which read was clamped.  Scatter and prefetch indices are always
+//     clamped.
 //   - Integer division and remainder: x / 0 and x % 0 give 0, INT_MIN / -1
 //     gives INT_MIN and INT_MIN % -1 gives 0.  The divisor a backend sees is
 //     never 0 or -1, so its native division cannot trap.
@@ -39,6 +40,12 @@ class Legalizer : public ir::Mutator {
   }
 
   void mutate(ir::Scatter s, ir::Block& out) override {
+    s.index = clamped(s.table, s.index, out);
+    out.push_back(ir::Stmt{s});
+  }
+
+  // Whatever the table's edge: a prefetch only names the memory to bring.
+  void mutate(ir::Prefetch s, ir::Block& out) override {
     s.index = clamped(s.table, s.index, out);
     out.push_back(ir::Stmt{s});
   }

@@ -42,6 +42,8 @@ void for_each_own_operand(S& s, F f) {
   } else if (auto* sc = std::get_if<ir::Scatter>(&s.node)) {
     f(sc->index);
     f(sc->value);
+  } else if (auto* pf = std::get_if<ir::Prefetch>(&s.node)) {
+    f(pf->index);
   }
 }
 

@@ -84,4 +84,5 @@ namespace sh::detail {
 struct TableStorage;
 // Reads `table` at `coords` (Fetch: int32 element indices; Sample: [0, 1]).
 Value table_read(const std::shared_ptr<TableStorage>& table, ir::Op op, const Value& coords);
+void table_prefetch(const std::shared_ptr<TableStorage>& table, const Value& coords);
 }  // namespace sh::detail

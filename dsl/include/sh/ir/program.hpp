@@ -109,8 +109,19 @@ struct Scatter {
   Operand value;
 };
 
+// Asks for element index of table `table` (coordinates, one per
+// dimension, clamped to the edge like a read) to be brought near the
+// processor, ahead of the read that will want it: a tree walk's next
+// nodes, whose loads would otherwise wait on memory one after another.
+// Only speed depends on it: a backend may do nothing, and no result, no
+// fault and no output changes with it.
+struct Prefetch {
+  int table = -1;
+  Operand index;
+};
+
 struct Stmt {
-  std::variant<Assign, If, Loop, Break, Continue, Scatter> node;
+  std::variant<Assign, If, Loop, Break, Continue, Scatter, Prefetch> node;
 };
 
 struct Program {

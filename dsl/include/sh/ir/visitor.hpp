@@ -18,6 +18,7 @@ class Visitor {
   virtual void visit(const Break&) {}
   virtual void visit(const Continue&) {}
   virtual void visit(const Scatter&) {}
+  virtual void visit(const Prefetch&) {}
 };
 
 class Mutator {
@@ -33,6 +34,7 @@ class Mutator {
   virtual void mutate(Break s, Block& out);
   virtual void mutate(Continue s, Block& out);
   virtual void mutate(Scatter s, Block& out);
+  virtual void mutate(Prefetch s, Block& out);
 };
 
 // Whether some assignment in the program performs `op`.

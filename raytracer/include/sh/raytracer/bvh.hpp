@@ -57,9 +57,18 @@ enum class BvhWalk { Threaded, Stack, Wide };
 BvhWalk parse_bvh_walk(const std::string& name);  // threaded, stack or wide; throws sh::Error
 const char* bvh_walk_name(BvhWalk w);
 
+// A tree larger than this misses the cache at every level of a walk, so
+// the wide walk asks for the nodes it will visit ahead of reading them;
+// below it the asks only cost instructions.  Measured on camera rays
+// (BENCHMARKS.md, issue 24): 8-12 % slower at 0.15 MB (spheres, cornell),
+// the same at 3.2 and 3.9 MB (procedural's 90 k triangles, the engine
+// model), 10 % faster at 11 MB and 12-18 % at 35 MB (300 k and 1 M).
+inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{4} << 20;
+
 struct BvhSettings {
   int max_leaf = 8;  // 1 .. kBvhMaxLeaf triangles in a leaf
   BvhWalk walk = BvhWalk::Wide;  // the fastest on the cpu backend's lanes (BENCHMARKS.md)
+  std::size_t prefetch_above = kBvhPrefetchBytes;  // Bvh::prefetch where bytes() is larger
 };
 inline constexpr int kBvhMaxLeaf = 64;
 inline constexpr int kBvhBins = 16;
@@ -78,6 +87,7 @@ struct Bvh {
   std::vector<std::int32_t> wide_children; // wide: kBvhWidth per node
   std::vector<std::int32_t> wide_order;    // wide: per node, axis a's slots in bits 8a.., 2 bits each, lowest first
   std::int32_t root = 0;                   // stack, wide: the root's reference (a leaf where the tree is one)
+  bool prefetch = false;                   // wide: a visit asks for its children's nodes and lists ahead
   std::vector<std::int32_t> triangles;     // the leaves' lists, each ended by -1
   int depth = 0;                           // of the deepest leaf; the root is at 0
   std::size_t node_count = 0;              // inner nodes and leaves

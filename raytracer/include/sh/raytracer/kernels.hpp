@@ -54,6 +54,7 @@ struct BvhTables {
   explicit BvhTables(const Bvh& bvh);
   BvhWalk walk;
   int depth;
+  bool prefetch;  // Bvh::prefetch
   Table1D<Attrib3f> lo, hi;
   Table1D<Attrib2i> links;
   Attrib1i nodes;
