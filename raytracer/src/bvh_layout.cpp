@@ -112,6 +112,7 @@ class Widener {
     }
     auto wide = static_cast<std::int32_t>(bvh_.wide_children.size() / kBvhWidth);
     bvh_.wide_children.resize(bvh_.wide_children.size() + kBvhWidth, -1);
+    bvh_.wide_first.resize(bvh_.wide_first.size() + kBvhWidth, 0);
     bvh_.wide_box.resize(bvh_.wide_box.size() + 6 * kBvhWidth);
     bvh_.wide_order.push_back(order(kids));
     for (std::size_t slot = 0; slot < static_cast<std::size_t>(kBvhWidth); ++slot) {
@@ -125,6 +126,7 @@ class Widener {
     for (std::size_t slot = 0; slot < kids.size(); ++slot) {
       std::int32_t r = ref(kids[slot]);  // numbers the subtree: wide_children may grow
       bvh_.wide_children[static_cast<std::size_t>(wide) * kBvhWidth + slot] = r;
+      if (r <= -2) bvh_.wide_first[static_cast<std::size_t>(wide) * kBvhWidth + slot] = bvh_.triangles[static_cast<std::size_t>(-r - 2)];
     }
     return wide;
   }

@@ -48,12 +48,13 @@ struct WideNode {
   // that waits for each node before it knows the next one pays a memory
   // latency a step; asked here, the children come in while this node's
   // boxes are tested, and the siblings pushed are there when popped.
-  void prefetch_children(const BvhTables& b, bool ordered) const;
+  void prefetch_children(const SceneTables& s, bool ordered) const;
   Attrib4f lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
   Attrib4i kids;
+  Attrib1i node;
 };
 
-WideNode::WideNode(const BvhTables& b, const Attrib1i& node) {
+WideNode::WideNode(const BvhTables& b, const Attrib1i& at) : node(at) {
   Attrib1i row = node * 6;
   lo_x = b.wide_box[row];
   lo_y = b.wide_box[row + 1];
@@ -61,19 +62,24 @@ WideNode::WideNode(const BvhTables& b, const Attrib1i& node) {
   hi_x = b.wide_box[row + 3];
   hi_y = b.wide_box[row + 4];
   hi_z = b.wide_box[row + 5];
-  kids = b.wide_children[node];
+  kids = b.wide_children[node * 2];
 }
 
-void WideNode::prefetch_children(const BvhTables& b, bool ordered) const {
+void WideNode::prefetch_children(const SceneTables& s, bool ordered) const {
+  const BvhTables& b = *s.bvh;
+  Attrib4i first = b.wide_children[node * 2 + 1];
   for (int k = 0; k < kBvhWidth; ++k) {
     // A leaf or an empty slot asks for the root's rows, a node for the
     // list's first entry: both already near, and no test.
     Attrib1i inner = max(kids(k), 0), listed = max(-kids(k) - 2, 0);
     b.wide_box.prefetch(inner * 6);
     b.wide_box.prefetch(inner * 6 + 4);
-    b.wide_children.prefetch(inner);
+    b.wide_children.prefetch(inner * 2);
     if (ordered) b.wide_order.prefetch(inner);
     b.triangles.prefetch(listed);
+    s.v0.prefetch(first(k));
+    s.v1.prefetch(first(k));
+    s.v2.prefetch(first(k));
   }
 }
 
@@ -132,7 +138,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // is on top.
   auto visit_ordered = [&] {
     WideNode n(b, node);
-    if (b.prefetch) n.prefetch_children(b, true);
+    if (b.prefetch) n.prefetch_children(s, true);
     Attrib1f clip_at = best * kBeyondBest;
     Attrib4i met;
     Attrib4f enters;
@@ -162,7 +168,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // distances are a chain the loop does not overlap.)
   auto visit_any = [&] {
     WideNode n(b, node);
-    if (b.prefetch) n.prefetch_children(b, false);
+    if (b.prefetch) n.prefetch_children(s, false);
     Attrib1f clip_at = best * kBeyondBest;
     SH_FOR(Attrib1i k = 0, k < kBvhWidth, k += 1) {
       Attrib1f enter;

@@ -85,6 +85,7 @@ struct Bvh {
   std::vector<std::int32_t> children;      // stack: 2 per inner node; see above
   std::vector<float> wide_box;             // wide: 6 rows of kBvhWidth per node; see above
   std::vector<std::int32_t> wide_children; // wide: kBvhWidth per node
+  std::vector<std::int32_t> wide_first;    // wide: kBvhWidth per node, a leaf child's first triangle (else 0)
   std::vector<std::int32_t> wide_order;    // wide: per node, axis a's slots in bits 8a.., 2 bits each, lowest first
   std::int32_t root = 0;                   // stack, wide: the root's reference (a leaf where the tree is one)
   bool prefetch = false;                   // wide: a visit asks for its children's nodes and lists ahead
@@ -96,7 +97,8 @@ struct Bvh {
   std::size_t nodes() const { return node_count; }
   std::size_t bytes() const {
     return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size() + wide_box.size()) * sizeof(float) +
-           (links.size() + children.size() + wide_children.size() + wide_order.size() + triangles.size()) *
+           (links.size() + children.size() + wide_children.size() + wide_first.size() + wide_order.size() +
+            triangles.size()) *
                sizeof(std::int32_t);
   }
   // hit and miss of `node` in `order` (threaded).

@@ -49,7 +49,9 @@ struct GridTables {
 // The BVH's tables (bvh.hpp), its walk's layout only.  Threaded: links
 // holds the six orders one after the other, `nodes` entries each.  Stack:
 // child k of inner node i at 2 i + k.  Wide: node i's six rows of child
-// box coordinates at 6 i ...  6 i + 5.
+// box coordinates at 6 i ...  6 i + 5; its children at row 2 i of
+// wide_children and each leaf child's first triangle at 2 i + 1, in one
+// cache line.
 struct BvhTables {
   explicit BvhTables(const Bvh& bvh);
   BvhWalk walk;
