@@ -299,6 +299,17 @@ class Generator {
     b.push_back(Stmt{Scatter{t, operand(Scalar::I32, d.rank, false, false), operand(d.element.scalar, d.element.width, false, false)}});
   }
 
+  // Coordinates of any value, inexact or far outside the table: a
+  // prefetch clamps them and changes no result.
+  void prefetch(Block& b) {
+    std::vector<int> readable;
+    for (std::size_t t = 0; t < p().tables.size(); ++t)
+      if (!p().tables[t].accumulator) readable.push_back(static_cast<int>(t));
+    if (readable.empty()) return assign(b);
+    int t = rng_.pick(readable);
+    b.push_back(Stmt{Prefetch{t, operand(Scalar::I32, p().tables[t].rank, true, false)}});
+  }
+
   Operand condition() { return operand(rng_.pick(kScalars), 1, false, false); }
 
   void if_statement(Block& b, Context ctx) {
@@ -384,6 +395,7 @@ class Generator {
     if (r < 17 && ctx.depth < 3 && ctx.loops < 2) return loop(b, ctx);
     if (r < 21 && ctx.jumps) return jump(b, ctx);
     if (r < 25) return scatter(b);
+    if (r < 28) return prefetch(b);
     assign(b);
   }
 

@@ -87,6 +87,7 @@ class Census : public Visitor {
   void visit(const Break&) override { forms.insert("break"); }
   void visit(const Continue&) override { forms.insert("continue"); }
   void visit(const Scatter&) override { forms.insert("scatter"); }
+  void visit(const Prefetch&) override { forms.insert("prefetch"); }
 
  private:
   std::map<VarId, int> writes_;
@@ -137,7 +138,7 @@ TEST(FuzzGenerator, CoversEveryOperationScalarWidthAndStatementForm) {
   }
   for (Op op : generated_ops()) EXPECT_TRUE(ops.count(op)) << op_name(op) << " never generated";
   for (const char* form : {"if", "if-else", "while", "for", "do-until", "do-until body reading what only its test writes",
-                           "break", "continue", "scatter"})
+                           "break", "continue", "scatter", "prefetch"})
     EXPECT_TRUE(forms.count(form)) << form << " never generated";
   EXPECT_EQ(types.size(), 16u) << "every scalar at every width";
   EXPECT_EQ(ranks, (std::set<int>{1, 2, 3}));

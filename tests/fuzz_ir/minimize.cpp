@@ -116,6 +116,7 @@ class Mentions : public Visitor {
     ++count_[s.index.var];
     ++count_[s.value.var];
   }
+  void visit(const Prefetch& s) override { ++count_[s.index.var]; }
 
  private:
   std::vector<int>& count_;

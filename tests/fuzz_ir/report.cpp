@@ -49,6 +49,7 @@ class Used : public Visitor {
   void visit(const Break&) override { names.insert("break"); }
   void visit(const Continue&) override { names.insert("continue"); }
   void visit(const Scatter&) override { names.insert("scatter"); }
+  void visit(const Prefetch&) override { names.insert("prefetch"); }
 };
 
 }  // namespace

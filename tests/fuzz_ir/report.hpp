@@ -14,7 +14,7 @@ std::string describe_data(const Case& c, std::size_t element);
 std::string describe(const Mismatch& m, sh::ir::Scalar s, const std::string& mode);
 
 // The operations of the body after the prologue (and "if", "loop",
-// "break", "continue", "scatter" where they occur), sorted, joined by '+':
+// "break", "continue", "scatter", "prefetch" where they occur), sorted, joined by '+':
 // what a minimised disagreement is counted under.
 std::string operations_used(const Case& c);
 
