@@ -146,6 +146,25 @@ TEST(Passes, DeadCodeRemovesUnusedWorkAndEmptyLoops) {
   EXPECT_EQ(body_of(checked(optimize(p.ir()))), "  %1 = add %0, 1\n");
 }
 
+// A prefetch is kept with what its coordinates need, but a loop that
+// would only prefetch goes, with what it alone needed: it would cost its
+// iterations (or its runaway cap) for no result.
+TEST(Passes, DeadCodeKeepsPrefetchesButNotALoopThatOnlyPrefetches) {
+  Table1D<Attrib1f> t(8);
+  Program p = SH_BEGIN_PROGRAM("asks") {
+    Input<Attrib1i> x;
+    Output<Attrib1f> r;
+    t.prefetch(x * 3);
+    Attrib1i i = x * 5;
+    SH_WHILE(i < 100) { t.prefetch(i); } SH_ENDWHILE;
+    r = t[x];
+  } SH_END;
+  EXPECT_EQ(body_of(checked(optimize(p.ir()))),
+            "  %3 = mul %0, 3\n"
+            "  prefetch #0 %3\n"
+            "  %1 = fetch #0 %0\n");
+}
+
 TEST(Passes, AlgebraSeamIsTransparentToDeadCode) {
   // q computes two things; p reads only the first: the second disappears.
   Program q = SH_BEGIN_PROGRAM("q") {

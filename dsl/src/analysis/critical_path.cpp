@@ -23,6 +23,7 @@ std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
   std::vector<Node> nodes;
   std::map<std::pair<ir::VarId, int>, int> producer;  // (variable, component) -> node
   for (const ir::Stmt& s : p.body) {
+    if (std::holds_alternative<ir::Prefetch>(s.node)) continue;  // nothing waits on it
     auto* a = std::get_if<ir::Assign>(&s.node);
     if (!a) throw Error("program '" + p.name + "': the critical path is computed for straight-line assignments only (no branch, loop or scatter)");
     auto u = unit_of(a->op);

@@ -1,9 +1,11 @@
 // Dead-code elimination: keeps what can reach an output, an accumulator or
 // a prefetch.  A variable is live if an output is it or a live assignment,
 // a scatter, a prefetch or a kept control construct reads it; a loop is
-// kept if it holds a live assignment, a scatter or a prefetch, and with it the conditions of the branches that
-// leave or restart it.  Everything else,
-// including branches and loops left empty, goes.
+// kept if it holds a live assignment or a scatter, and with it the
+// conditions of the branches that leave or restart it.  A loop that would
+// only prefetch goes with its prefetches: kept, it would cost its
+// iterations (a runaway one its cap) for what changes no result.
+// Everything else, including branches and loops left empty, goes.
 #include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
 #include "uses.hpp"
@@ -20,22 +22,25 @@ class Liveness {
   }
   bool live(ir::VarId v) const { return live_[static_cast<std::size_t>(v)]; }
 
-  // Does the block assign a live variable or scatter (at any depth)?
-  bool has_live_assign(const ir::Block& b) const {
+  // Does the block assign a live variable or scatter (at any depth), or
+  // (with `prefetches`) prefetch?
+  bool has_live_assign(const ir::Block& b, bool prefetches = true) const {
     struct Finder : ir::Visitor {
       using ir::Visitor::visit;
       const Liveness* l;
+      bool prefetches;
       bool found = false;
       void visit(const ir::Assign& a) override { found = found || l->live(a.dest); }
       void visit(const ir::Scatter&) override { found = true; }
-      void visit(const ir::Prefetch&) override { found = true; }
+      void visit(const ir::Prefetch&) override { found = found || prefetches; }
     } f;
     f.l = this;
+    f.prefetches = prefetches;
     f.visit(b);
     return f.found;
   }
   bool has_live_assign(const ir::Loop& l) const {
-    return has_live_assign(l.header) || has_live_assign(l.body) || has_live_assign(l.update);
+    return has_live_assign(l.header, false) || has_live_assign(l.body, false) || has_live_assign(l.update, false);
   }
 
  private:
@@ -47,8 +52,9 @@ class Liveness {
 
   // One sweep; true if anything new became live.  It runs backwards, as
   // liveness flows: a chain of assignments in a block becomes live in one
-  // sweep, not one link a sweep; only loops need further sweeps.
-  bool grow(const ir::Block& b, bool in_live_loop = false) {
+  // sweep, not one link a sweep; only loops need further sweeps.  `kept`:
+  // the block is not inside a loop that goes, whose prefetches go with it.
+  bool grow(const ir::Block& b, bool in_live_loop = false, bool kept = true) {
     bool changed = false;
     for (auto s = b.rbegin(); s != b.rend(); ++s) {
       if (auto* a = std::get_if<ir::Assign>(&s->node)) {
@@ -58,18 +64,18 @@ class Liveness {
         changed |= mark(sc->index.var);
         changed |= mark(sc->value.var);
       } else if (auto* pf = std::get_if<ir::Prefetch>(&s->node)) {
-        changed |= mark(pf->index.var);
+        if (kept) changed |= mark(pf->index.var);
       } else if (auto* f = std::get_if<ir::If>(&s->node)) {
-        changed |= grow(f->else_body, in_live_loop);
-        changed |= grow(f->then_body, in_live_loop);
-        bool needed = has_live_assign(f->then_body) || has_live_assign(f->else_body) ||
+        changed |= grow(f->else_body, in_live_loop, kept);
+        changed |= grow(f->then_body, in_live_loop, kept);
+        bool needed = has_live_assign(f->then_body, kept) || has_live_assign(f->else_body, kept) ||
                       (in_live_loop && (has_jump(f->then_body) || has_jump(f->else_body)));
         if (needed) changed |= mark(f->cond.var);
       } else if (auto* l = std::get_if<ir::Loop>(&s->node)) {
         bool needed = has_live_assign(*l);
-        changed |= grow(l->update, false);
-        changed |= grow(l->body, needed);
-        changed |= grow(l->header, false);
+        changed |= grow(l->update, false, kept && needed);
+        changed |= grow(l->body, needed, kept && needed);
+        changed |= grow(l->header, false, kept && needed);
         if (needed) changed |= mark(l->cond.var);
       }
     }
