@@ -77,6 +77,27 @@ std::size_t gathers(const std::string& ir) {
 bool permutes_16_lanes() { return __builtin_cpu_supports("avx512f"); }
 std::size_t permutes(const std::string& ir) { return count(ir, "call <16 x float> @llvm.x86.avx512.permvar.sf.512("); }
 
+// A row of taps is read with two loads, at its first and last tap, and a
+// shuffle of the two for each tap between; a row of one tap, or whose taps
+// lie further apart than a batch, keeps a load a tap.
+TEST(CpuBackend, ARowOfTapsIsTwoLoadsAndShuffles) {
+  Table2D<Attrib1f> image(64, 64);
+  image.assign(std::vector<float>(64 * 64, 1.0f));
+  Program p = SH_BEGIN_PROGRAM("rows_of_taps") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = 0.0f;
+    for (int dx = -2; dx <= 2; ++dx) out += image[at + ConstAttrib2i(dx, 0)];
+    out += image[at + ConstAttrib2i(0, 1)];
+    out += image[at + ConstAttrib2i(-9, 2)] + image[at + ConstAttrib2i(9, 2)];
+  } SH_END;
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes8});
+  std::string inside = blocks(kernel_for(p, backend("cpu", o))->listing(), "batches.inside:");
+  EXPECT_EQ(count(inside, "load <8 x float>"), 2u + 1u + 2u) << inside;
+  EXPECT_EQ(count(inside, "shufflevector <8 x float>"), 3u) << inside;
+}
+
 // A prefetch is one prefetch instruction where the lanes agree on the
 // coordinates (a walk's node) and one a lane where they may differ; scalar
 // code asks once; a table the kernel fetches (mpi's tables split across

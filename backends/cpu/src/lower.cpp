@@ -187,11 +187,13 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   set_batch_x(x);
   prefetch_next_rows();
   store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
+  load_tap_rows();
   clear_registers();
   load_inputs(at, nullptr);
   batch_inside_ = true;
   block(p_.body);
   batch_inside_ = false;
+  tap_rows_.clear();
   store_outputs(at, nullptr);
   Value* next = b_.CreateNSWAdd(at, step);
   Value* next_x = b_.CreateNSWAdd(x, step);

@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -149,6 +150,16 @@ class Lowering {
   };
   Run run_of(const ir::Assign& a);
   Value* tap_start(int table, const std::array<int, 3>& offset);
+  // spmd, in a batch whose taps all lie inside: the taps of a table's row
+  // (two or more along x, at most width_ apart) as the two vectors at its
+  // first and last tap, loaded once at the batch's start; each tap
+  // between is one shuffle of the two.
+  struct TapRow {
+    int low, high;
+    Value *first, *last;
+  };
+  void load_tap_rows();
+  std::array<Value*, 4> tap(int table, const std::array<int, 3>& offset);
   Value* batch_inside();
   Value* last_inside_x();
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
@@ -199,6 +210,7 @@ class Lowering {
   // (vpermps; vpermilps at 4 lanes), or none
   llvm::Intrinsic::ID lane_permute_ = llvm::Intrinsic::not_intrinsic;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
+  std::map<std::tuple<int, int, int>, TapRow> tap_rows_;  // spmd, inside: by table and the row's y and z offsets
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.
   std::vector<VarSet> keep_;

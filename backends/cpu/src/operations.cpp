@@ -282,7 +282,7 @@ void Lowering::table_read(const ir::Assign& a, std::array<Value*, 4>& result) {
   if (!gather)
     raw = element(flat, false);
   else if (access_.at(&a).proven_run && batch_inside_ && access_.at(&a).offset)
-    raw = masked_run(a.table, tap_start(a.table, *access_.at(&a).offset), exec());
+    raw = tap(a.table, *access_.at(&a).offset);
   else if (access_.at(&a).proven_run)
     raw = run_or_gather(a, flat, element);
   else if (access_.at(&a).hint == analysis::Access::Consecutive)
@@ -774,6 +774,49 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
     stride = b_.CreateNSWMul(stride, b_.CreateZExt(table_dims_[table][d], i64));
   }
   return start;
+}
+
+// A stencil's taps along one row overlap: a 5-tap row read as five
+// vector loads touches each element five times, and on AVX-512 four of the
+// five loads cross a cache line.  Two loads, at the row's first and last
+// tap, hold every element the row's taps read when they are at most a
+// batch apart; the taps between are shuffles of the two (one `valignd` or
+// `vpermt2ps` each), which freed a 5 x 5 blur's load port for 22 % of its
+// time in a C++ scratch program (BENCHMARKS.md, issue 25).  Tables of one
+// component only: a wider element's run is deinterleaved after its load.
+void Lowering::load_tap_rows() {
+  std::map<std::tuple<int, int, int>, std::pair<int, int>> spans;  // ordered: the loads in one order every time
+  for (const auto& [read, access] : access_) {
+    if (!access.proven_run || !access.offset || p_.tables[read->table].element.width != 1) continue;
+    const std::array<int, 3>& at = *access.offset;
+    auto [row, fresh] = spans.try_emplace({read->table, at[1], at[2]}, at[0], at[0]);
+    row->second = {std::min(row->second.first, at[0]), std::max(row->second.second, at[0])};
+  }
+  for (const auto& [row, span] : spans) {
+    auto [low, high] = span;
+    if (low == high || high - low > width_) continue;
+    auto [table, y, z] = row;
+    auto load = [&](int x) { return masked_run(table, tap_start(table, {x, y, z}), exec())[0]; };
+    tap_rows_[row] = {low, high, load(low), load(high)};
+  }
+}
+
+// A tap of a batch inside its table: from its row's two vectors where
+// load_tap_rows() loaded them, else its own load.
+std::array<Value*, 4> Lowering::tap(int table, const std::array<int, 3>& offset) {
+  auto row = tap_rows_.find({table, offset[1], offset[2]});
+  if (row == tap_rows_.end()) return masked_run(table, tap_start(table, offset), exec());
+  const TapRow& r = row->second;
+  if (offset[0] == r.low) return {r.first};
+  if (offset[0] == r.high) return {r.last};
+  // Lane i reads the row at offset[0] + i: in the first vector below
+  // low + width_, past it in the last (which starts at high <= low + width_).
+  std::vector<int> lanes;
+  for (int i = 0; i < width_; ++i) {
+    int x = offset[0] + i;
+    lanes.push_back(x - r.low < width_ ? x - r.low : width_ + x - r.high);
+  }
+  return {b_.CreateShuffleVector(r.first, r.last, lanes)};
 }
 
 // Whether every tap of the batch lies inside its table: per table, the
