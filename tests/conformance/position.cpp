@@ -92,8 +92,9 @@ float clamped_box(int x, int y, int w, int h, int dx0, int dx1, int dy0, int dy1
   return sum;
 }
 
-// A 5 x 3 box over a W x H image, edges clamped; in odd columns only,
-// from inside an if, the 3-component table's neighbour to the right.
+// A 5 x 3 box over a W x H image, edges clamped; a row of taps of the
+// 3-component table (x - 1, x and x + 2); in odd columns only, from
+// inside an if, its neighbour to the right.
 TEST_P(Conformance, StencilReadsNeighboursAndClampsAtTheEdges) {
   for (int w : {1, 3, 19, 40, 67}) {
     const int h = 5;
@@ -109,24 +110,28 @@ TEST_P(Conformance, StencilReadsNeighboursAndClampsAtTheEdges) {
     colour.assign(colours);
     sh::Program p = SH_BEGIN_PROGRAM("box") {
       sh::Output<Attrib1f> box;
-      sh::Output<Attrib3f> right;
+      sh::Output<Attrib3f> right, smear;
       sh::Attrib2i at = sh::position<2>();
       box = 0.0f;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -2; dx <= 2; ++dx) box += image[at + sh::ConstAttrib2i(dx, dy)];
+      smear = colour[at + sh::ConstAttrib2i(-1, 0)] + colour[at] + colour[at + sh::ConstAttrib2i(2, 0)];
       right = sh::ConstAttrib3f(0.0f, 0.0f, 0.0f);
       SH_IF((at(0) % 2).cast<float>() > 0.5f) { right = colour[at + sh::ConstAttrib2i(1, 0)]; } SH_ENDIF;
     } SH_END;
     sh::Channel<Attrib1f> box;
-    sh::Channel<Attrib3f> right;
+    sh::Channel<Attrib3f> right, smear;
     box.shape(static_cast<std::size_t>(w), h);
-    run(p, {}, {box, right});
+    run(p, {}, {box, right, smear});
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         std::size_t e = static_cast<std::size_t>(y * w + x);
         ASSERT_EQ(box[e], clamped_box(x, y, w, h, -2, 2, -1, 1)) << "width " << w << " at " << x << ", " << y;
         int rx = std::min(x + 1, w - 1);
+        auto colour_at = [&](int cx, int c) { return colours[3 * static_cast<std::size_t>(y * w + std::clamp(cx, 0, w - 1)) + c]; };
         for (int c = 0; c < 3; ++c) {
+          float smeared = colour_at(x - 1, c) + colour_at(x, c) + colour_at(x + 2, c);
+          ASSERT_EQ(smear[3 * e + c], smeared) << "width " << w << " at " << x << ", " << y << " component " << c;
           float want = x % 2 ? colours[3 * static_cast<std::size_t>(y * w + rx) + c] : 0.0f;
           ASSERT_EQ(right[3 * e + c], want) << "width " << w << " at " << x << ", " << y << " component " << c;
         }

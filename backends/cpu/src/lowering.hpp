@@ -151,12 +151,12 @@ class Lowering {
   Run run_of(const ir::Assign& a);
   Value* tap_start(int table, const std::array<int, 3>& offset);
   // spmd, in a batch whose taps all lie inside: the taps of a table's row
-  // (two or more along x, at most width_ apart) as the two vectors at its
-  // first and last tap, loaded once at the batch's start; each tap
-  // between is one shuffle of the two.
+  // (two or more along x, at most width_ apart) as the runs at its first
+  // and last tap, loaded once at the batch's start, a vector a component;
+  // each tap between is one shuffle of the two a component.
   struct TapRow {
     int low, high;
-    Value *first, *last;
+    std::array<Value*, 4> first, last;
   };
   void load_tap_rows();
   std::array<Value*, 4> tap(int table, const std::array<int, 3>& offset);

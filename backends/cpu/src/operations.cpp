@@ -782,12 +782,12 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
 // tap, hold every element the row's taps read when they are at most a
 // batch apart; the taps between are shuffles of the two (one `valignd` or
 // `vpermt2ps` each), which freed a 5 x 5 blur's load port for 22 % of its
-// time in a C++ scratch program (BENCHMARKS.md, issue 25).  Tables of one
-// component only: a wider element's run is deinterleaved after its load.
+// time in a C++ scratch program (BENCHMARKS.md, issue 25).  A wider
+// element's two runs are deinterleaved once, not once a tap.
 void Lowering::load_tap_rows() {
   std::map<std::tuple<int, int, int>, std::pair<int, int>> spans;  // ordered: the loads in one order every time
   for (const auto& [read, access] : access_) {
-    if (!access.proven_run || !access.offset || p_.tables[read->table].element.width != 1) continue;
+    if (!access.proven_run || !access.offset) continue;
     const std::array<int, 3>& at = *access.offset;
     auto [row, fresh] = spans.try_emplace({read->table, at[1], at[2]}, at[0], at[0]);
     row->second = {std::min(row->second.first, at[0]), std::max(row->second.second, at[0])};
@@ -796,7 +796,7 @@ void Lowering::load_tap_rows() {
     auto [low, high] = span;
     if (low == high || high - low > width_) continue;
     auto [table, y, z] = row;
-    auto load = [&](int x) { return masked_run(table, tap_start(table, {x, y, z}), exec())[0]; };
+    auto load = [&](int x) { return masked_run(table, tap_start(table, {x, y, z}), exec()); };
     tap_rows_[row] = {low, high, load(low), load(high)};
   }
 }
@@ -807,16 +807,18 @@ std::array<Value*, 4> Lowering::tap(int table, const std::array<int, 3>& offset)
   auto row = tap_rows_.find({table, offset[1], offset[2]});
   if (row == tap_rows_.end()) return masked_run(table, tap_start(table, offset), exec());
   const TapRow& r = row->second;
-  if (offset[0] == r.low) return {r.first};
-  if (offset[0] == r.high) return {r.last};
-  // Lane i reads the row at offset[0] + i: in the first vector below
+  if (offset[0] == r.low) return r.first;
+  if (offset[0] == r.high) return r.last;
+  // Lane i reads the row at offset[0] + i: in the first run below
   // low + width_, past it in the last (which starts at high <= low + width_).
   std::vector<int> lanes;
   for (int i = 0; i < width_; ++i) {
     int x = offset[0] + i;
     lanes.push_back(x - r.low < width_ ? x - r.low : width_ + x - r.high);
   }
-  return {b_.CreateShuffleVector(r.first, r.last, lanes)};
+  std::array<Value*, 4> values{};
+  for (int c = 0; c < p_.tables[table].element.width; ++c) values[c] = b_.CreateShuffleVector(r.first[c], r.last[c], lanes);
+  return values;
 }
 
 // Whether every tap of the batch lies inside its table: per table, the
