@@ -144,9 +144,9 @@ TEST_P(Conformance, StencilReadsNeighboursAndClampsAtTheEdges) {
 // or read zero: a lane outside the row reads its first or last element
 // (or zero), whatever its neighbours read; inside an if too, where a
 // batch's first lane may not run.  The doubles, a fraction apart from a
-// float, are 64-bit elements, which the cpu backend reads otherwise.  Rows of 21: a batch of 16 lanes holds
-// both ends of the taps' reach, and the next a short one; rows of 3, shorter
-// than any batch.
+// float, are 64-bit elements, which the cpu backend reads otherwise.  Rows
+// of 21: a batch of 16 lanes holds both ends of the taps' reach, and the
+// next a short one; rows of 3, shorter than any batch.
 TEST_P(Conformance, StencilTapsPastARowsEndsOnTablesOfEveryRankAndElement) {
   const int h = 3, d = 2;
   auto value = [](int x, int y, int z, int c) { return 1 + x * 5 + y * 31 + z * 97 + c * 1000; };

@@ -782,14 +782,15 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
 // tap, hold every element the row's taps read when they are at most a
 // batch apart; the taps between are shuffles of the two (one `valignd` or
 // `vpermt2ps` each), which freed a 5 x 5 blur's load port for 22 % of its
-// time in a C++ scratch program (BENCHMARKS.md, issue 25).  A wider
+// time in a C++ scratch program on a Zen 4 host; an Intel host with one
+// shuffle port showed no gain (BENCHMARKS.md, issue 25).  A wider
 // element's two runs are deinterleaved once, not once a tap.
 void Lowering::load_tap_rows() {
   std::map<std::tuple<int, int, int>, std::pair<int, int>> spans;  // ordered: the loads in one order every time
   for (const auto& [read, access] : access_) {
     if (!access.proven_run || !access.offset) continue;
     const std::array<int, 3>& at = *access.offset;
-    auto [row, fresh] = spans.try_emplace({read->table, at[1], at[2]}, at[0], at[0]);
+    auto row = spans.try_emplace({read->table, at[1], at[2]}, at[0], at[0]).first;
     row->second = {std::min(row->second.first, at[0]), std::max(row->second.second, at[0])};
   }
   for (const auto& [row, span] : spans) {

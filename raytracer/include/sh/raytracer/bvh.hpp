@@ -89,7 +89,7 @@ struct Bvh {
   std::vector<std::int32_t> wide_first;    // wide: kBvhWidth per node, a leaf child's first triangle (else 0)
   std::vector<std::int32_t> wide_order;    // wide: per node, axis a's slots in bits 8a.., 2 bits each, lowest first
   std::int32_t root = 0;                   // stack, wide: the root's reference (a leaf where the tree is one)
-  bool prefetch = false;                   // wide: a visit asks for its children's nodes and lists ahead
+  bool prefetch = false;                   // wide: a visit asks for its children's nodes, lists and first triangles ahead
   std::vector<std::int32_t> triangles;     // the leaves' lists, each ended by -1
   int depth = 0;                           // of the deepest leaf; the root is at 0
   std::size_t node_count = 0;              // inner nodes and leaves
