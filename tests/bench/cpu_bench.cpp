@@ -1,7 +1,9 @@
 // DSL kernels on the cpu backend, scalar and SPMD at each width, against
 // the same kernels hand-written in scalar C++ (built -O3 -march=native), on
 // one thread and on all, and the JIT's compile latency.  Arguments: threads,
-// then lanes (1 = scalar).  Ratios go in BENCHMARKS.md.
+// then lanes (1 = scalar).  Ratios go in BENCHMARKS.md.  The environment's
+// CPU_BENCH_STORES (auto, cached, streamed) sets the DSL kernels' stores,
+// so that one binary compares them.
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -11,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 
@@ -42,6 +45,7 @@ void count_mandelbrot_flops(benchmark::State& state, const std::vector<float>& s
 Options with_lanes(std::int64_t lanes) {
   Options o;
   o.set(cpu::Options{.width = static_cast<cpu::Width>(lanes)});
+  if (const char* stores = std::getenv("CPU_BENCH_STORES"); stores && *stores) o.set("cpu.stores", stores);
   return o;
 }
 

@@ -130,7 +130,8 @@ TEST(CpuBackend, PrefetchesOneALaneOrOneForLanesThatAgree) {
 // row that the next row of batches will first read; elsewhere a
 // masked load and, where it clamps, a permute (or a second masked load, as
 // above); of a table that repeats, a tested masked load and at the edges a
-// gather.  Reads at an input's index are gathers only.
+// gather.  Reads at an input's index are gathers only.  (Stores are
+// cached here, so that the loop along the row is the one block.)
 TEST(CpuBackend, StencilReadsAreVectorLoads) {
   Table2D<Attrib1f> image(64, 64), wrapped(64, 64);
   image.assign(std::vector<float>(64 * 64, 1.0f));
@@ -150,7 +151,7 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
     out = image[at + ConstAttrib2i(-1, 0)];
   } SH_END;
   Options o;
-  o.set(cpu::Options{.width = cpu::Width::Lanes16});
+  o.set(cpu::Options{.width = cpu::Width::Lanes16, .stores = cpu::Stores::Cached});
   std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
   std::string inside = blocks(ir, "batches.inside:");
   EXPECT_EQ(count(inside, "load <16 x float>"), 2u) << ir;
@@ -314,17 +315,94 @@ TEST(CpuBackend, WidthSettingPicksTheLanesAndRejectsOthers) {
 
 TEST(CpuBackend, OptionsHaveAStringFormAndVariantsCoverEveryWidth) {
   Options o;
-  o.set("width", "scalar").set("tables", "fetched");
+  o.set("width", "scalar").set("tables", "fetched").set("stores", "streamed");
   cpu::Options mine = o.get<cpu::Options>();
   EXPECT_EQ(mine.width, cpu::Width::Scalar);
   EXPECT_EQ(mine.tables, cpu::Tables::Fetched);
-  EXPECT_EQ(mine.settings(), (Settings{{"tables", "fetched"}, {"width", "scalar"}}));
+  EXPECT_EQ(mine.stores, cpu::Stores::Streamed);
+  EXPECT_EQ(mine.settings(), (Settings{{"stores", "streamed"}, {"tables", "fetched"}, {"width", "scalar"}}));
   EXPECT_EQ(cpu::Options{}.settings(), Settings{}) << "defaults are not spelt out";
-  std::vector<std::string> widths;
+  try {
+    o.set("stores", "uncached");
+    FAIL() << "an unknown kind of stores was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"stores\" is \"uncached\"; expected auto, cached or streamed"), std::string::npos)
+        << e.what();
+  }
+  std::vector<std::string> widths, stores;
   for (const BackendInfo& b : backends())
     if (b.name == "cpu")
-      for (const Backend::Variant& v : b.variants) widths.push_back(v.options.settings()["width"]);
-  EXPECT_EQ(widths, (std::vector<std::string>{"scalar", "4", "8", "16", "scalar", "16"}));
+      for (const Backend::Variant& v : b.variants) {
+        widths.push_back(v.options.settings()["width"]);
+        stores.push_back(v.options.settings()["stores"]);
+      }
+  EXPECT_EQ(widths, (std::vector<std::string>{"scalar", "4", "8", "16", "16", "scalar", "16"}));
+  EXPECT_EQ(stores, (std::vector<std::string>{"", "", "", "", "streamed", "", ""}));
+}
+
+// A full batch of an output is stored past the cache where the run asks
+// (an output too large for the cache, or stores=streamed) and the batch
+// starts on a multiple of its size, up to a line: at 16 lanes a float's
+// batch (64 bytes) and a float4's (256), at 4 lanes a float4's (64) but
+// not a float's (16 bytes, a quarter of a line).  A fence before the
+// kernel returns orders them.  Scalar kernels and stores=cached have none.
+// Where the host is not x86 there are none either.
+TEST(CpuBackend, FullBatchesOfOutputsStorePastTheCacheWhereAsked) {
+  Program p = SH_BEGIN_PROGRAM("two_outputs") {
+    InputAttrib1f x;
+    OutputAttrib1f one;
+    OutputAttrib4f four;
+    one = x * 2.0f;
+    four = join(join(x, x + 1.0f), join(x + 2.0f, x + 3.0f));
+  } SH_END;
+  auto listing = [&](cpu::Width width, cpu::Stores stores) {
+    Options o;
+    o.set(cpu::Options{.width = width, .stores = stores});
+    return kernel_for(p, backend("cpu", o))->listing();
+  };
+  auto streamed = [](const std::string& ir) { return count(ir, "!nontemporal"); };
+  auto fences = [](const std::string& ir) { return count(ir, "call void @llvm.x86.sse.sfence()"); };
+#if defined(__x86_64__)
+  std::string w16 = listing(cpu::Width::Lanes16, cpu::Stores::Auto);
+  EXPECT_EQ(streamed(w16), 2u) << w16;
+  EXPECT_EQ(count(w16, "store <16 x float> %"), 2u) << "a float's batch, streamed or not: " << w16;
+  EXPECT_EQ(fences(w16), 1u) << w16;
+  std::string w4 = listing(cpu::Width::Lanes4, cpu::Stores::Streamed);
+  EXPECT_EQ(streamed(w4), 1u) << w4;
+  EXPECT_EQ(fences(w4), 1u) << w4;
+#endif
+  for (const std::string& ir : {listing(cpu::Width::Lanes16, cpu::Stores::Cached), listing(cpu::Width::Scalar, cpu::Stores::Streamed)}) {
+    EXPECT_EQ(streamed(ir), 0u) << ir;
+    EXPECT_EQ(fences(ir), 0u) << ir;
+  }
+}
+
+// Streamed or not, the outputs are the same: rows of 20 elements start
+// batches on a line, one element past one, and end in batches of four.
+TEST(CpuBackend, StreamedStoresWriteWhatCachedOnesDo) {
+  Program p = SH_BEGIN_PROGRAM("placed") {
+    OutputAttrib1f one;
+    OutputAttrib4f four;
+    Attrib2i at = position<2>();
+    Attrib1f x = at(0).cast<float>() * 0.5f + at(1).cast<float>();
+    one = x * x;
+    four = join(join(x, x + 1.0f), join(at(0).cast<float>(), at(1).cast<float>()));
+  } SH_END;
+  auto outputs = [&](cpu::Stores stores) {
+    Options o;
+    o.threads = 2;
+    o.set(cpu::Options{.width = cpu::Width::Lanes16, .stores = stores});
+    Channel<Attrib1f> one;
+    Channel<Attrib4f> four;
+    one.shape(20, 301);
+    four.shape(20, 301);
+    run(p, {}, {one, four}, backend("cpu", o));
+    return std::pair(one.values(), four.values());
+  };
+  auto cached = outputs(cpu::Stores::Cached);
+  EXPECT_EQ(cached.first.size(), 20u * 301u);
+  EXPECT_EQ(cached.first[20 * 300 + 19], (9.5f + 300.0f) * (9.5f + 300.0f));
+  EXPECT_EQ(outputs(cpu::Stores::Streamed), cached);
 }
 
 TEST(CpuBackend, ReadsThroughSourcesWithFetchedTablesOnOneThread) {

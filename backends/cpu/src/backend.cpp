@@ -18,7 +18,8 @@ namespace {
 class CpuKernel : public Kernel {
  public:
   CpuKernel(const ir::Program& p, const sh::Options& o)
-      : program_(p), options_(o), fetched_(fetches_tables(o)), jitted_(program_, options_),
+      : program_(p), options_(o), fetched_(fetches_tables(o)),
+        streamed_from_(may_stream(o) ? streamed_from_bytes(o) : SIZE_MAX), jitted_(program_, options_),
         arena_(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
 
   void run(const RunArgs& args, RunStats&) override {
@@ -41,6 +42,7 @@ class CpuKernel : public Kernel {
     std::vector<std::atomic<std::int64_t>> inline_reads(args.tables.size());
     std::array<std::int64_t, 3> domain = kernel_domain(args.domain);
     alignas(16) std::int64_t status[2] = {0, 0};
+    std::uint64_t streamed = streamed_outputs(args.outputs);
     KernelFn fn = jitted_.entry();
     auto n = static_cast<std::int64_t>(args.count);
     // Threads take whole sets of lanes, so only the stream's last set is
@@ -50,7 +52,7 @@ class CpuKernel : public Kernel {
     auto sets_of = [&](std::int64_t begin, std::int64_t end) {
       auto call = [&](const void* const* its_tables) {
         fn(begin * lanes, std::min(end * lanes, n), inputs.data(), outputs.data(), uniforms.data(), its_tables, dims.data(),
-           domain.data(), status);
+           domain.data(), status, streamed);
       };
       if (!fetched_) return call(tables.data());
       // Each task moves windows of its own.
@@ -86,6 +88,18 @@ class CpuKernel : public Kernel {
   double compile_cpu_ms_elsewhere() const override { return jitted_.cpu_ms_elsewhere(); }
 
  private:
+  // The outputs whose memory is too large to stay in the cache
+  // (cpu::Options::stores): the kernel writes them past it.
+  std::uint64_t streamed_outputs(const std::vector<BufferView>& outputs) const {
+    std::uint64_t streamed = 0;
+    for (std::size_t o = 0; o < std::min<std::size_t>(outputs.size(), 64); ++o) {
+      const BufferView& out = outputs[o];
+      std::size_t bytes = std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
+      if (bytes > 0 && bytes >= streamed_from_) streamed |= std::uint64_t{1} << o;
+    }
+    return streamed;
+  }
+
   // SPMD gathers index tables in 32 bits.
   void check_gather_range(const TableView& t, std::size_t i) const {
     std::size_t values = t.bytes() / ir::storage_bytes(t.element.scalar);
@@ -122,6 +136,7 @@ class CpuKernel : public Kernel {
   ir::Program program_;  // the loops in error messages point into it
   sh::Options options_;
   bool fetched_;
+  std::size_t streamed_from_;  // bytes of an output's memory
   Jitted jitted_;
   tbb::task_arena arena_;
 };
@@ -139,6 +154,7 @@ class CpuBackend : public Backend {
             {"w4", Options{.width = Width::Lanes4}},
             {"w8", Options{.width = Width::Lanes8}},
             {"w16", Options{.width = Width::Lanes16}},
+            {"w16_streamed", Options{.width = Width::Lanes16, .stores = Stores::Streamed}},
             {"scalar_fetched", Options{.width = Width::Scalar, .tables = Tables::Fetched}},
             {"w16_fetched", Options{.width = Width::Lanes16, .tables = Tables::Fetched}}};
   }

@@ -27,6 +27,7 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
     tap_spans_ = analysis::tap_spans(p, access_);
   }
   reads_position_ = ir::uses(p, ir::Op::Position);
+  streams_ = may_stream(o) && !p.outputs.empty();
   unwritten_reads_ = analysis::unwritten_reads(p);
   llvm::StringMap<bool> features;
   avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
@@ -91,7 +92,7 @@ Value* Lowering::to_storage(Value* x, ir::Scalar s) {
 void Lowering::function() {
   auto* ptr = b_.getPtrTy();
   auto* i64 = b_.getInt64Ty();
-  auto* type = llvm::FunctionType::get(b_.getVoidTy(), {i64, i64, ptr, ptr, ptr, ptr, ptr, ptr, ptr}, false);
+  auto* type = llvm::FunctionType::get(b_.getVoidTy(), {i64, i64, ptr, ptr, ptr, ptr, ptr, ptr, ptr, i64}, false);
   fn_ = llvm::Function::Create(type, llvm::Function::ExternalLinkage, kKernelSymbol, module_.get());
   if (o_.math == MathMode::Precise) fn_->addFnAttr("denormal-fp-math", "ieee,ieee");
   if (spmd()) {
@@ -109,6 +110,7 @@ void Lowering::function() {
   dims_ = arg++;
   Value* domain = arg++;
   status_ = arg++;
+  streamed_ = arg++;
 
   BasicBlock* entry = BasicBlock::Create(ctx_, "entry", fn_);
   BasicBlock* head = BasicBlock::Create(ctx_, "elements.head", fn_);
@@ -153,6 +155,7 @@ void Lowering::function() {
   b_.CreateBr(head);
 
   b_.SetInsertPoint(exit);
+  order_streamed_stores();
   b_.CreateRetVoid();
 }
 
@@ -488,8 +491,50 @@ void Lowering::store_outputs(Value* e, Value* tail) {
     }
     Value* block = interleave(components, t.width);
     if (tail) b_.CreateMaskedStore(block, at, alignment(scalar), spread(tail, t.width));
-    else b_.CreateAlignedStore(block, at, alignment(scalar));
+    else store_batch(o, block, at, alignment(scalar));
   }
+}
+
+// A full batch of output o: past the cache where the run asks for it
+// and the batch starts on a multiple of its size (up to a line), since a
+// non-temporal store of a vector must be aligned to it; else as any store.
+// The bytes stored are the same either way.
+void Lowering::store_batch(std::size_t o, Value* block, Value* at, llvm::Align natural) {
+  std::uint64_t bytes = module_->getDataLayout().getTypeStoreSize(block->getType());
+  std::uint64_t line = std::min<std::uint64_t>(64, bytes & (~bytes + 1));  // the largest power of two dividing it
+  if (!streams_ || line < 32 || o >= 64) {
+    b_.CreateAlignedStore(block, at, natural);
+    return;
+  }
+  Value* asked = b_.CreateICmpNE(b_.CreateAnd(streamed_, b_.getInt64(std::uint64_t{1} << o)), b_.getInt64(0));
+  Value* aligned = b_.CreateICmpEQ(b_.CreateAnd(b_.CreatePtrToInt(at, b_.getInt64Ty()), b_.getInt64(line - 1)), b_.getInt64(0));
+  BasicBlock* past = BasicBlock::Create(ctx_, "store.streamed", fn_);
+  BasicBlock* cached = BasicBlock::Create(ctx_, "store.cached", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "store.done", fn_);
+  b_.CreateCondBr(b_.CreateAnd(asked, aligned), past, cached);
+  b_.SetInsertPoint(past);
+  llvm::StoreInst* store = b_.CreateAlignedStore(block, at, llvm::Align(line));
+  store->setMetadata(llvm::LLVMContext::MD_nontemporal,
+                     llvm::MDNode::get(ctx_, {llvm::ConstantAsMetadata::get(b_.getInt32(1))}));
+  b_.CreateBr(done);
+  b_.SetInsertPoint(cached);
+  b_.CreateAlignedStore(block, at, natural);
+  b_.CreateBr(done);
+  b_.SetInsertPoint(done);
+}
+
+// Non-temporal stores are weakly ordered: a fence makes them visible
+// before whatever the caller does next (a thread telling another it is
+// done), as the stores of every other run are.
+void Lowering::order_streamed_stores() {
+  if (!streams_) return;
+  BasicBlock* fence = BasicBlock::Create(ctx_, "streamed.fence", fn_);
+  BasicBlock* done = BasicBlock::Create(ctx_, "streamed.done", fn_);
+  b_.CreateCondBr(b_.CreateICmpNE(streamed_, b_.getInt64(0)), fence, done);
+  b_.SetInsertPoint(fence);
+  b_.CreateCall(llvm::Intrinsic::getDeclaration(module_.get(), llvm::Intrinsic::x86_sse_sfence));
+  b_.CreateBr(done);
+  b_.SetInsertPoint(done);
 }
 
 Lowered lower(const ir::Program& program, const Options& options, int width, llvm::LLVMContext& context) {

@@ -2,6 +2,7 @@
 // IR -> LLVM IR.  The whole stream loop, the kernel body, its control flow
 // and its table reads become one LLVM function (signature.hpp), scalar
 // (width 1) or SPMD with one SIMD lane per element (width 4, 8 or 16).
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,12 @@ int lane_count(const Options& options);
 // reads each element through a call to the run's TableAccess
 // (signature.hpp), so that a table may live elsewhere.
 bool fetches_tables(const Options& options);
+
+// cpu::Options::stores: whether a kernel may write outputs past the cache
+// (signature.hpp's streamed_outputs), and from how many bytes of an
+// output's memory a run asks it to.
+bool may_stream(const Options& options);
+std::size_t streamed_from_bytes(const Options& options);
 
 // The string form of cpu::Options, for Backend::settings().
 std::vector<Backend::Setting> settings();

@@ -62,6 +62,8 @@ class Lowering {
   void clear_registers();
   void load_inputs(Value* e, Value* tail);
   void store_outputs(Value* e, Value* tail);
+  void store_batch(std::size_t o, Value* block, Value* at, llvm::Align natural);
+  void order_streamed_stores();
   void full_or_tail(Value* count, const std::function<void(Value* tail)>& emit);
   Value* pointer_at(Value* array, std::size_t k);
   Value* element_pointer(Value* base, ir::Type t, Value* e);
@@ -191,7 +193,8 @@ class Lowering {
   llvm::IRBuilder<> b_;
   llvm::Function* fn_ = nullptr;
   Value *inputs_ = nullptr, *outputs_ = nullptr, *uniforms_ = nullptr, *tables_ = nullptr, *dims_ = nullptr,
-        *status_ = nullptr;
+        *status_ = nullptr, *streamed_ = nullptr;
+  bool streams_ = false;  // spmd on x86, stores not set to cached: the kernel can write outputs past the cache
   llvm::AllocaInst* element_ = nullptr;
   bool reads_position_ = false;
   Value *row_ = nullptr, *rows_ = nullptr;       // the launch domain's (signature.hpp)

@@ -29,6 +29,10 @@ struct BufferView {
   ir::Type type;
   std::size_t count = 0;
   void* data = nullptr;
+  // The bytes of the memory the view is a part of (0: its own count's),
+  // as a strip of a channel is: whether what a run writes there can stay
+  // in the cache (cpu::Options::stores).
+  std::size_t memory_bytes = 0;
 };
 
 // A table read on demand instead of from memory: whoever calls Kernel::run

@@ -196,6 +196,7 @@ class Strips {
     c.count = static_cast<std::size_t>(end - first) * width_;
     c.domain.first = static_cast<std::size_t>(first) * width_;
     for (BufferView& out : c.outputs) {
+      out.memory_bytes = std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
       out.data = static_cast<char*>(out.data) + c.domain.first * ir::element_bytes(out.type);
       out.count = c.count;
     }

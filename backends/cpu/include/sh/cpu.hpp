@@ -29,12 +29,24 @@ enum class Width : std::uint8_t { Auto = 0, Scalar = 1, Lanes4 = 4, Lanes8 = 8, 
 // as an mpi rank's cache of a table split across ranks).
 enum class Tables : std::uint8_t { Memory, Fetched };
 
+// How full batches of outputs are written: through the cache (Cached), or
+// past it, with non-temporal stores, where an output channel is too large
+// to stay there (Auto: half the last-level cache or more) or always
+// (Streamed).  A stream written past the cache costs no read of its lines
+// first and evicts nothing a run still reads; the next run that reads it
+// finds it in memory.  Only x86 hosts, SPMD widths, and batches that start
+// on a multiple of their size (up to a cache line) stream; results never
+// change.
+enum class Stores : std::uint8_t { Auto, Cached, Streamed };
+
 struct Options {
   static constexpr const char* backend_name = "cpu";
   Width width = Width::Auto;
   Tables tables = Tables::Memory;
+  Stores stores = Stores::Auto;
 
-  // String form: width (scalar, 4, 8, 16, auto), tables (memory, fetched).
+  // String form: width (scalar, 4, 8, 16, auto), tables (memory, fetched),
+  // stores (auto, cached, streamed).
   Settings settings() const;
   void set(const std::string& name, const std::string& value);
 };
