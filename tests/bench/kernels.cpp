@@ -3,6 +3,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <random>
 #include <utility>
 
@@ -294,6 +295,21 @@ __m512 lanes_from(__m512 first, __m512 next) {
                                                         _mm512_castps_si512(first), K));
 }
 
+// Sixteen results at `to`: past the cache where they start a line, as the
+// cpu backend writes an output too large for it (the benchmark's all are),
+// so that a line is not read before it is written.  A pass ends with a
+// fence that orders them, as the kernel does.
+void store_out(float* to, __m512 v) {
+  if (reinterpret_cast<std::uintptr_t>(to) % 64 == 0)
+    _mm512_stream_ps(to, v);
+  else
+    _mm512_storeu_ps(to, v);
+}
+
+// Where the steps of sixteen start: the first x on a line at or after
+// `from` (the image's rows start on one).
+int on_a_line(int from) { return (from + 15) / 16 * 16; }
+
 // The row's taps added to `sum` in order, left to right.
 static_assert(kTaps <= 16, "a row's taps lie in two vectors");
 template <std::size_t... K>
@@ -309,17 +325,18 @@ void blur_simd(const Image& im, int y0, int y1) {
     const float* r[kTaps];
     for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
     int x = 0;
-    for (; x < std::min(interior_lo(im), im.w); ++x) out[x] = box_at(im, y, x);
+    for (; x < std::min(on_a_line(interior_lo(im)), im.w); ++x) out[x] = box_at(im, y, x);
     for (; x + 16 <= interior_hi(im); x += 16) {
       __m512 sum = _mm512_setzero_ps();
       for (int k = 0; k < kTaps; ++k) {
         const float* from = r[k] + x - kBlurRadius;
         sum = add_row(sum, _mm512_loadu_ps(from), _mm512_loadu_ps(from + 16), std::make_index_sequence<kTaps>{});
       }
-      _mm512_storeu_ps(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kBoxWeight)));
+      store_out(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kBoxWeight)));
     }
     for (; x < im.w; ++x) out[x] = box_at(im, y, x);
   });
+  _mm_sfence();
 }
 
 void blur_rows_simd(const Image& im, int y0, int y1) {
@@ -331,14 +348,15 @@ void blur_rows_simd(const Image& im, int y0, int y1) {
       return sum * kLineWeight;
     };
     int x = 0;
-    for (; x < std::min(interior_lo(im), im.w); ++x) out[x] = at(x);
+    for (; x < std::min(on_a_line(interior_lo(im)), im.w); ++x) out[x] = at(x);
     for (; x + 16 <= interior_hi(im); x += 16) {
       __m512 sum = _mm512_setzero_ps();
       for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r + x + dx));
-      _mm512_storeu_ps(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
+      store_out(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
     }
     for (; x < im.w; ++x) out[x] = at(x);
   });
+  _mm_sfence();
 }
 
 void blur_columns_simd(const Image& im, int y0, int y1) {
@@ -349,7 +367,7 @@ void blur_columns_simd(const Image& im, int y0, int y1) {
     for (; x + 16 <= im.w; x += 16) {
       __m512 sum = _mm512_setzero_ps();
       for (int k = 0; k < kTaps; ++k) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r[k] + x));
-      _mm512_storeu_ps(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
+      store_out(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
     }
     for (; x < im.w; ++x) {
       float sum = 0;
@@ -357,6 +375,7 @@ void blur_columns_simd(const Image& im, int y0, int y1) {
       out[x] = sum * kLineWeight;
     }
   });
+  _mm_sfence();
 }
 #else
 // Without AVX-512 the hand form is the compiler's.
@@ -380,9 +399,11 @@ namespace bench {
 #if defined(__AVX512F__)
 void saxpy_simd(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end) {
   __m512 av = _mm512_set1_ps(a);
-  std::size_t i = begin;
+  std::size_t i = std::min(end, begin + (64 - reinterpret_cast<std::uintptr_t>(r + begin) % 64) % 64 / sizeof(float));
+  saxpy_cpp(a, x, y, r, begin, i);
   for (; i + 16 <= end; i += 16)
-    _mm512_storeu_ps(r + i, _mm512_add_ps(_mm512_mul_ps(av, _mm512_loadu_ps(x + i)), _mm512_loadu_ps(y + i)));
+    store_out(r + i, _mm512_add_ps(_mm512_mul_ps(av, _mm512_loadu_ps(x + i)), _mm512_loadu_ps(y + i)));
+  _mm_sfence();
   saxpy_cpp(a, x, y, r, i, end);
 }
 

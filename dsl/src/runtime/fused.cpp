@@ -155,7 +155,9 @@ class Strips {
     std::atomic<bool> failed{false};
     std::exception_ptr error;
     auto work = [&] {
-      Words buffer;  // as a channel's storage: starting a cache line
+      // As a channel's storage, starting a cache line.  Kept by the thread
+      // for its next run, which then neither clears nor maps it again.
+      thread_local Words buffer;
       try {
         for (std::size_t k = next++; k < count() && !failed; k = next++) strip(static_cast<int>(k), make, use, buffer);
       } catch (...) {
