@@ -1,9 +1,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <thread>
 
 #include "jit.hpp"
@@ -81,6 +83,22 @@ class CpuKernel : public Kernel {
       throw runaway_loop(program_, *loop, args.domain.first + static_cast<std::uint64_t>(status[1]),
                          options_.max_loop_iterations);
     }
+  }
+
+  // On the kernel's arena, whose threads stay between calls (and so keep
+  // what a task leaves them, as run_fused's strip buffers).  The arena
+  // has the threads the kernel was compiled for, which are the caller's.
+  void spread(std::size_t count, int, const std::function<void(std::size_t)>& task) override {
+    arena_.execute([&] {
+      // One task a range, so that a task that throws cancels every one
+      // not yet started.
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, count, 1),
+          [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t k = r.begin(); k < r.end(); ++k) task(k);
+          },
+          tbb::simple_partitioner());
+    });
   }
 
   std::string listing() const override { return jitted_.llvm_ir(); }

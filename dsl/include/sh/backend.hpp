@@ -158,6 +158,14 @@ class Kernel {
   virtual void run(const RunArgs& args, RunStats& stats) = 0;
   // Runs in waves (waves.hpp), by default all on this process.
   virtual void run_waves(const RunArgs& args, const Waves& waves, RunStats& stats);
+  // Runs task(0) .. task(count - 1), each once, on at most `threads`
+  // threads, the caller's among them: for a caller that spreads its runs
+  // itself (run_fused's strips, each run on_this_thread).  After every
+  // task has stopped it rethrows the first exception one threw, and runs
+  // no task not yet started once one has thrown.  By default on threads
+  // started for the call; a backend with threads of its own uses them,
+  // which keep what they hold between calls.
+  virtual void spread(std::size_t count, int threads, const std::function<void(std::size_t)>& task);
   // What the kernel became (LLVM IR, OpenCL C, ...), for --dump options.
   virtual std::string listing() const { return {}; }
   // Where its compile's time went, for backends that time their phases.

@@ -1,10 +1,8 @@
 #include "sh/fused.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdint>
-#include <exception>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -151,27 +149,12 @@ class Strips {
   std::size_t count() const { return static_cast<std::size_t>((height_ + rows_ - 1) / rows_); }
 
   void run(Kernel& make, Kernel& use, int threads) {
-    std::atomic<std::size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::exception_ptr error;
-    auto work = [&] {
+    use.spread(count(), threads, [&](std::size_t k) {
       // As a channel's storage, starting a cache line.  Kept by the thread
-      // for its next run, which then neither clears nor maps it again.
+      // for its next strip, which then neither clears nor maps it again.
       thread_local Words buffer;
-      try {
-        for (std::size_t k = next++; k < count() && !failed; k = next++) strip(static_cast<int>(k), make, use, buffer);
-      } catch (...) {
-        if (!failed.exchange(true)) error = std::current_exception();
-      }
-    };
-    std::vector<std::thread> others;
-    try {
-      for (int t = 1; t < std::min<int>(threads, static_cast<int>(count())); ++t) others.emplace_back(work);
-    } catch (...) {  // no thread to be had: the ones there are do the strips
-    }
-    work();
-    for (std::thread& t : others) t.join();
-    if (error) std::rethrow_exception(error);
+      strip(static_cast<int>(k), make, use, buffer);
+    });
   }
 
  private:
