@@ -44,7 +44,7 @@ class CpuKernel : public Kernel {
     std::vector<std::atomic<std::int64_t>> inline_reads(args.tables.size());
     std::array<std::int64_t, 3> domain = kernel_domain(args.domain);
     alignas(16) std::int64_t status[2] = {0, 0};
-    std::uint64_t streamed = streamed_outputs(args.outputs);
+    std::uint64_t streamed = streams_outputs(args.outputs);
     KernelFn fn = jitted_.entry();
     auto n = static_cast<std::int64_t>(args.count);
     // Threads take whole sets of lanes, so only the stream's last set is
@@ -106,16 +106,12 @@ class CpuKernel : public Kernel {
   double compile_cpu_ms_elsewhere() const override { return jitted_.cpu_ms_elsewhere(); }
 
  private:
-  // The outputs whose memory is too large to stay in the cache
-  // (cpu::Options::stores): the kernel writes them past it.
-  std::uint64_t streamed_outputs(const std::vector<BufferView>& outputs) const {
-    std::uint64_t streamed = 0;
-    for (std::size_t o = 0; o < std::min<std::size_t>(outputs.size(), 64); ++o) {
-      const BufferView& out = outputs[o];
-      std::size_t bytes = std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
-      if (bytes > 0 && bytes >= streamed_from_) streamed |= std::uint64_t{1} << o;
-    }
-    return streamed;
+  // Whether the outputs' memory together is too large to stay in the
+  // cache (cpu::Options::stores): the kernel writes them past it.
+  bool streams_outputs(const std::vector<BufferView>& outputs) const {
+    std::size_t bytes = 0;
+    for (const BufferView& out : outputs) bytes += std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
+    return bytes > 0 && bytes >= streamed_from_;
   }
 
   // SPMD gathers index tables in 32 bits.
@@ -154,7 +150,7 @@ class CpuKernel : public Kernel {
   ir::Program program_;  // the loops in error messages point into it
   sh::Options options_;
   bool fetched_;
-  std::size_t streamed_from_;  // bytes of an output's memory
+  std::size_t streamed_from_;  // bytes of the outputs' memory
   Jitted jitted_;
   tbb::task_arena arena_;
 };

@@ -27,7 +27,10 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
     tap_spans_ = analysis::tap_spans(p, access_);
   }
   reads_position_ = ir::uses(p, ir::Op::Position);
-  streams_ = may_stream(o) && !p.outputs.empty();
+  // A kernel with loops of its own (a ray's walk, an iteration) spends its
+  // time in them, not on its stores: streaming them bought the tracer
+  // nothing measurable and cost its compile a tenth more.
+  streams_ = may_stream(o) && !p.outputs.empty() && loops_.empty();
   unwritten_reads_ = analysis::unwritten_reads(p);
   llvm::StringMap<bool> features;
   avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
@@ -476,6 +479,7 @@ void Lowering::load_inputs(Value* e, Value* tail) {
 }
 
 void Lowering::store_outputs(Value* e, Value* tail) {
+  std::vector<Batch> full;
   for (std::size_t o = 0; o < p_.outputs.size(); ++o) {
     ir::VarId v = p_.outputs[o];
     ir::Type t = p_.type_of(v);
@@ -491,34 +495,49 @@ void Lowering::store_outputs(Value* e, Value* tail) {
     }
     Value* block = interleave(components, t.width);
     if (tail) b_.CreateMaskedStore(block, at, alignment(scalar), spread(tail, t.width));
-    else store_batch(o, block, at, alignment(scalar));
+    else full.push_back({block, at, alignment(scalar)});
   }
+  store_full_batches(full);
 }
 
-// A full batch of output o: past the cache where the run asks for it
-// and the batch starts on a multiple of its size (up to a line), since a
-// non-temporal store of a vector must be aligned to it; else as any store.
-// The bytes stored are the same either way.
-void Lowering::store_batch(std::size_t o, Value* block, Value* at, llvm::Align natural) {
-  std::uint64_t bytes = module_->getDataLayout().getTypeStoreSize(block->getType());
-  std::uint64_t line = std::min<std::uint64_t>(64, bytes & (~bytes + 1));  // the largest power of two dividing it
-  if (!streams_ || line < 32 || o >= 64) {
-    b_.CreateAlignedStore(block, at, natural);
-    return;
+// Full batches of the outputs: past the cache where the run asks for it
+// and every batch that can starts on a multiple of its size (up to a
+// line), since a non-temporal store of a vector must be aligned to it;
+// else as any store.  One test for them all, so that a kernel of many
+// outputs grows by one branch.  The bytes stored are the same either way.
+void Lowering::store_full_batches(const std::vector<Batch>& batches) {
+  auto line_of = [&](const Batch& batch) {
+    std::uint64_t bytes = module_->getDataLayout().getTypeStoreSize(batch.block->getType());
+    return std::min<std::uint64_t>(64, bytes & (~bytes + 1));  // the largest power of two dividing it
+  };
+  auto plain = [&] {
+    for (const Batch& batch : batches) b_.CreateAlignedStore(batch.block, batch.at, batch.natural);
+  };
+  Value* aligned = nullptr;
+  for (const Batch& batch : batches) {
+    std::uint64_t line = line_of(batch);
+    if (line < 32) continue;
+    Value* on_line = b_.CreateICmpEQ(b_.CreateAnd(b_.CreatePtrToInt(batch.at, b_.getInt64Ty()), b_.getInt64(line - 1)),
+                                     b_.getInt64(0));
+    aligned = aligned ? b_.CreateAnd(aligned, on_line) : on_line;
   }
-  Value* asked = b_.CreateICmpNE(b_.CreateAnd(streamed_, b_.getInt64(std::uint64_t{1} << o)), b_.getInt64(0));
-  Value* aligned = b_.CreateICmpEQ(b_.CreateAnd(b_.CreatePtrToInt(at, b_.getInt64Ty()), b_.getInt64(line - 1)), b_.getInt64(0));
+  if (!streams_ || !aligned) return plain();
   BasicBlock* past = BasicBlock::Create(ctx_, "store.streamed", fn_);
   BasicBlock* cached = BasicBlock::Create(ctx_, "store.cached", fn_);
   BasicBlock* done = BasicBlock::Create(ctx_, "store.done", fn_);
-  b_.CreateCondBr(b_.CreateAnd(asked, aligned), past, cached);
+  b_.CreateCondBr(b_.CreateAnd(b_.CreateICmpNE(streamed_, b_.getInt64(0)), aligned), past, cached);
   b_.SetInsertPoint(past);
-  llvm::StoreInst* store = b_.CreateAlignedStore(block, at, llvm::Align(line));
-  store->setMetadata(llvm::LLVMContext::MD_nontemporal,
-                     llvm::MDNode::get(ctx_, {llvm::ConstantAsMetadata::get(b_.getInt32(1))}));
+  llvm::MDNode* nontemporal = llvm::MDNode::get(ctx_, {llvm::ConstantAsMetadata::get(b_.getInt32(1))});
+  for (const Batch& batch : batches) {
+    std::uint64_t line = line_of(batch);
+    if (line < 32)
+      b_.CreateAlignedStore(batch.block, batch.at, batch.natural);
+    else
+      b_.CreateAlignedStore(batch.block, batch.at, llvm::Align(line))->setMetadata(llvm::LLVMContext::MD_nontemporal, nontemporal);
+  }
   b_.CreateBr(done);
   b_.SetInsertPoint(cached);
-  b_.CreateAlignedStore(block, at, natural);
+  plain();
   b_.CreateBr(done);
   b_.SetInsertPoint(done);
 }

@@ -35,8 +35,8 @@ int lane_count(const Options& options);
 bool fetches_tables(const Options& options);
 
 // cpu::Options::stores: whether a kernel may write outputs past the cache
-// (signature.hpp's streamed_outputs), and from how many bytes of an
-// output's memory a run asks it to.
+// (signature.hpp's stream_outputs), and from how many bytes of the
+// outputs' memory a run asks it to.
 bool may_stream(const Options& options);
 std::size_t streamed_from_bytes(const Options& options);
 

@@ -62,7 +62,12 @@ class Lowering {
   void clear_registers();
   void load_inputs(Value* e, Value* tail);
   void store_outputs(Value* e, Value* tail);
-  void store_batch(std::size_t o, Value* block, Value* at, llvm::Align natural);
+  struct Batch {  // a full batch of an output, as it is stored
+    Value* block;
+    Value* at;
+    llvm::Align natural;
+  };
+  void store_full_batches(const std::vector<Batch>& batches);
   void order_streamed_stores();
   void full_or_tail(Value* count, const std::function<void(Value* tail)>& emit);
   Value* pointer_at(Value* array, std::size_t k);
@@ -194,7 +199,7 @@ class Lowering {
   llvm::Function* fn_ = nullptr;
   Value *inputs_ = nullptr, *outputs_ = nullptr, *uniforms_ = nullptr, *tables_ = nullptr, *dims_ = nullptr,
         *status_ = nullptr, *streamed_ = nullptr;
-  bool streams_ = false;  // spmd on x86, stores not set to cached: the kernel can write outputs past the cache
+  bool streams_ = false;  // spmd on x86, no loops, stores not set to cached: the kernel can write outputs past the cache
   llvm::AllocaInst* element_ = nullptr;
   bool reads_position_ = false;
   Value *row_ = nullptr, *rows_ = nullptr;       // the launch domain's (signature.hpp)

@@ -89,8 +89,8 @@ void Options::set(const std::string& name, const std::string& value) {
 std::vector<Backend::Setting> settings() {
   return {{"width", "scalar, 4, 8, 16 or auto: lanes per kernel, auto the host's widest"},
           {"tables", "memory or fetched: fetched reads tables through calls, so they may be TableSources"},
-          {"stores", "auto, cached or streamed: streamed writes outputs past the cache, auto those of half the "
-                     "last-level cache or more"}};
+          {"stores", "auto, cached or streamed: streamed writes outputs past the cache, auto a run's that "
+                     "together take half the last-level cache or more"}};
 }
 
 int lane_count(const sh::Options& options) {

@@ -4,8 +4,8 @@
 // three dimensions each; the launch domain (position()) as the run's first
 // element in it, its row length and its rows per layer (KernelDomain).  A
 // kernel that stops early (a loop past its iteration cap) writes
-// status[0] = loop number + 1, status[1] = element.  Bit o of
-// streamed_outputs asks for output o's full batches to be written past the
+// status[0] = loop number + 1, status[1] = element.  A stream_outputs
+// other than 0 asks for the outputs' full batches to be written past the
 // cache (cpu::Options::stores); a kernel that may stream orders those
 // stores before it returns.
 #include <array>
@@ -18,7 +18,7 @@ namespace sh::cpu {
 
 using KernelFn = void (*)(std::int64_t begin, std::int64_t end, void* const* inputs, void* const* outputs,
                           const double* uniforms, const void* const* tables, const std::int32_t* table_dims,
-                          const std::int64_t* domain, std::int64_t* status, std::uint64_t streamed_outputs);
+                          const std::int64_t* domain, std::int64_t* status, std::uint64_t stream_outputs);
 
 // The launch domain as a kernel reads it: the run's first element in the
 // grid, the row length (INT64_MAX for a domain of one row) and the rows.

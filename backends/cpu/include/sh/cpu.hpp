@@ -30,13 +30,14 @@ enum class Width : std::uint8_t { Auto = 0, Scalar = 1, Lanes4 = 4, Lanes8 = 8, 
 enum class Tables : std::uint8_t { Memory, Fetched };
 
 // How full batches of outputs are written: through the cache (Cached), or
-// past it, with non-temporal stores, where an output channel is too large
-// to stay there (Auto: half the last-level cache or more) or always
-// (Streamed).  A stream written past the cache costs no read of its lines
+// past it, with non-temporal stores, where a run's output channels are
+// too large to stay there (Auto: together half the last-level cache or
+// more) or always (Streamed).  A stream written past the cache costs no read of its lines
 // first and evicts nothing a run still reads; the next run that reads it
-// finds it in memory.  Only x86 hosts, SPMD widths, and batches that start
-// on a multiple of their size (up to a cache line) stream; results never
-// change.
+// finds it in memory.  Only x86 hosts, SPMD widths, kernels without loops
+// (whose time goes to their loops, not their stores), and batches that
+// start on a multiple of their size (up to a cache line) stream; results
+// never change.
 enum class Stores : std::uint8_t { Auto, Cached, Streamed };
 
 struct Options {
