@@ -389,8 +389,10 @@ TEST(CpuBackend, FullBatchesOfOutputsStorePastTheCacheWhereAsked) {
   }
 }
 
-// Streamed or not, the outputs are the same: rows of 20 elements start
-// batches on a line, one element past one, and end in batches of four.
+// Streamed or not, the outputs are the same: rows of 20 elements, whose
+// float batches start 0, 16, 32 or 48 bytes past a line (those of four
+// floats always on one: a row that does not start on a line stores both
+// as any store), and end in batches of four.
 TEST(CpuBackend, StreamedStoresWriteWhatCachedOnesDo) {
   Program p = SH_BEGIN_PROGRAM("placed") {
     OutputAttrib1f one;

@@ -88,14 +88,17 @@ class CpuKernel : public Kernel {
   // On the kernel's arena, whose threads stay between calls (and so keep
   // what a task leaves them, as run_fused's strip buffers).  The arena
   // has the threads the kernel was compiled for, which are the caller's.
-  void spread(std::size_t count, int, const std::function<void(std::size_t)>& task) override {
+  // Each task runs isolated: a thread waiting inside one (on parallel
+  // work of a TableSource, say) takes up no other task of this call,
+  // which would find the thread's state in use.
+  void run_tasks(std::size_t count, int, const std::function<void(std::size_t)>& task) override {
     arena_.execute([&] {
       // One task a range, so that a task that throws cancels every one
       // not yet started.
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, count, 1),
           [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t k = r.begin(); k < r.end(); ++k) task(k);
+            for (std::size_t k = r.begin(); k < r.end(); ++k) tbb::this_task_arena::isolate([&] { task(k); });
           },
           tbb::simple_partitioner());
     });

@@ -501,10 +501,12 @@ void Lowering::store_outputs(Value* e, Value* tail) {
 }
 
 // Full batches of the outputs: past the cache where the run asks for it
-// and every batch that can starts on a multiple of its size (up to a
-// line), since a non-temporal store of a vector must be aligned to it;
-// else as any store.  One test for them all, so that a kernel of many
-// outputs grows by one branch.  The bytes stored are the same either way.
+// and each batch of 32 bytes or more starts on a multiple of the largest
+// power of two dividing its size, up to a line, since a non-temporal
+// store of a vector must be aligned so; else (and batches under 32
+// bytes, a fraction of a line) as any store.  One test for them all, so
+// that a kernel of many outputs grows by one branch.  The bytes stored are
+// the same either way.
 void Lowering::store_full_batches(const std::vector<Batch>& batches) {
   auto line_of = [&](const Batch& batch) {
     std::uint64_t bytes = module_->getDataLayout().getTypeStoreSize(batch.block->getType());

@@ -165,7 +165,7 @@ class Kernel {
   // no task not yet started once one has thrown.  By default on threads
   // started for the call; a backend with threads of its own uses them,
   // which keep what they hold between calls.
-  virtual void spread(std::size_t count, int threads, const std::function<void(std::size_t)>& task);
+  virtual void run_tasks(std::size_t count, int threads, const std::function<void(std::size_t)>& task);
   // What the kernel became (LLVM IR, OpenCL C, ...), for --dump options.
   virtual std::string listing() const { return {}; }
   // Where its compile's time went, for backends that time their phases.

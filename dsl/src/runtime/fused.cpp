@@ -23,6 +23,9 @@ namespace {
 // producer's writes and the consumer's reads.
 constexpr std::size_t kStripBytes = 512 * 1024;
 
+// A thread keeps a strip buffer up to this size for its next run.
+constexpr std::size_t kKeptStripBytes = 4 * kStripBytes;
+
 // The rows above (low, negative) and below (high) an element's own that a
 // consumer reads of a table.
 struct Reach {
@@ -149,11 +152,13 @@ class Strips {
   std::size_t count() const { return static_cast<std::size_t>((height_ + rows_ - 1) / rows_); }
 
   void run(Kernel& make, Kernel& use, int threads) {
-    use.spread(count(), threads, [&](std::size_t k) {
+    use.run_tasks(count(), threads, [&](std::size_t k) {
       // As a channel's storage, starting a cache line.  Kept by the thread
-      // for its next strip, which then neither clears nor maps it again.
+      // for its next strip, which then neither clears nor maps it again,
+      // unless strips asked for far more than the default.
       thread_local Words buffer;
       strip(static_cast<int>(k), make, use, buffer);
+      if (buffer.capacity() * sizeof(std::uint64_t) > kKeptStripBytes) Words().swap(buffer);
     });
   }
 

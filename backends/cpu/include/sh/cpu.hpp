@@ -34,10 +34,12 @@ enum class Tables : std::uint8_t { Memory, Fetched };
 // too large to stay there (Auto: together half the last-level cache or
 // more) or always (Streamed).  A stream written past the cache costs no read of its lines
 // first and evicts nothing a run still reads; the next run that reads it
-// finds it in memory.  Only x86 hosts, SPMD widths, kernels without loops
-// (whose time goes to their loops, not their stores), and batches that
-// start on a multiple of their size (up to a cache line) stream; results
-// never change.
+// finds it in memory.  Only x86 hosts, SPMD widths and kernels without
+// loops (whose time goes to their loops, not their stores) stream, and of
+// a batch only outputs whose batch is 32 bytes or more; a batch streams
+// where each such output's batch starts on a multiple of the largest
+// power of two dividing its size, up to a line (64 bytes), else it is
+// stored as any other.  Results never change.
 enum class Stores : std::uint8_t { Auto, Cached, Streamed };
 
 struct Options {

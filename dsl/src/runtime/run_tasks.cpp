@@ -1,4 +1,4 @@
-// Kernel::spread's default: threads started for the call take the tasks in
+// Kernel::run_tasks's default: threads started for the call take the tasks in
 // turn with the caller's.
 #include <algorithm>
 #include <atomic>
@@ -10,7 +10,7 @@
 
 namespace sh {
 
-void Kernel::spread(std::size_t count, int threads, const std::function<void(std::size_t)>& task) {
+void Kernel::run_tasks(std::size_t count, int threads, const std::function<void(std::size_t)>& task) {
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
   std::exception_ptr error;
