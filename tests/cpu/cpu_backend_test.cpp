@@ -326,8 +326,8 @@ TEST(CpuBackend, OptionsHaveAStringFormAndVariantsCoverEveryWidth) {
     o.set("stores", "uncached");
     FAIL() << "an unknown kind of stores was accepted";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("\"stores\" is \"uncached\"; expected auto, cached or streamed"), std::string::npos)
-        << e.what();
+    std::string said = e.what();
+    EXPECT_NE(said.find("\"stores\" is \"uncached\"; expected auto, cached or streamed"), std::string::npos) << said;
   }
   std::vector<std::string> widths, stores;
   for (const BackendInfo& b : backends())
@@ -382,8 +382,10 @@ TEST(CpuBackend, FullBatchesOfOutputsStorePastTheCacheWhereAsked) {
   } SH_END;
   Options always;
   always.set(cpu::Options{.width = cpu::Width::Lanes16, .stores = cpu::Stores::Streamed});
-  for (const std::string& ir : {listing(cpu::Width::Lanes16, cpu::Stores::Cached), listing(cpu::Width::Scalar, cpu::Stores::Streamed),
-                                kernel_for(looping, backend("cpu", always))->listing()}) {
+  std::string cached = listing(cpu::Width::Lanes16, cpu::Stores::Cached);
+  std::string scalar = listing(cpu::Width::Scalar, cpu::Stores::Streamed);
+  std::string loops = kernel_for(looping, backend("cpu", always))->listing();
+  for (const std::string& ir : {cached, scalar, loops}) {
     EXPECT_EQ(streamed(ir), 0u) << ir;
     EXPECT_EQ(fences(ir), 0u) << ir;
   }

@@ -44,7 +44,7 @@ class CpuKernel : public Kernel {
     std::vector<std::atomic<std::int64_t>> inline_reads(args.tables.size());
     std::array<std::int64_t, 3> domain = kernel_domain(args.domain);
     alignas(16) std::int64_t status[2] = {0, 0};
-    std::uint64_t streamed = streams_outputs(args.outputs);
+    std::uint64_t streamed = streams_outputs(args.outputs) ? 1 : 0;
     KernelFn fn = jitted_.entry();
     auto n = static_cast<std::int64_t>(args.count);
     // Threads take whole sets of lanes, so only the stream's last set is

@@ -532,10 +532,12 @@ void Lowering::store_full_batches(const std::vector<Batch>& batches) {
   llvm::MDNode* nontemporal = llvm::MDNode::get(ctx_, {llvm::ConstantAsMetadata::get(b_.getInt32(1))});
   for (const Batch& batch : batches) {
     std::uint64_t line = line_of(batch);
-    if (line < 32)
+    if (line < 32) {
       b_.CreateAlignedStore(batch.block, batch.at, batch.natural);
-    else
-      b_.CreateAlignedStore(batch.block, batch.at, llvm::Align(line))->setMetadata(llvm::LLVMContext::MD_nontemporal, nontemporal);
+      continue;
+    }
+    llvm::StoreInst* store = b_.CreateAlignedStore(batch.block, batch.at, llvm::Align(line));
+    store->setMetadata(llvm::LLVMContext::MD_nontemporal, nontemporal);
   }
   b_.CreateBr(done);
   b_.SetInsertPoint(cached);

@@ -199,7 +199,9 @@ class Lowering {
   llvm::Function* fn_ = nullptr;
   Value *inputs_ = nullptr, *outputs_ = nullptr, *uniforms_ = nullptr, *tables_ = nullptr, *dims_ = nullptr,
         *status_ = nullptr, *streamed_ = nullptr;
-  bool streams_ = false;  // spmd on x86, no loops, stores not set to cached: the kernel can write outputs past the cache
+  // spmd on x86, no loops, stores not set to cached: the kernel can write
+  // outputs past the cache
+  bool streams_ = false;
   llvm::AllocaInst* element_ = nullptr;
   bool reads_position_ = false;
   Value *row_ = nullptr, *rows_ = nullptr;       // the launch domain's (signature.hpp)
