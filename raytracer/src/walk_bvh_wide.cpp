@@ -44,10 +44,11 @@ struct WideNode {
   // Asks for what a visit to each child will read: an inner child's
   // boxes (its six rows span two cache lines: rows 0 and 4 lie in one
   // each), children and, where the walk is ordered, its slots' order; a
-  // leaf's list and its first triangle's vertices.  A large tree misses the cache at every level, and a walk
-  // that waits for each node before it knows the next one pays a memory
-  // latency a step; asked here, the children come in while this node's
-  // boxes are tested, and the siblings pushed are there when popped.
+  // leaf's list and its first triangle's vertices.  A large tree misses
+  // the cache at every level, and a walk that waits for each node before
+  // it knows the next one pays a memory latency a step; asked here, the
+  // children come in while this node's boxes are tested, and the siblings
+  // pushed are there when popped.
   void prefetch_children(const SceneTables& s, bool ordered) const;
   Attrib4f lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
   Attrib4i kids;

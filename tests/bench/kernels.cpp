@@ -278,8 +278,9 @@ void blur_fused_cpp(const Image& im, int y0, int y1) {
 // AVX-512: sixteen pixels per step.  The direct blur reads each row's
 // taps from two unaligned loads, of the sixteen elements from its first
 // tap and the sixteen after them, each tap a lane shift of the two
-// (`valignd`), as the cpu backend does: five loads a row, four of them
-// across a cache line, left the load port the bottleneck.  The passes load
+// (`valignd`), as the cpu backend shares a row's loads too: five loads a
+// row, four of them across a cache line, left the load port the
+// bottleneck.  The passes load
 // each tap.  The edges and the row's last partial step as the C++ form.
 #if defined(__AVX512F__)
 namespace {

@@ -508,19 +508,19 @@ void Lowering::store_outputs(Value* e, Value* tail) {
 // that a kernel of many outputs grows by one branch.  The bytes stored are
 // the same either way.
 void Lowering::store_full_batches(const std::vector<Batch>& batches) {
-  auto line_of = [&](const Batch& batch) {
+  std::vector<std::uint64_t> lines;  // by batch: the alignment its streamed store needs
+  for (const Batch& batch : batches) {
     std::uint64_t bytes = module_->getDataLayout().getTypeStoreSize(batch.block->getType());
-    return std::min<std::uint64_t>(64, bytes & (~bytes + 1));  // the largest power of two dividing it
-  };
+    lines.push_back(std::min<std::uint64_t>(64, bytes & (~bytes + 1)));  // the largest power of two dividing it
+  }
   auto plain = [&] {
     for (const Batch& batch : batches) b_.CreateAlignedStore(batch.block, batch.at, batch.natural);
   };
   Value* aligned = nullptr;
-  for (const Batch& batch : batches) {
-    std::uint64_t line = line_of(batch);
-    if (line < 32) continue;
-    Value* on_line = b_.CreateICmpEQ(b_.CreateAnd(b_.CreatePtrToInt(batch.at, b_.getInt64Ty()), b_.getInt64(line - 1)),
-                                     b_.getInt64(0));
+  for (std::size_t k = 0; k < batches.size(); ++k) {
+    if (lines[k] < 32) continue;
+    Value* address = b_.CreatePtrToInt(batches[k].at, b_.getInt64Ty());
+    Value* on_line = b_.CreateICmpEQ(b_.CreateAnd(address, b_.getInt64(lines[k] - 1)), b_.getInt64(0));
     aligned = aligned ? b_.CreateAnd(aligned, on_line) : on_line;
   }
   if (!streams_ || !aligned) return plain();
@@ -530,13 +530,13 @@ void Lowering::store_full_batches(const std::vector<Batch>& batches) {
   b_.CreateCondBr(b_.CreateAnd(b_.CreateICmpNE(streamed_, b_.getInt64(0)), aligned), past, cached);
   b_.SetInsertPoint(past);
   llvm::MDNode* nontemporal = llvm::MDNode::get(ctx_, {llvm::ConstantAsMetadata::get(b_.getInt32(1))});
-  for (const Batch& batch : batches) {
-    std::uint64_t line = line_of(batch);
-    if (line < 32) {
+  for (std::size_t k = 0; k < batches.size(); ++k) {
+    const Batch& batch = batches[k];
+    if (lines[k] < 32) {
       b_.CreateAlignedStore(batch.block, batch.at, batch.natural);
       continue;
     }
-    llvm::StoreInst* store = b_.CreateAlignedStore(batch.block, batch.at, llvm::Align(line));
+    llvm::StoreInst* store = b_.CreateAlignedStore(batch.block, batch.at, llvm::Align(lines[k]));
     store->setMetadata(llvm::LLVMContext::MD_nontemporal, nontemporal);
   }
   b_.CreateBr(done);
