@@ -598,16 +598,23 @@ class SpansOfThree : public TableSource {
   std::vector<float> values_;
 };
 
+// Two tables of one element type, whose reads share code in SPMD modes:
+// each read goes to its own table's source.
 TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
-  std::vector<float> values(100);
-  for (std::size_t k = 0; k < values.size(); ++k) values[k] = 0.5f * static_cast<float>(k);
-  Table1D<Attrib1f> table(100);
+  std::vector<float> values(100), others(100);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    values[k] = 0.5f * static_cast<float>(k);
+    others[k] = 1000.0f - static_cast<float>(k);
+  }
+  Table1D<Attrib1f> table(100), other(100);
   table.assign(values);
+  other.assign(others);
   Program p = SH_BEGIN_PROGRAM("through_source") {
     InputAttrib1i i;
     OutputAttrib1f y;
     y = table[i];
     SH_IF(i % 3 == 0) { y += table[i + 1]; } SH_ENDIF;  // a read only some lanes make
+    y += other[i + 40];
   } SH_END;
   std::vector<std::int32_t> is;
   // Neighbours reading neighbours, then scattered reads; clamped at both ends too.
@@ -615,8 +622,10 @@ TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
   std::size_t reads = 0;
   std::vector<float> expected;
   for (std::int32_t i : is) {
-    auto at = [&](std::int32_t k) { return values[static_cast<std::size_t>(std::clamp(k, 0, 99))]; };
-    expected.push_back(i % 3 == 0 ? at(i) + at(i + 1) : at(i));
+    auto at = [](const std::vector<float>& v, std::int32_t k) {
+      return v[static_cast<std::size_t>(std::clamp(k, 0, 99))];
+    };
+    expected.push_back((i % 3 == 0 ? at(values, i) + at(values, i + 1) : at(values, i)) + at(others, i + 40));
     reads += i % 3 == 0 ? 2 : 1;
   }
   for (const char* width : {"scalar", "4", "16"}) {
@@ -625,16 +634,19 @@ TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
     o.threads = 1;
     std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
     std::vector<float> out(is.size());
-    SpansOfThree source(values);
+    SpansOfThree source(values), other_source(others);
     RunArgs args;
     args.count = is.size();
     args.inputs.push_back({ir::Type{ir::Scalar::I32, 1}, is.size(), is.data()});
     args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, out.size(), out.data()});
-    args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 1, {100, 1, 1}, nullptr, nullptr, 7, 1, &source});
+    ir::Type f32{ir::Scalar::F32, 1};
+    args.tables.push_back(TableView{f32, 1, {100, 1, 1}, nullptr, nullptr, 7, 1, &source});
+    args.tables.push_back(TableView{f32, 1, {100, 1, 1}, nullptr, nullptr, 8, 1, &other_source});
     RunStats stats;
     kernel->run(args, stats);
     EXPECT_EQ(out, expected) << width;
     EXPECT_EQ(source.spans + source.inline_reads, reads) << width;
+    EXPECT_EQ(other_source.spans + other_source.inline_reads, is.size()) << width;
     EXPECT_GT(source.inline_reads, 0u) << width << ": no read was served from a span";
     Options memory = o;
     memory.set("tables", "memory");

@@ -136,6 +136,7 @@ class Lowering {
   std::array<Value*, 4> fetch_lanes(int table, Value* flat);
   llvm::Function* fetch_rounds(int table);
   void fetch_round_loop(int table, Value* flat, Value* running, Value* out);
+  std::pair<Value*, Value*> window_lanes(int table, Value* flat, Value* reading);
   void for_each_running_lane(const std::function<void(std::uint64_t lane)>& emit);
   void scatter(const ir::Scatter& sc);
   void prefetch(const ir::Prefetch& pf);

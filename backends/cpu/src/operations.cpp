@@ -398,9 +398,10 @@ std::array<Value*, 4> Lowering::fetch(int table, Value* flat) {
 // the window (a call only where it lies outside), then every waiting lane
 // whose element lies in the window reads it, one gather per component.  A
 // whole table takes one round; lanes reading k blocks, k rounds.  The
-// rounds are a function per table, which each read of it calls: inlined
-// at every read (a tracer has dozens) they took a third of its fetched
-// kernel's machine-code time.
+// rounds are a function per element type, which each read of a table of
+// that type calls with the table's access: inlined at every read (a
+// tracer has dozens) they took a third of its fetched kernel's
+// machine-code time, and one function per table a fifth.
 std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::CallInst* call = b_.CreateCall(fetch_rounds(table), {table_base_[table], flat, exec()});
@@ -410,14 +411,18 @@ std::array<Value*, 4> Lowering::fetch_lanes(int table, Value* flat) {
   return values;
 }
 
-// fetch_lanes' function for one table: (its TableAccess, the lanes' flat
-// indices, the lanes that read) to the components' vectors.  Lowered as
-// the kernel is, with the function and the table's access its own meanwhile.
+// fetch_lanes' function for the tables of one element type: (a table's
+// TableAccess, the lanes' flat indices, the lanes that read) to the
+// components' vectors.  Lowered as the kernel is, with the function and
+// the table's access its own meanwhile.
 llvm::Function* Lowering::fetch_rounds(int table) {
-  std::string name = "sh_fetch_lanes." + std::to_string(table);
-  if (llvm::Function* known = module_->getFunction(name)) return known;
   const ir::TableDecl& t = p_.tables[table];
-  std::vector<llvm::Type*> components(static_cast<std::size_t>(t.element.width), lanes(storage_scalar(t.element.scalar)));
+  llvm::Type* scalar = storage_scalar(t.element.scalar);
+  std::string name;
+  llvm::raw_string_ostream os(name);
+  os << "sh_fetch_lanes." << *scalar << "x" << t.element.width;
+  if (llvm::Function* known = module_->getFunction(name)) return known;
+  std::vector<llvm::Type*> components(static_cast<std::size_t>(t.element.width), lanes(scalar));
   llvm::Type* vectors = llvm::StructType::get(ctx_, components);
   llvm::Function* f = helper_function(
       name, llvm::FunctionType::get(vectors, {b_.getPtrTy(), lanes(b_.getInt32Ty()), mask_type()}, false));
@@ -436,13 +441,31 @@ llvm::Function* Lowering::fetch_rounds(int table) {
   return f;
 }
 
+// Where the lanes of `reading` find their elements in a fetched table's
+// window: in scalars from its start, and which lie inside it.  In 32 bits,
+// as the table's own indices are (below 2^31): the window's bounds, capped
+// at 2^31, keep a lane's offset from its start below the span exactly
+// where its element lies inside, wrapping where it lies before.  Lanes of
+// 64 bits would be two registers each.
+std::pair<Value*, Value*> Lowering::window_lanes(int table, Value* flat, Value* reading) {
+  const ir::TableDecl& t = p_.tables[table];
+  auto bound = [&](unsigned field) {
+    Value* bound = b_.CreateLoad(b_.getInt64Ty(), access_field(table, field));
+    Value* capped = b_.CreateBinaryIntrinsic(llvm::Intrinsic::umin, bound, b_.getInt64(std::int64_t{1} << 31));
+    return b_.CreateTrunc(capped, b_.getInt32Ty());
+  };
+  Value* first = bound(1);
+  Value* offset = b_.CreateSub(flat, splat(first));
+  Value* inside = b_.CreateAnd(reading, b_.CreateICmpULT(offset, splat(b_.CreateSub(bound(2), first))));
+  return {b_.CreateMul(offset, splat(b_.getInt32(t.element.width))), inside};
+}
+
 // The rounds, into the struct of component vectors at `out`.
 void Lowering::fetch_round_loop(int table, Value* flat, Value* running, Value* out) {
   const ir::TableDecl& t = p_.tables[table];
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   llvm::Type* vector = lanes(scalar);
   llvm::Type* i64 = b_.getInt64Ty();
-  Value* indices = b_.CreateZExt(flat, lanes(i64));
   llvm::Type* components = llvm::cast<llvm::AllocaInst>(out)->getAllocatedType();
   std::array<Value*, 4> slots{};
   for (int c = 0; c < t.element.width; ++c) {
@@ -461,16 +484,11 @@ void Lowering::fetch_round_loop(int table, Value* flat, Value* running, Value* o
 
   b_.SetInsertPoint(round);
   Value* leader = first_lane(still);
-  fetched_element(table, b_.CreateExtractElement(indices, leader));  // into the window
-  Value* first = b_.CreateLoad(i64, access_field(table, 1));
-  Value* offset = b_.CreateSub(indices, splat(first));
-  Value* span = b_.CreateSub(b_.CreateLoad(i64, access_field(table, 2)), first);
-  Value* in_window = b_.CreateAnd(still, b_.CreateICmpULT(offset, splat(span)));
+  fetched_element(table, b_.CreateZExt(b_.CreateExtractElement(flat, leader), i64));  // into the window
+  auto [at, in_window] = window_lanes(table, flat, still);
   Value* window = b_.CreateLoad(b_.getPtrTy(), access_field(table, 0));
-  // In scalars from the window's start, in 32 bits as the table's own
-  // indices are; a lane not reading in this round reads the leading lane's
-  // element, which the window holds, if it reads at all.
-  Value* at = b_.CreateMul(b_.CreateTrunc(offset, lanes(b_.getInt32Ty())), splat(b_.getInt32(t.element.width)));
+  // A lane not reading in this round reads the leading lane's element,
+  // which the window holds, if it reads at all.
   Value* leader_at = splat(b_.CreateExtractElement(at, leader));
   for (int c = 0; c < t.element.width; ++c) {
     Value* component = b_.CreateConstInBoundsGEP1_64(scalar, window, static_cast<std::uint64_t>(c));
