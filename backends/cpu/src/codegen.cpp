@@ -10,6 +10,9 @@
 #include <llvm/Bitcode/BitcodeReader.h>
 #include <llvm/Bitcode/BitcodeWriter.h>
 #include <llvm/IR/Dominators.h>
+#include <llvm/CodeGen/MachineModuleInfo.h>
+#include <llvm/CodeGen/Passes.h>
+#include <llvm/CodeGen/TargetPassConfig.h>
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/Support/Error.h>
 #include <llvm/Support/MemoryBuffer.h>
@@ -129,32 +132,57 @@ std::map<std::string, unsigned> assign_parts(llvm::Module& m, unsigned parts) {
   return part;
 }
 
-std::string emit(llvm::Module& m, const llvm::orc::JITTargetMachineBuilder& builder, const std::string& program) {
+// The machine passes' configuration as addPassesToEmitFile makes it, less
+// what `passes` leaves out.  No verifier: the module was verified after
+// optimisation, and code generation changes nothing a verifier reads
+// before the passes' own.
+void add_machine_passes(llvm::legacy::PassManager& pm, llvm::LLVMTargetMachine& machine, MachinePasses passes,
+                        llvm::raw_pwrite_stream& os, const std::string& program) {
+  auto* info = new llvm::MachineModuleInfoWrapperPass(&machine);
+  llvm::TargetPassConfig* config = machine.createPassConfig(pm);
+  config->setDisableVerify(true);
+  if (passes == MachinePasses::Lean)
+    for (llvm::AnalysisID pass : {&llvm::MachineSchedulerID, &llvm::EarlyMachineLICMID, &llvm::MachineCSEID})
+      config->disablePass(pass);
+  pm.add(config);
+  pm.add(info);
+  bool failed = config->addISelPasses();
+  if (!failed) {
+    config->addMachinePasses();
+    config->setInitialized();
+    failed = machine.addAsmPrinter(pm, os, nullptr, llvm::CGFT_ObjectFile, info->getMMI().getContext());
+  }
+  if (failed) throw Error("program '" + program + "': cpu backend: this target cannot emit object files");
+  pm.add(llvm::createFreeMachineFunctionPass());
+}
+
+std::string emit(llvm::Module& m, const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes,
+                 const std::string& program) {
   llvm::orc::JITTargetMachineBuilder own = builder;  // making a machine is not const
   auto machine = own.createTargetMachine();
   if (!machine)
     throw Error("program '" + program + "': cpu backend: creating the target machine: " + llvm::toString(machine.takeError()));
   llvm::SmallVector<char, 0> bytes;
   llvm::raw_svector_ostream os(bytes);
-  llvm::legacy::PassManager passes;
-  if ((*machine)->addPassesToEmitFile(passes, os, nullptr, llvm::CGFT_ObjectFile))
-    throw Error("program '" + program + "': cpu backend: this target cannot emit object files");
-  passes.run(m);
+  llvm::legacy::PassManager pm;
+  add_machine_passes(pm, static_cast<llvm::LLVMTargetMachine&>(**machine), passes, os, program);
+  pm.run(m);
   return std::string(bytes.begin(), bytes.end());
 }
 
 // Part `k` of a module: the functions of other parts only declared.
 std::string emit_part(llvm::Module& m, const std::map<std::string, unsigned>& part, unsigned k,
-                      const llvm::orc::JITTargetMachineBuilder& builder, const std::string& program) {
+                      const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes, const std::string& program) {
   for (llvm::Function& f : m)
     if (!f.isDeclaration() && part.at(f.getName().str()) != k) f.deleteBody();
-  return emit(m, builder, program);
+  return emit(m, builder, passes, program);
 }
 
 // Each part on a thread of its own, the first on the caller's; a context
 // serves one thread, so the others read the module back from its bitcode.
 void emit_parts(llvm::Module& module, const std::map<std::string, unsigned>& part,
-                const llvm::orc::JITTargetMachineBuilder& builder, const std::string& program, Objects& out) {
+                const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes, const std::string& program,
+                Objects& out) {
   std::atomic<double> elsewhere{0};
   std::thread::id caller = std::this_thread::get_id();
   tbb::task_group group;
@@ -164,12 +192,12 @@ void emit_parts(llvm::Module& module, const std::map<std::string, unsigned>& par
       llvm::LLVMContext context;
       auto m = llvm::parseBitcodeFile(llvm::MemoryBufferRef(out.module, program), context);
       if (!m) throw Error("program '" + program + "': cpu backend: reading a part back: " + llvm::toString(m.takeError()));
-      out.parts[k] = emit_part(**m, part, static_cast<unsigned>(k), builder, program);
+      out.parts[k] = emit_part(**m, part, static_cast<unsigned>(k), builder, passes, program);
       if (std::this_thread::get_id() != caller) elsewhere.fetch_add(detail::thread_cpu_ms() - cpu0);
     });
   std::exception_ptr failed;
   try {
-    out.parts[0] = emit_part(module, part, 0, builder, program);
+    out.parts[0] = emit_part(module, part, 0, builder, passes, program);
   } catch (...) {
     failed = std::current_exception();
     group.cancel();
@@ -189,8 +217,8 @@ bool globals_copyable(const llvm::Module& m) {
 
 }  // namespace
 
-Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
-                        unsigned threads, const std::string& program) {
+Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes,
+                        unsigned split_above, unsigned threads, const std::string& program) {
   unsigned parts = std::min(threads, kMostParts);
   if (module.getInstructionCount() <= split_above || !globals_copyable(module)) parts = 1;
   std::map<std::string, unsigned> part;
@@ -210,9 +238,9 @@ Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineB
   os.flush();
   out.parts.resize(std::max(parts, 1u));
   if (parts > 1)
-    emit_parts(module, part, builder, program, out);
+    emit_parts(module, part, builder, passes, program, out);
   else
-    out.parts[0] = emit(module, builder, program);
+    out.parts[0] = emit(module, builder, passes, program);
   return out;
 }
 

@@ -19,11 +19,19 @@ struct Objects {
   double cpu_ms_elsewhere = 0;     // CPU time spent on threads other than the caller's
 };
 
+// Which of LLVM's machine passes run.  Lean leaves out the machine
+// instruction scheduler, the early loop-invariant code motion and the
+// common subexpressions of machine instructions: on the tracer (loops
+// that run until rays finish, whose IR the short pipeline has already
+// cleaned) they took about a sixth of its machine code's time and did not
+// make its rays faster.
+enum class MachinePasses { Full, Lean };
+
 // A module of more LLVM instructions than `split_above` is cut into as many
 // parts as `threads`, at most 4; others stay whole.  The module is spent:
 // its loops outlined, other parts' bodies deleted, code generation's own
 // changes made.  Throws sh::Error naming `program` where LLVM fails.
-Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, unsigned split_above,
-                        unsigned threads, const std::string& program);
+Objects compile_objects(llvm::Module& module, const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes,
+                        unsigned split_above, unsigned threads, const std::string& program);
 
 }  // namespace sh::cpu

@@ -79,8 +79,9 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
 // spent about 60 % of its compile on them: renders ran at the same speed,
 // with the same images, and compiled in 35-45 % less time (with GVN where
 // the second early CSE is now).
-// Small kernels keep O3, which their loops pay for (ray-triangle's 9 % at
-// 16 lanes) and whose compile is short anyway.
+// Its machine code leaves out the passes MachinePasses::Lean names.
+// Small kernels keep O3 and every machine pass, which their loops pay for
+// (ray-triangle's 9 % at 16 lanes) and whose compile is short anyway.
 constexpr unsigned kLargeKernel = 5000;
 
 // An optimised kernel of more LLVM instructions than this (the tracer:
@@ -107,7 +108,7 @@ llvm::FunctionPassManager short_pipeline() {
   return fpm;
 }
 
-void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
+void optimise(llvm::Module& m, llvm::TargetMachine& tm, bool large) {
   llvm::LoopAnalysisManager lam;
   llvm::FunctionAnalysisManager fam;
   llvm::CGSCCAnalysisManager cgam;
@@ -119,7 +120,7 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
   pb.registerFunctionAnalyses(fam);
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
-  if (m.getInstructionCount() > kLargeKernel)
+  if (large)
     llvm::createModuleToFunctionPassAdaptor(short_pipeline()).run(m, mam);
   else
     pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3).run(m, mam);
@@ -247,7 +248,8 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   m.setTargetTriple(machine->getTargetTriple().str());
   clock.end("lowering");
 
-  optimise(m, *machine);
+  bool large = m.getInstructionCount() > kLargeKernel;
+  optimise(m, *machine, large);
   mark_min_max_without_nan(m);
   // Invalid IR from the optimiser would abort the process in code
   // generation; an error names the program instead.
@@ -259,7 +261,8 @@ void Jitted::build(const ir::Program& program, const Options& options, bool use_
   clock.end("JIT setup");
   int threads = tbb::this_task_arena::max_concurrency();
   if (options.threads > 0) threads = std::min(threads, options.threads);
-  Objects objects = compile_objects(m, builder, kSplitKernel, static_cast<unsigned>(threads), program.name);
+  MachinePasses passes = large ? MachinePasses::Lean : MachinePasses::Full;
+  Objects objects = compile_objects(m, builder, passes, kSplitKernel, static_cast<unsigned>(threads), program.name);
   cpu_ms_elsewhere_ = objects.cpu_ms_elsewhere;
   compiled_module_ = std::move(objects.module);
   clock.end("machine code");
