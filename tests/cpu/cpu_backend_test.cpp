@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
+#include <tuple>
 
 namespace {
 
@@ -329,15 +330,82 @@ TEST(CpuBackend, OptionsHaveAStringFormAndVariantsCoverEveryWidth) {
     std::string said = e.what();
     EXPECT_NE(said.find("\"stores\" is \"uncached\"; expected auto, cached or streamed"), std::string::npos) << said;
   }
-  std::vector<std::string> widths, stores;
+  std::vector<std::string> widths, stores, isas;
   for (const BackendInfo& b : backends())
     if (b.name == "cpu")
       for (const Backend::Variant& v : b.variants) {
         widths.push_back(v.options.settings()["width"]);
         stores.push_back(v.options.settings()["stores"]);
+        isas.push_back(v.options.settings()["isa"]);
       }
-  EXPECT_EQ(widths, (std::vector<std::string>{"scalar", "4", "8", "16", "16", "scalar", "16"}));
-  EXPECT_EQ(stores, (std::vector<std::string>{"", "", "", "", "streamed", "", ""}));
+  std::vector<std::string> expected_widths{"scalar", "4", "8", "16", "16", "scalar", "16"};
+  std::vector<std::string> expected_stores(7), expected_isas(7);
+  expected_stores[4] = "streamed";
+  // The levels' variants where the host has them.
+  for (auto [level, width, here] : {std::tuple{"sse4.2", "4", __builtin_cpu_supports("sse4.2") != 0},
+                                    std::tuple{"avx2", "8", __builtin_cpu_supports("avx2") != 0}})
+    if (here) {
+      expected_widths.push_back(width);
+      expected_stores.emplace_back();
+      expected_isas.push_back(level);
+    }
+  EXPECT_EQ(widths, expected_widths);
+  EXPECT_EQ(stores, expected_stores);
+  EXPECT_EQ(isas, expected_isas);
+}
+
+// A kernel for an x86-64 level runs that level's lowering, whatever the
+// host has beyond it: the level's widest vectors by default, and, below
+// AVX-512, a gather a lane at a time.  A level the host lacks is refused
+// by name.
+TEST(CpuBackend, IsaLevelsSetTheWidthAndTheLoweringAndTheHostMustHaveThem) {
+  Options o;
+  o.set("isa", "avx2");
+  EXPECT_EQ(o.get<cpu::Options>().isa, cpu::Isa::Avx2);
+  EXPECT_EQ(o.get<cpu::Options>().settings(), (Settings{{"isa", "avx2"}}));
+  try {
+    o.set("isa", "avx3");
+    FAIL() << "an unknown level was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"isa\" is \"avx3\"; expected host, sse4.2, avx2 or avx512"),
+              std::string::npos)
+        << e.what();
+  }
+  Table1D<Attrib1f> table(64);
+  Program scattered = SH_BEGIN_PROGRAM("scattered") {
+    InputAttrib1i at;
+    OutputAttrib1f out;
+    out = table[at];
+  } SH_END;
+  struct Level {
+    const char* name;
+    const char* feature;  // one the host must have
+    bool here;
+    int lanes;
+  };
+  for (Level level : {Level{"sse4.2", "sse4.2", __builtin_cpu_supports("sse4.2") != 0, 4},
+                      Level{"avx2", "avx2", __builtin_cpu_supports("avx2") != 0, 8},
+                      Level{"avx512", "avx512f", __builtin_cpu_supports("avx512f") != 0, 16}}) {
+    Options at_level;
+    at_level.set("isa", level.name);
+    if (!level.here) {
+      try {
+        kernel_for(polynomial(), backend("cpu", at_level));
+        ADD_FAILURE() << level.name << " was compiled on a host without it";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("this host lacks"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(level.feature), std::string::npos) << e.what();
+      }
+      continue;
+    }
+    EXPECT_EQ(find_backend("cpu").lanes(at_level), level.lanes) << level.name;
+    at_level.set("width", "16");
+    std::string ir = kernel_for(scattered, backend("cpu", at_level))->listing();
+    // (LLVM may copy the loop, and the gather with it.)
+    bool hardware = level.lanes == 16;
+    EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.gather") > 0, hardware) << level.name << ir;
+    EXPECT_EQ(count(ir, "call fastcc <16 x float> @\"sh_lane_loads") > 0, !hardware) << level.name << ir;
+  }
 }
 
 // A full batch of an output is stored past the cache where the run asks

@@ -166,14 +166,19 @@ class CpuBackend : public Backend {
   }
   std::vector<Setting> settings() const override { return cpu::settings(); }
   BackendOptions default_options() const override { return Options{}; }
+  // The levels' variants run the lowering an older host takes (masks in
+  // vector lanes, gathers a lane at a time, no lane permutes) on this one.
   std::vector<Variant> variants() const override {
-    return {{"scalar", Options{.width = Width::Scalar}},
-            {"w4", Options{.width = Width::Lanes4}},
-            {"w8", Options{.width = Width::Lanes8}},
-            {"w16", Options{.width = Width::Lanes16}},
-            {"w16_streamed", Options{.width = Width::Lanes16, .stores = Stores::Streamed}},
-            {"scalar_fetched", Options{.width = Width::Scalar, .tables = Tables::Fetched}},
-            {"w16_fetched", Options{.width = Width::Lanes16, .tables = Tables::Fetched}}};
+    std::vector<Variant> all{{"scalar", Options{.width = Width::Scalar}},
+                             {"w4", Options{.width = Width::Lanes4}},
+                             {"w8", Options{.width = Width::Lanes8}},
+                             {"w16", Options{.width = Width::Lanes16}},
+                             {"w16_streamed", Options{.width = Width::Lanes16, .stores = Stores::Streamed}},
+                             {"scalar_fetched", Options{.width = Width::Scalar, .tables = Tables::Fetched}},
+                             {"w16_fetched", Options{.width = Width::Lanes16, .tables = Tables::Fetched}}};
+    if (host_has(Isa::Sse42)) all.push_back({"w4_sse42", Options{.width = Width::Lanes4, .isa = Isa::Sse42}});
+    if (host_has(Isa::Avx2)) all.push_back({"w8_avx2", Options{.width = Width::Lanes8, .isa = Isa::Avx2}});
+    return all;
   }
   int lanes(const sh::Options& o) const override { return lane_count(o); }
   // Tables and streams are read where they lie; a run's state is its own.

@@ -157,7 +157,7 @@ std::string module_text(const std::string& bitcode) {
 
 }  // namespace
 
-Jitted::Jitted(const ir::Program& program, const Options& options) {
+Jitted::Jitted(const ir::Program& program, const sh::Options& options) {
   initialise_llvm();
   try {
     build(program, options, true);
@@ -201,7 +201,7 @@ class PhaseClock {
 // besides, and the builds of this library, whose lowering made it, and of
 // the language's, whose analyses (which values are uniform, which reads
 // run along a row) steered the lowering.
-std::string cache_key(const ir::Program& program, const Options& options, int lanes,
+std::string cache_key(const ir::Program& program, const sh::Options& options, int lanes,
                       const llvm::orc::JITTargetMachineBuilder& builder) {
   static const std::string library = detail::build_id(reinterpret_cast<const void*>(&lane_count)) + "+" +
                                      detail::build_id(reinterpret_cast<const void*>(&analysis::analyse_spmd));
@@ -209,10 +209,14 @@ std::string cache_key(const ir::Program& program, const Options& options, int la
          builder.getCPU() + "|" + builder.getFeatures().getString() + "|" + LLVM_VERSION_STRING + "|" + library;
 }
 
-void Jitted::build(const ir::Program& program, const Options& options, bool use_cache) {
+void Jitted::build(const ir::Program& program, const sh::Options& options, bool use_cache) {
   PhaseClock clock(phases_);
   lanes_ = lane_count(options);
   auto builder = unwrap(llvm::orc::JITTargetMachineBuilder::detectHost(), program, "detecting the host CPU");
+  if (std::string level = isa_cpu(options); !level.empty()) {
+    builder.setCPU(level);
+    builder.getFeatures() = llvm::SubtargetFeatures();
+  }
   builder.setCodeGenOptLevel(llvm::CodeGenOpt::Aggressive);
   // f32 precise: no contraction into FMA, so a*b+c rounds twice as written.
   builder.getOptions().AllowFPOpFusion =

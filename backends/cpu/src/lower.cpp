@@ -17,7 +17,7 @@ namespace sh::cpu {
 using llvm::BasicBlock;
 using llvm::Value;
 
-Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVMContext& ctx)
+Lowering::Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::LLVMContext& ctx)
     : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {
   ir::verify_legal(p);
   loops_ = loop_statements(p);
@@ -32,8 +32,8 @@ Lowering::Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVM
   // nothing measurable and cost its compile a tenth more.
   streams_ = may_stream(o) && !p.outputs.empty() && loops_.empty();
   unwritten_reads_ = analysis::unwritten_reads(p);
-  llvm::StringMap<bool> features;
-  avx512_ = llvm::sys::getHostCPUFeatures(features) && features.lookup("avx512f");
+  llvm::StringMap<bool> features = isa_features(o);
+  avx512_ = features.lookup("avx512f");
   if (width_ == 16 && avx512_)
     lane_permute_ = llvm::Intrinsic::x86_avx512_permvar_sf_512;
   else if (width_ == 8 && features.lookup("avx2"))
@@ -560,7 +560,7 @@ void Lowering::order_streamed_stores() {
   b_.SetInsertPoint(done);
 }
 
-Lowered lower(const ir::Program& program, const Options& options, int width, llvm::LLVMContext& context) {
+Lowered lower(const ir::Program& program, const sh::Options& options, int width, llvm::LLVMContext& context) {
   return Lowering(program, options, width, context).run();
 }
 

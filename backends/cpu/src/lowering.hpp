@@ -33,7 +33,7 @@ using analysis::VarSet;
 
 class Lowering {
  public:
-  Lowering(const ir::Program& p, const Options& o, int width, llvm::LLVMContext& ctx);
+  Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::LLVMContext& ctx);
   Lowered run();
 
  private:
@@ -192,7 +192,7 @@ class Lowering {
   };
 
   const ir::Program& p_;
-  const Options& o_;
+  const sh::Options& o_;
   const int width_;
   llvm::LLVMContext& ctx_;
   std::unique_ptr<llvm::Module> module_;

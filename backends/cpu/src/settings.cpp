@@ -2,6 +2,7 @@
 // what the kernel compiler reads from them.
 #include <cstdint>
 #include <fstream>
+#include <vector>
 
 #include <llvm/ADT/StringMap.h>
 #include <llvm/ADT/Triple.h>
@@ -14,12 +15,47 @@
 namespace sh::cpu {
 namespace {
 
-int host_lanes() {
-  llvm::StringMap<bool> features;
-  if (!llvm::sys::getHostCPUFeatures(features)) return 4;
+int widest_lanes(const llvm::StringMap<bool>& features) {
   if (features.lookup("avx512f")) return 16;
   if (features.lookup("avx")) return 8;
   return 4;
+}
+
+const char* isa_name(Isa i) {
+  switch (i) {
+    case Isa::Host: return "host";
+    case Isa::Sse42: return "sse4.2";
+    case Isa::Avx2: return "avx2";
+    case Isa::Avx512: return "avx512";
+  }
+  return "?";
+}
+
+Isa parse_isa(const std::string& name) {
+  for (Isa i : {Isa::Host, Isa::Sse42, Isa::Avx2, Isa::Avx512})
+    if (name == isa_name(i)) return i;
+  throw Error("cpu backend: setting \"isa\" is \"" + name + "\"; expected host, sse4.2, avx2 or avx512");
+}
+
+// An x86-64 level's CPU name in LLVM and the features it adds to the
+// level below it, in LLVM's names (the psABI's definition of the levels).
+struct Level {
+  const char* cpu;
+  std::vector<const char*> adds;
+};
+
+const std::vector<Level>& levels() {
+  static const std::vector<Level> all{
+      {"x86-64-v2", {"cx16", "sahf", "popcnt", "sse3", "sse4.1", "sse4.2", "ssse3"}},
+      {"x86-64-v3", {"avx", "avx2", "bmi", "bmi2", "f16c", "fma", "lzcnt", "movbe", "xsave"}},
+      {"x86-64-v4", {"avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl"}}};
+  return all;
+}
+
+llvm::StringMap<bool> host_features() {
+  llvm::StringMap<bool> features;
+  llvm::sys::getHostCPUFeatures(features);
+  return features;
 }
 
 std::string width_name(Width w) { return w == Width::Auto ? "auto" : w == Width::Scalar ? "scalar" : std::to_string(static_cast<int>(w)); }
@@ -72,6 +108,7 @@ Settings Options::settings() const {
   if (width != Width::Auto) s["width"] = width_name(width);
   if (tables != Tables::Memory) s["tables"] = "fetched";
   if (stores != Stores::Auto) s["stores"] = stores_name(stores);
+  if (isa != Isa::Host) s["isa"] = isa_name(isa);
   return s;
 }
 
@@ -82,20 +119,60 @@ void Options::set(const std::string& name, const std::string& value) {
     tables = parse_tables(value);
   else if (name == "stores")
     stores = parse_stores(value);
+  else if (name == "isa")
+    isa = parse_isa(value);
   else
-    throw Error("the cpu backend has no setting '" + name + "' (width, tables, stores)");
+    throw Error("the cpu backend has no setting '" + name + "' (width, tables, stores, isa)");
 }
 
 std::vector<Backend::Setting> settings() {
   return {{"width", "scalar, 4, 8, 16 or auto: lanes per kernel, auto the host's widest"},
           {"tables", "memory or fetched: fetched reads tables through calls, so they may be TableSources"},
           {"stores", "auto, cached or streamed: streamed writes outputs past the cache, auto a run's that "
-                     "together take half the last-level cache or more"}};
+                     "together take half the last-level cache or more"},
+          {"isa", "host, sse4.2, avx2 or avx512: the instructions kernels use, the host's or an x86-64 level's "
+                  "it has"}};
+}
+
+std::string isa_cpu(const sh::Options& options) {
+  Isa isa = options.get<Options>().isa;
+  if (isa == Isa::Host) return "";
+  isa_features(options);  // the host has the level
+  return levels()[static_cast<std::size_t>(isa) - 1].cpu;
+}
+
+llvm::StringMap<bool> isa_features(const sh::Options& options) {
+  Isa isa = options.get<Options>().isa;
+  llvm::StringMap<bool> host = host_features();
+  if (isa == Isa::Host) return host;
+  std::string setting = std::string("cpu backend: setting \"isa\" is \"") + isa_name(isa) + "\"";
+  if (!llvm::Triple(llvm::sys::getProcessTriple()).isX86() || llvm::Triple(llvm::sys::getProcessTriple()).isArch32Bit())
+    throw Error(setting + ", an x86-64 level, and this host is " + llvm::sys::getProcessTriple());
+  llvm::StringMap<bool> level;
+  std::string missing;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(isa); ++k)
+    for (const char* feature : levels()[k].adds) {
+      level[feature] = true;
+      if (!host.lookup(feature)) missing += std::string(missing.empty() ? "" : ", ") + feature;
+    }
+  if (!missing.empty()) throw Error(setting + "; this host lacks " + missing);
+  return level;
+}
+
+bool host_has(Isa isa) {
+  sh::Options o;
+  o.set(Options{.isa = isa});
+  try {
+    isa_features(o);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
 }
 
 int lane_count(const sh::Options& options) {
   switch (options.get<Options>().width) {
-    case Width::Auto: return host_lanes();
+    case Width::Auto: return widest_lanes(isa_features(options));
     case Width::Scalar: return 1;
     case Width::Lanes4: return 4;
     case Width::Lanes8: return 8;

@@ -1,7 +1,8 @@
 #pragma once
 // The CPU backend, "cpu": the optimised IR is lowered to LLVM IR, compiled
-// by LLVM 15's ORC LLJIT for the host CPU, and run over the stream in
-// oneTBB parallel loops.  Its library registers it when linked (sh::sh).
+// by LLVM 15's ORC LLJIT for the host CPU (or an x86-64 level it has: Isa),
+// and run over the stream in oneTBB parallel loops.  Its library registers
+// it when linked (sh::sh).
 //
 // Kernels are SPMD: each SIMD lane runs one stream element (16 lanes with
 // AVX-512, 8 with AVX, else 4), values that cannot differ between lanes
@@ -42,14 +43,24 @@ enum class Tables : std::uint8_t { Memory, Fetched };
 // stored as any other.  Results never change.
 enum class Stores : std::uint8_t { Auto, Cached, Streamed };
 
+// Which instructions kernels use: the host's (Host), or those of an
+// x86-64 level the host also has: SSE 4.2 (x86-64-v2), AVX2 (x86-64-v3)
+// or AVX-512 (x86-64-v4).  A level's widest vectors set the Auto width
+// (4, 8 and 16 lanes).  A level the host lacks, or any level on a host
+// that is not x86-64, is an error naming what is missing.  Machine code
+// for a level runs on every host that has it, and lets one host try the
+// code another would run.
+enum class Isa : std::uint8_t { Host, Sse42, Avx2, Avx512 };
+
 struct Options {
   static constexpr const char* backend_name = "cpu";
   Width width = Width::Auto;
   Tables tables = Tables::Memory;
   Stores stores = Stores::Auto;
+  Isa isa = Isa::Host;
 
   // String form: width (scalar, 4, 8, 16, auto), tables (memory, fetched),
-  // stores (auto, cached, streamed).
+  // stores (auto, cached, streamed), isa (host, sse4.2, avx2, avx512).
   Settings settings() const;
   void set(const std::string& name, const std::string& value);
 };
