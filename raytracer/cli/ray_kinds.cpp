@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "backend_compare.hpp"
 #include "embree_anchor.hpp"
@@ -119,6 +120,18 @@ void print_lanes(sh::rt::Renderer& r, const sh::BackendChoice& choice, const cha
               static_cast<long long>(l.steps), 100 * l.box_share(), static_cast<long long>(l.leaves), 100 * l.leaf_share());
 }
 
+// Embree's device configuration: where the cpu backend compiles for an
+// x86-64 level (its setting "isa"), Embree runs that level's code too
+// (the levels' names are Embree's), so that both sides use the same
+// instructions.
+std::string embree_config(const sh::Options& options) {
+  auto cpu = options.backends.find("cpu");
+  if (cpu == options.backends.end()) return "";
+  sh::Settings settings = cpu->second.settings();
+  auto isa = settings.find("isa");
+  return isa == settings.end() ? "" : "isa=" + isa->second;
+}
+
 }  // namespace
 
 int compare_ray_kinds(const RayKindsRequest& request) {
@@ -133,11 +146,12 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   sh::BackendChoice choice = sh::backend(request.settings.backend, request.settings.options);
   Kinds k = make_rays(r, choice);
   const sh::rt::Scene& s = r.scene();
-  sh::rt::EmbreeScene embree(s);
+  std::string config = embree_config(request.settings.options);
+  sh::rt::EmbreeScene embree(s, config.c_str());
   int n = request.repeats;
-  std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each\n", s.name.c_str(), s.mesh.triangles(),
+  std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each%s\n", s.name.c_str(), s.mesh.triangles(),
               r.describe_accelerator().c_str(), choice.name.empty() ? sh::default_backend_name().c_str() : choice.name.c_str(),
-              n);
+              n, config.empty() ? "" : ("; Embree with " + config).c_str());
   print_builds(r, embree);
   // Embree's widest packet this CPU runs natively (16 needs AVX-512, 8 AVX).
   int packet = 16;
