@@ -120,11 +120,12 @@ void print_lanes(sh::rt::Renderer& r, const sh::BackendChoice& choice, const cha
               static_cast<long long>(l.steps), 100 * l.box_share(), static_cast<long long>(l.leaves), 100 * l.leaf_share());
 }
 
-// Embree's device configuration: where the cpu backend compiles for an
-// x86-64 level (its setting "isa"), Embree runs that level's code too
-// (the levels' names are Embree's), so that both sides use the same
-// instructions.
-std::string embree_config(const sh::Options& options) {
+// Embree's device configuration: where the cpu backend traces for an
+// x86-64 level (its setting "isa", which it has checked the host has),
+// Embree runs that level's code too (the levels' names are Embree's), so
+// that both sides use the same instructions.
+std::string embree_config(const std::string& backend, const sh::Options& options) {
+  if (backend != "cpu") return "";
   auto cpu = options.backends.find("cpu");
   if (cpu == options.backends.end()) return "";
   sh::Settings settings = cpu->second.settings();
@@ -146,7 +147,8 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   sh::BackendChoice choice = sh::backend(request.settings.backend, request.settings.options);
   Kinds k = make_rays(r, choice);
   const sh::rt::Scene& s = r.scene();
-  std::string config = embree_config(request.settings.options);
+  std::string config = embree_config(choice.name.empty() ? sh::default_backend_name() : choice.name,
+                                     request.settings.options);
   sh::rt::EmbreeScene embree(s, config.c_str());
   int n = request.repeats;
   std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each%s\n", s.name.c_str(), s.mesh.triangles(),

@@ -3,6 +3,9 @@
 #include <atomic>
 #include <chrono>
 #include <limits>
+#include <string>
+
+#include <sh/error.hpp>
 
 namespace sh::rt {
 
@@ -17,6 +20,9 @@ bool count_bytes(void* total, ssize_t bytes, bool) {
 
 EmbreeScene::EmbreeScene(const Scene& scene, const char* device_config, bool robust) {
   device_ = rtcNewDevice(device_config);
+  if (!device_)
+    throw Error(std::string("Embree: no device for the configuration \"") + (device_config ? device_config : "") +
+                "\" (error " + std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   std::atomic<long long> allocated{0};
   rtcSetDeviceMemoryMonitorFunction(device_, count_bytes, &allocated);
   scene_ = rtcNewScene(device_);

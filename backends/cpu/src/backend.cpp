@@ -167,7 +167,8 @@ class CpuBackend : public Backend {
   std::vector<Setting> settings() const override { return cpu::settings(); }
   BackendOptions default_options() const override { return Options{}; }
   // The levels' variants run the lowering an older host takes (masks in
-  // vector lanes, gathers a lane at a time, no lane permutes) on this one.
+  // vector lanes, gathers a lane at a time, no 16-lane permutes) on this
+  // one.
   std::vector<Variant> variants() const override {
     std::vector<Variant> all{{"scalar", Options{.width = Width::Scalar}},
                              {"w4", Options{.width = Width::Lanes4}},
@@ -192,7 +193,7 @@ class CpuBackend : public Backend {
     return true;
   }
   std::vector<std::string> describe() const override {
-    return {"cpu: LLVM 15 ORC JIT for the host CPU, SPMD with " + std::to_string(lane_count(sh::Options{})) +
+    return {"cpu: LLVM 15 ORC JIT for the host CPU (setting \"isa\": an x86-64 level it has), SPMD with " + std::to_string(lane_count(sh::Options{})) +
             " lanes by default (setting \"width\": scalar, 4, 8, 16), oneTBB with " +
             std::to_string(tbb::this_task_arena::max_concurrency()) + " threads"};
   }

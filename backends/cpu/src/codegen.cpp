@@ -132,10 +132,9 @@ std::map<std::string, unsigned> assign_parts(llvm::Module& m, unsigned parts) {
   return part;
 }
 
-// The machine passes' configuration as addPassesToEmitFile makes it, less
-// what `passes` leaves out.  No verifier: the module was verified after
-// optimisation, and code generation changes nothing a verifier reads
-// before the passes' own.
+// The machine passes' configuration as addPassesToEmitFile makes it (its
+// verifier off, as there by default: the module was verified after
+// optimisation), less what `passes` leaves out.
 void add_machine_passes(llvm::legacy::PassManager& pm, llvm::LLVMTargetMachine& machine, MachinePasses passes,
                         llvm::raw_pwrite_stream& os, const std::string& program) {
   auto* info = new llvm::MachineModuleInfoWrapperPass(&machine);

@@ -445,8 +445,9 @@ llvm::Function* Lowering::fetch_rounds(int table) {
 // window: in scalars from its start, and which lie inside it.  In 32 bits,
 // as the table's own indices are (below 2^31): the window's bounds, capped
 // at 2^31, keep a lane's offset from its start below the span exactly
-// where its element lies inside, wrapping where it lies before.  Lanes of
-// 64 bits would be two registers each.
+// where its element lies inside, wrapping where it lies before; the offset
+// in scalars fits as the table's own does (CpuKernel::check_gather_range).
+// Lanes of 64 bits would be two registers each.
 std::pair<Value*, Value*> Lowering::window_lanes(int table, Value* flat, Value* reading) {
   const ir::TableDecl& t = p_.tables[table];
   auto bound = [&](unsigned field) {

@@ -46,7 +46,7 @@ struct Level {
 
 const std::vector<Level>& levels() {
   static const std::vector<Level> all{
-      {"x86-64-v2", {"cx16", "sahf", "popcnt", "sse3", "sse4.1", "sse4.2", "ssse3"}},
+      {"x86-64-v2", {"cx16", "crc32", "sahf", "popcnt", "sse3", "sse4.1", "sse4.2", "ssse3"}},
       {"x86-64-v3", {"avx", "avx2", "bmi", "bmi2", "f16c", "fma", "lzcnt", "movbe", "xsave"}},
       {"x86-64-v4", {"avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl"}}};
   return all;
@@ -54,7 +54,7 @@ const std::vector<Level>& levels() {
 
 llvm::StringMap<bool> host_features() {
   llvm::StringMap<bool> features;
-  llvm::sys::getHostCPUFeatures(features);
+  if (!llvm::sys::getHostCPUFeatures(features)) features.clear();
   return features;
 }
 
@@ -146,8 +146,10 @@ llvm::StringMap<bool> isa_features(const sh::Options& options) {
   llvm::StringMap<bool> host = host_features();
   if (isa == Isa::Host) return host;
   std::string setting = std::string("cpu backend: setting \"isa\" is \"") + isa_name(isa) + "\"";
-  if (!llvm::Triple(llvm::sys::getProcessTriple()).isX86() || llvm::Triple(llvm::sys::getProcessTriple()).isArch32Bit())
-    throw Error(setting + ", an x86-64 level, and this host is " + llvm::sys::getProcessTriple());
+  llvm::Triple process(llvm::sys::getProcessTriple());
+  if (!process.isX86() || process.isArch32Bit())
+    throw Error(setting + ", an x86-64 level, and this host is " + process.str());
+  if (host.empty()) throw Error(setting + ", and this host's CPU features could not be read");
   llvm::StringMap<bool> level;
   std::string missing;
   for (std::size_t k = 0; k < static_cast<std::size_t>(isa); ++k)
