@@ -26,6 +26,15 @@ Program polynomial() {
   } SH_END;
 }
 
+// One read of `table` at the index each element brings.
+Program read_at_input(const Table1D<Attrib1f>& table, const std::string& name) {
+  return SH_BEGIN_PROGRAM(name) {
+    InputAttrib1i at;
+    OutputAttrib1f out;
+    out = table[at];
+  } SH_END;
+}
+
 TEST(CpuBackend, ListingIsTheOptimisedLlvmIr) {
   std::string ir = kernel_for(polynomial(), backend("cpu"))->listing();
   EXPECT_NE(ir.find("define void @sh_kernel"), std::string::npos) << ir;
@@ -378,11 +387,7 @@ TEST(CpuBackend, IsaLevelsSetTheWidthAndTheLoweringAndTheHostMustHaveThem) {
         << e.what();
   }
   Table1D<Attrib1f> table(64);
-  Program scattered = SH_BEGIN_PROGRAM("scattered") {
-    InputAttrib1i at;
-    OutputAttrib1f out;
-    out = table[at];
-  } SH_END;
+  Program scattered = read_at_input(table, "scattered");
   // Whether the host has a level, as far as the compiler's CPU tests tell
   // (they do not name every feature of a level: where they see all they
   // name, and the backend refuses, the test says so).
@@ -638,11 +643,7 @@ TEST(CpuBackend, StreamTailTouchesNothingPastTheEnd) {
 
 TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
   Table1D<Attrib1f> t(1);
-  Program p = SH_BEGIN_PROGRAM("big_table") {
-    InputAttrib1i i;
-    OutputAttrib1f r;
-    r = t[i];
-  } SH_END;
+  Program p = read_at_input(t, "big_table");
   Options o;
   o.set(cpu::Options{.width = cpu::Width::Lanes8});
   std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
