@@ -193,7 +193,8 @@ class CpuBackend : public Backend {
     return true;
   }
   std::vector<std::string> describe() const override {
-    return {"cpu: LLVM 15 ORC JIT for the host CPU (setting \"isa\": an x86-64 level it has), SPMD with " + std::to_string(lane_count(sh::Options{})) +
+    return {"cpu: LLVM 15 ORC JIT for the host CPU (setting \"isa\": an x86-64 level it has), SPMD with " +
+            std::to_string(lane_count(sh::Options{})) +
             " lanes by default (setting \"width\": scalar, 4, 8, 16), oneTBB with " +
             std::to_string(tbb::this_task_arena::max_concurrency()) + " threads"};
   }

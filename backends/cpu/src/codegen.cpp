@@ -171,7 +171,8 @@ std::string emit(llvm::Module& m, const llvm::orc::JITTargetMachineBuilder& buil
 
 // Part `k` of a module: the functions of other parts only declared.
 std::string emit_part(llvm::Module& m, const std::map<std::string, unsigned>& part, unsigned k,
-                      const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes, const std::string& program) {
+                      const llvm::orc::JITTargetMachineBuilder& builder, MachinePasses passes,
+                      const std::string& program) {
   for (llvm::Function& f : m)
     if (!f.isDeclaration() && part.at(f.getName().str()) != k) f.deleteBody();
   return emit(m, builder, passes, program);
