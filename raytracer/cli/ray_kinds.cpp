@@ -147,13 +147,12 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   sh::BackendChoice choice = sh::backend(request.settings.backend, request.settings.options);
   Kinds k = make_rays(r, choice);
   const sh::rt::Scene& s = r.scene();
-  std::string config = embree_config(choice.name.empty() ? sh::default_backend_name() : choice.name,
-                                     request.settings.options);
+  std::string backend = choice.name.empty() ? sh::default_backend_name() : choice.name;
+  std::string config = embree_config(backend, request.settings.options);
   sh::rt::EmbreeScene embree(s, config.c_str());
   int n = request.repeats;
   std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each%s\n", s.name.c_str(), s.mesh.triangles(),
-              r.describe_accelerator().c_str(), choice.name.empty() ? sh::default_backend_name().c_str() : choice.name.c_str(),
-              n, config.empty() ? "" : ("; Embree with " + config).c_str());
+              r.describe_accelerator().c_str(), backend.c_str(), n, config.empty() ? "" : ("; Embree with " + config).c_str());
   print_builds(r, embree);
   // Embree's widest packet this CPU runs natively (16 needs AVX-512, 8 AVX).
   int packet = 16;

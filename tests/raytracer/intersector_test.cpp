@@ -62,6 +62,19 @@ TEST(EmbreeAnchor, PacketsFindWhatSingleRaysFind) {
   EXPECT_GT(hits, 0u);
 }
 
+// A configuration Embree refuses is an error naming it, not a device that
+// is not there.
+TEST(EmbreeAnchor, ARefusedConfigurationIsAnError) {
+  sh::rt::Scene scene = sh::rt::builtin_scene("cornell");
+  try {
+    sh::rt::EmbreeScene embree(scene, "threads=x");
+    FAIL() << "Embree took threads=x";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("Embree: no device for the configuration \"threads=x\""), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Grid, TriangleBoxOverlapIsExact) {
   using sh::rt::Vec3;
   Vec3 lo{0, 0, 0}, hi{1, 1, 1};

@@ -38,7 +38,8 @@ Isa parse_isa(const std::string& name) {
 }
 
 // An x86-64 level's CPU name in LLVM and the features it adds to the
-// level below it, in LLVM's names (the psABI's definition of the levels).
+// level below it, in LLVM's names (the psABI's definition of the levels);
+// in Isa's order after Host.
 struct Level {
   const char* cpu;
   std::vector<const char*> adds;
@@ -134,43 +135,51 @@ std::vector<Backend::Setting> settings() {
                   "it has"}};
 }
 
-std::string isa_cpu(const sh::Options& options) {
-  Isa isa = options.get<Options>().isa;
-  if (isa == Isa::Host) return "";
-  isa_features(options);  // the host has the level
-  return levels()[static_cast<std::size_t>(isa) - 1].cpu;
-}
+namespace {
 
-llvm::StringMap<bool> isa_features(const sh::Options& options) {
-  Isa isa = options.get<Options>().isa;
-  llvm::StringMap<bool> host = host_features();
-  if (isa == Isa::Host) return host;
-  std::string setting = std::string("cpu backend: setting \"isa\" is \"") + isa_name(isa) + "\"";
-  llvm::Triple process(llvm::sys::getProcessTriple());
-  if (!process.isX86() || process.isArch32Bit())
-    throw Error(setting + ", an x86-64 level, and this host is " + process.str());
-  if (host.empty()) throw Error(setting + ", and this host's CPU features could not be read");
+// A level's features, each with the rest of its levels below.
+llvm::StringMap<bool> level_features(Isa isa) {
   llvm::StringMap<bool> level;
-  std::string missing;
   for (std::size_t k = 0; k < static_cast<std::size_t>(isa); ++k)
-    for (const char* feature : levels()[k].adds) {
-      level[feature] = true;
-      if (!host.lookup(feature)) missing += std::string(missing.empty() ? "" : ", ") + feature;
-    }
-  if (!missing.empty()) throw Error(setting + "; this host lacks " + missing);
+    for (const char* feature : levels()[k].adds) level[feature] = true;
   return level;
 }
 
-bool host_has(Isa isa) {
-  sh::Options o;
-  o.set(Options{.isa = isa});
-  try {
-    isa_features(o);
-    return true;
-  } catch (const Error&) {
-    return false;
-  }
+// Why this host cannot run a level's code ("" where it can).
+std::string cannot_run(Isa isa) {
+  llvm::Triple process(llvm::sys::getProcessTriple());
+  if (!process.isX86() || process.isArch32Bit()) return ", an x86-64 level, and this host is " + process.str();
+  llvm::StringMap<bool> host = host_features();
+  if (host.empty()) return ", and this host's CPU features could not be read";
+  std::string missing;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(isa); ++k)
+    for (const char* feature : levels()[k].adds)
+      if (!host.lookup(feature)) missing += std::string(missing.empty() ? "" : ", ") + feature;
+  return missing.empty() ? "" : "; this host lacks " + missing;
 }
+
+// The options' level, where the host can run it.
+Isa runnable_isa(const sh::Options& options) {
+  Isa isa = options.get<Options>().isa;
+  if (isa == Isa::Host) return isa;
+  if (std::string why = cannot_run(isa); !why.empty())
+    throw Error(std::string("cpu backend: setting \"isa\" is \"") + isa_name(isa) + "\"" + why);
+  return isa;
+}
+
+}  // namespace
+
+std::string isa_cpu(const sh::Options& options) {
+  Isa isa = runnable_isa(options);
+  return isa == Isa::Host ? "" : levels()[static_cast<std::size_t>(isa) - 1].cpu;
+}
+
+llvm::StringMap<bool> isa_features(const sh::Options& options) {
+  Isa isa = runnable_isa(options);
+  return isa == Isa::Host ? host_features() : level_features(isa);
+}
+
+bool host_has(Isa isa) { return isa == Isa::Host || cannot_run(isa).empty(); }
 
 int lane_count(const sh::Options& options) {
   switch (options.get<Options>().width) {
