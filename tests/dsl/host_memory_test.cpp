@@ -4,6 +4,9 @@
 // in the conformance suite (conformance/host_memory.cpp), on every backend.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <vector>
+
 #include <sh/compat.hpp>
 
 namespace {
@@ -139,6 +142,35 @@ TEST(HostMemory, ChannelsAndTablesOwnMemoryThatStartsACacheLine) {
     EXPECT_EQ(reinterpret_cast<std::uintptr_t>(table.memory()->data()) % 64, 0u) << count;
   }
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(sh::HostMemory(1u << 24).data()) % 64, 0u);
+}
+
+// Large blocks taken one after another start at places in their pages at
+// least 512 bytes apart either way: a kernel that reads one while it
+// writes the next then finds no load waiting on a store to the other.
+TEST(HostMemory, LargeBlocksInTurnStartApartInTheirPages) {
+  constexpr std::uintptr_t kPage = 4096, kApart = 512;
+  std::vector<sh::Channel<sh::Attrib1f>> blocks;
+  for (int k = 0; k < 9; ++k) blocks.emplace_back(std::size_t{1} << 16);
+  auto place = [&](int k) { return reinterpret_cast<std::uintptr_t>(blocks[k].memory()->data()) % kPage; };
+  for (int k = 0; k + 1 < 9; ++k) {
+    std::uintptr_t ahead = (place(k + 1) + kPage - place(k)) % kPage;
+    EXPECT_GE(ahead, kApart) << k;
+    EXPECT_LE(ahead, kPage - kApart) << k;
+    EXPECT_EQ(place(k) % 64, 0u) << k;
+  }
+}
+
+// Storage that grows from small to large and back is freed as it was
+// taken (the sanitizer build checks each pair).
+TEST(HostMemory, StorageGrowsAcrossTheLargeBlocksSize) {
+  sh::detail::Words words(8, 1);
+  for (std::size_t n : {std::size_t{1} << 12, std::size_t{1} << 14, std::size_t{1} << 20, std::size_t{16}}) {
+    words.resize(n, 2);
+    words.shrink_to_fit();
+    EXPECT_EQ(words.front(), 1u) << n;
+    EXPECT_EQ(words.back(), n > 8 ? 2u : 1u) << n;
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(words.data()) % 64, 0u) << n;
+  }
 }
 
 TEST(HostMemory, DirtyGivesANewerVersion) {

@@ -11,6 +11,19 @@ std::uint64_t next_version() {
   static std::atomic<std::uint64_t> next{1};
   return next++;
 }
+
+void* allocate_storage(std::size_t bytes) {
+  if (bytes < kPlacedFrom) return ::operator new(bytes, std::align_val_t{kCacheLine});
+  static std::atomic<std::size_t> placed{0};
+  std::size_t offset = placed.fetch_add(1, std::memory_order_relaxed) % (kPage / kPlaceStep) * kPlaceStep;
+  return static_cast<char*>(::operator new(bytes + kPage, std::align_val_t{kPage})) + offset;
+}
+
+void free_storage(void* p, std::size_t bytes) noexcept {
+  if (bytes < kPlacedFrom) return ::operator delete(p, std::align_val_t{kCacheLine});
+  auto at = reinterpret_cast<std::uintptr_t>(p);
+  ::operator delete(reinterpret_cast<void*>(at - at % kPage), std::align_val_t{kPage});
+}
 }  // namespace detail
 
 HostMemory::HostMemory(std::size_t bytes, ir::Scalar type)
