@@ -7,7 +7,7 @@
 // page's start, which split every one of them.
 //
 // Large blocks also start at one of eight places in a page, 512 bytes
-// apart, taken in turn.  A core takes a load for dependent on an earlier
+// apart, taken in turn.  A core treats a load as dependent on an earlier
 // store whose address has the same low 12 bits, and waits for the store:
 // a kernel that reads one large block while it writes another at the same
 // place in a page, or a few lines ahead of it, waits at every batch.  Rows
