@@ -12,6 +12,14 @@ std::uint64_t next_version() {
   return next++;
 }
 
+namespace {
+constexpr std::size_t kPage = 4096;
+// Blocks of this many bytes or more are placed in their page in turn
+// (words.hpp), this far apart.
+constexpr std::size_t kPlacedFrom = 64 * 1024;
+constexpr std::size_t kPlaceStep = 512;
+}  // namespace
+
 void* allocate_storage(std::size_t bytes) {
   if (bytes < kPlacedFrom) return ::operator new(bytes, std::align_val_t{kCacheLine});
   static std::atomic<std::size_t> placed{0};

@@ -23,10 +23,6 @@
 namespace sh::detail {
 
 inline constexpr std::size_t kCacheLine = 64;
-inline constexpr std::size_t kPage = 4096;
-// Blocks of this many bytes or more are placed in their page in turn.
-inline constexpr std::size_t kPlacedFrom = 64 * 1024;
-inline constexpr std::size_t kPlaceStep = 512;
 
 // `bytes` bytes starting a cache line (and, for a large block, at the next
 // place in a page); freed with free_storage and the same `bytes`.
