@@ -167,6 +167,37 @@ TEST_P(Conformance, FusedStencilsRunApartWhereStripsWouldNotDo) {
   EXPECT_EQ(watched.value.values(), apart.value.values());
 }
 
+// A consumer that also reads the table through a second view of its
+// memory reads the producer's rows there: the two run one after the
+// other, as the strips would leave that memory unwritten.
+TEST_P(Conformance, FusedStencilsReadingTheTableThroughAnotherViewRunApart) {
+  const int w = 13, h = 10;
+  sh::Table2D<Attrib1f> image(w, h), rows(w, h), view(w, h);
+  image.assign(picture(w, h));
+  spoil(rows, w, h);
+  view.memory(rows.memory());
+  auto columns = [](const sh::Table2D<Attrib1f>& taps, const sh::Table2D<Attrib1f>& here) {
+    return SH_BEGIN_PROGRAM("fused_two_views") {
+      sh::OutputAttrib1f out;
+      Attrib2i at = sh::position<2>();
+      out = taps[at + sh::ConstAttrib2i(0, -1)] + 3.0f * here[at];
+    } SH_END;
+  };
+  sh::Program along = rows_program(image);
+  sh::Channel<Attrib1f> fused;
+  fused.shape(w, h);
+  EXPECT_EQ(sh::run_fused(along, rows, columns(rows, view), {fused}, choice(), 2).strips, 0u);
+  sh::Channel<Attrib1f> middle, apart;
+  middle.shape(w, h);
+  apart.shape(w, h);
+  sh::run(along, {}, {middle}, choice());
+  sh::Table2D<Attrib1f> taps(w, h), here(w, h);
+  taps.memory(middle.memory());
+  here.memory(middle.memory());
+  sh::run(columns(taps, here), {}, {apart}, choice());
+  EXPECT_EQ(fused.values(), apart.values());
+}
+
 // A read at a row the analysis cannot bound (from a value read in the
 // table) keeps the two runs apart, with the same outputs.
 TEST_P(Conformance, FusedStencilsReadingAnywhereRunOneAfterTheOther) {

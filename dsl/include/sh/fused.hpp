@@ -14,9 +14,10 @@
 // them), with the table clamped or zero at its edges.  Otherwise the two
 // run one after the other, with the producer's output written into the
 // table; so do programs that scatter, checked runs (Options::checked:
-// their findings name elements of the whole grid) and outputs that lie in
-// a table's memory (an in-place blur, whose strips would overwrite rows a
-// later strip reads).  The outputs are the same either way (RunStats::strips says which
+// their findings name elements of the whole grid), outputs that lie in a
+// table's memory (an in-place blur, whose strips would overwrite rows a
+// later strip reads) and a second table on the table's memory (which the
+// strips do not fill).  The outputs are the same either way (RunStats::strips says which
 // it was); what the table holds afterwards is not part of the result.
 #include <memory>
 #include <vector>

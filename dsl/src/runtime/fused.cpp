@@ -91,30 +91,53 @@ void check_linked(const Program& producer, const TableStorage& through, int thro
 
 // The domain is a grid of the table's dimensions.
 void check_grid(const ir::Program& c, const TableStorage& through, const LaunchDomain& domain) {
-  if (through.decl.rank != 2 || domain.extent[2] != 1 || through.dims[0] != static_cast<int>(domain.extent[0]) ||
-      through.dims[1] != static_cast<int>(domain.extent[1]))
+  if (through.decl.rank != 2)
+    throw Error("program '" + c.name + "': run_fused reads the " + describe(through) + " as rows of a grid, but it has " +
+                std::to_string(through.decl.rank) + " dimension" + (through.decl.rank == 1 ? "" : "s"));
+  auto dim = [&](std::size_t i) { return static_cast<std::size_t>(through.dims[i]); };
+  if (domain.extent[2] != 1 || dim(0) != domain.extent[0] || dim(1) != domain.extent[1])
     throw Error("program '" + c.name + "': run_fused runs over a grid of the " + describe(through) + "'s dimensions, " +
                 std::to_string(through.dims[0]) + " x " + std::to_string(through.dims[1]) +
                 ", but its outputs are shaped " + std::to_string(domain.extent[0]) + " x " +
                 std::to_string(domain.extent[1]) + " x " + std::to_string(domain.extent[2]));
 }
 
+// The bytes [first, second) of a block of memory.
+std::pair<std::uintptr_t, std::uintptr_t> byte_range(const void* p, std::size_t bytes) {
+  auto at = reinterpret_cast<std::uintptr_t>(p);
+  return {at, at + bytes};
+}
+
+bool overlap(std::pair<std::uintptr_t, std::uintptr_t> a, std::pair<std::uintptr_t, std::uintptr_t> b) {
+  return a.first < b.second && b.first < a.second;
+}
+
 // Whether a run's output lies in memory a table of either program holds
 // (an in-place blur): strips write rows another strip's producer still
 // reads, where one run after the other does not.
 bool writes_a_table(const RunArgs& make, const RunArgs& use) {
-  auto range = [](const void* p, std::size_t bytes) {
-    auto at = reinterpret_cast<std::uintptr_t>(p);
-    return std::pair{at, at + bytes};
-  };
   for (const BufferView& out : use.outputs) {
-    auto [out_begin, out_end] = range(out.data, out.count * ir::element_bytes(out.type));
+    auto written = byte_range(out.data, out.count * ir::element_bytes(out.type));
     for (const RunArgs* args : {&make, &use})
-      for (const TableView& t : args->tables) {
-        auto [table_begin, table_end] = range(t.data, t.bytes());
-        if (t.data && out_begin < table_end && table_begin < out_end) return true;
-      }
+      for (const TableView& t : args->tables)
+        if (t.data && overlap(written, byte_range(t.data, t.bytes()))) return true;
   }
+  return false;
+}
+
+// Whether a table other than the consumer's `through_at` views memory of
+// that table (a second Table2D on its memory): strips put the producer's
+// rows in a buffer of their own, so such a view would read what the table
+// held before the call, where one run after the other reads the rows.
+bool views_the_table(const RunArgs& make, const RunArgs& use, int through_at) {
+  const TableView& through = use.tables[static_cast<std::size_t>(through_at)];
+  auto held = byte_range(through.data, through.bytes());
+  for (const RunArgs* args : {&make, &use})
+    for (std::size_t k = 0; k < args->tables.size(); ++k) {
+      const TableView& t = args->tables[k];
+      bool itself = args == &use && k == static_cast<std::size_t>(through_at);
+      if (!itself && t.data && overlap(held, byte_range(t.data, t.bytes()))) return true;
+    }
   return false;
 }
 
@@ -149,7 +172,7 @@ class Strips {
       : producer_(producer), consumer_(consumer), through_at_(through_at), reach_(reach), rows_(rows),
         width_(consumer.domain.extent[0]), row_bytes_(row_bytes), height_(static_cast<int>(consumer.domain.extent[1])) {}
 
-  std::size_t count() const { return static_cast<std::size_t>((height_ + rows_ - 1) / rows_); }
+  std::size_t count() const { return static_cast<std::size_t>((std::int64_t{height_} + rows_ - 1) / rows_); }
 
   void run(Kernel& make, Kernel& use, int threads) {
     use.run_tasks(count(), threads, [&](std::size_t k) {
@@ -248,7 +271,8 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   // of the whole grid.
   bool may_strip = find_backend(stats.backend).runs_in_place() && !choice.options.checked &&
                    consumer.ir().tables[through_at].edge != ir::Edge::Repeat && table_index(producer, through) < 0 &&
-                   !has_accumulator(producer) && !has_accumulator(consumer) && !writes_a_table(make_args, use_args);
+                   !has_accumulator(producer) && !has_accumulator(consumer) && !writes_a_table(make_args, use_args) &&
+                   !views_the_table(make_args, use_args, through_at);
   std::optional<Reach> reach = may_strip ? reach_of(consumer, through_at, choice.options) : std::nullopt;
   auto t0 = std::chrono::steady_clock::now();
   if (reach) {
