@@ -151,6 +151,16 @@ Attrib3f nearest_axis(const Attrib3f& t_exits) {
 
 }  // namespace walk
 
+namespace {
+
+// A walk that starts with the limit as its best takes only a triangle
+// before it, but a tie may then give the hit to a lower-numbered triangle
+// a rounding beyond the limit: whether a triangle was taken says so, not
+// whether the best is still short of the limit.
+Attrib1f hit_before_limit(const WalkState& w) { return (w.triangle >= 0).cast<float>(); }
+
+}  // namespace
+
 WalkState WalkState::fresh() {
   return {ConstAttrib3f(-1.0f, -1.0f, -1.0f), ConstAttrib1f(kFar), ConstAttrib1i(-1), ConstAttrib2f(0.0f, 0.0f)};
 }
@@ -180,14 +190,14 @@ Attrib1f Intersector::operator()(const Point3f& o, const Vector3f& d, const Attr
   t = w.best;
   triangle = w.triangle;
   uv = w.uv;
-  return w.best < t_limit;
+  return hit_before_limit(w);
 }
 
 Attrib1f Intersector::occluded(const Point3f& o, const Vector3f& d, const Attrib1f& t_limit) {
   WalkState w = WalkState::fresh();
   w.best = t_limit;
   walk(o, d, t_limit, w, !may_stop());
-  return w.best < t_limit;
+  return hit_before_limit(w);
 }
 
 Attrib1f Intersector::resume(const Point3f& o, const Vector3f& d, WalkState& state) {

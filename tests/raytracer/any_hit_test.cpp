@@ -41,6 +41,45 @@ TEST_P(AnyHit, AnswersWhatTheNearestHitAnswers) {
   }
 }
 
+// Two squares at the same distance to rounding (the intersector's ties),
+// the higher numbered just short of the limit and the lower just beyond
+// it: each ray is blocked, whichever of the two a walk tests first (the
+// BVH's leaves of one triangle put the nearer first), by both walks on
+// every accelerator.
+TEST_P(AnyHit, ATieJustBeyondTheLimitLeavesTheRayBlocked) {
+  const float limit = 10.0f;
+  sh::rt::Scene s;
+  s.name = "tie at the limit";
+  auto square = [&](float z) {
+    for (sh::rt::Vec3 v : {sh::rt::Vec3{-1, -1, z}, {1, -1, z}, {1, 1, z}, {-1, -1, z}, {1, 1, z}, {-1, 1, z}})
+      s.mesh.positions.push_back(v);
+  };
+  square(limit * (1 + 5e-7f));  // triangles 0 and 1
+  square(limit * (1 - 3e-7f));  // triangles 2 and 3
+  s.materials.push_back({});
+  s.mesh.material.assign(s.mesh.triangles(), 0);
+  s.mesh.normals.assign(s.mesh.positions.size(), sh::rt::Vec3{0, 0, 1});
+  s.lights.push_back({{0, 0, 2 * limit}, {1, 1, 1}});
+  std::vector<float> origins, directions, limits;
+  for (float x : {-0.5f, 0.25f})
+    for (float y : {-0.75f, 0.5f}) {
+      origins.insert(origins.end(), {x, y, 0});
+      directions.insert(directions.end(), {0, 0, 1});
+      limits.push_back(limit);
+    }
+  for (const rt_test::Walked& accel : rt_test::every_accelerator()) {
+    if (accel.accel == Accel::LazyOctree) continue;  // occluded() runs over the others
+    sh::rt::RenderSettings settings = accel.settings();
+    settings.bvh.max_leaf = 1;
+    sh::rt::Renderer r(s, settings);
+    for (bool any_hit : {true, false}) {
+      std::vector<float> blocked = r.occluded(origins, directions, limits, sh::backend(GetParam()), any_hit);
+      EXPECT_EQ(blocked, std::vector<float>(limits.size(), 1.0f))
+          << accel.name() << (any_hit ? ", any hit" : ", nearest hit") << " on " << GetParam();
+    }
+  }
+}
+
 std::vector<std::string> backends() {
   std::vector<std::string> names;
   for (const std::string& b : sh::backend_names())
