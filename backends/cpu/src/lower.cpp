@@ -231,7 +231,7 @@ void Lowering::prefetch_next_rows() {
     const ir::TableDecl& table = p_.tables[t];
     if (!tap_spans_[t] || table.rank != 2) continue;
     Value* x = b_.CreateAdd(batch_place_[0], b_.getInt64(tap_spans_[t]->low[0]));
-    Value* y = b_.CreateAdd(batch_place_[1], b_.getInt64(tap_spans_[t]->high[1] + 1));
+    Value* y = b_.CreateAdd(batch_place_[1], b_.getInt64(std::int64_t{tap_spans_[t]->high[1]} + 1));
     prefetch_element(static_cast<int>(t), b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64))));
   }
 }

@@ -814,7 +814,7 @@ void Lowering::load_tap_rows() {
   }
   for (const auto& [row, span] : spans) {
     auto [low, high] = span;
-    if (low == high || high - low > width_) continue;
+    if (low == high || std::int64_t{high} - low > width_) continue;  // offsets may lie near the int limits
     auto [table, y, z] = row;
     auto load = [&](int x) { return masked_run(table, tap_start(table, {x, y, z}), exec()); };
     tap_rows_[row] = {low, high, load(low), load(high)};
@@ -833,8 +833,8 @@ std::array<Value*, 4> Lowering::tap(int table, const std::array<int, 3>& offset)
   // low + width_, past it in the last (which starts at high <= low + width_).
   std::vector<int> lanes;
   for (int i = 0; i < width_; ++i) {
-    int x = offset[0] + i;
-    lanes.push_back(x - r.low < width_ ? x - r.low : width_ + x - r.high);
+    std::int64_t x = std::int64_t{offset[0]} + i;
+    lanes.push_back(static_cast<int>(x - r.low < width_ ? x - r.low : width_ + x - r.high));
   }
   std::array<Value*, 4> values{};
   for (int c = 0; c < p_.tables[table].element.width; ++c) values[c] = b_.CreateShuffleVector(r.first[c], r.last[c], lanes);
@@ -869,7 +869,7 @@ Value* Lowering::last_inside_x() {
   Value* last = nullptr;
   for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
     if (!tap_spans_[t]) continue;
-    Value* x = b_.CreateSub(b_.CreateZExt(table_dims_[t][0], b_.getInt64Ty()), b_.getInt64(tap_spans_[t]->high[0] + width_));
+    Value* x = b_.CreateSub(b_.CreateZExt(table_dims_[t][0], b_.getInt64Ty()), b_.getInt64(std::int64_t{tap_spans_[t]->high[0]} + width_));
     last = last ? b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last, x) : x;
   }
   return last;
