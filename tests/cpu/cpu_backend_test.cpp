@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace {
@@ -480,6 +481,86 @@ TEST(CpuBackend, FullBatchesOfOutputsStorePastTheCacheWhereAsked) {
   }
 }
 
+// Each run says whether it wrote its outputs past the cache
+// (cpu::RunDetails): where stores=streamed asks and the kernel can (no
+// loops, lanes side by side), unless the caller reads an output back at
+// once; a report line only where a run did.
+TEST(CpuBackend, RunsSayWhetherTheyWroteTheirOutputsPastTheCache) {
+  Program doubled = SH_BEGIN_PROGRAM("doubled") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x * 2.0f;
+  } SH_END;
+  Program looping = SH_BEGIN_PROGRAM("looping") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x;
+    SH_FOR(Attrib1f i = 0.0f, i < x, i += 1.0f) { y += i; } SH_ENDFOR;
+  } SH_END;
+  const std::size_t n = 1000;
+  std::vector<float> in(n, 3.0f), out(n);
+  auto streamed = [&](const Program& p, cpu::Width width, cpu::Stores stores, bool read_back) {
+    Options o;
+    o.set(cpu::Options{.width = width, .stores = stores});
+    RunArgs args;
+    args.count = n;
+    args.inputs.push_back({ir::Type{ir::Scalar::F32, 1}, n, in.data()});
+    args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, n, out.data()});
+    args.outputs[0].read_back = read_back;
+    RunStats stats;
+    kernel_for(p, backend("cpu", o))->run(args, stats);
+    EXPECT_EQ(out[n - 1], 6.0f);  // 3 doubled; 3 + 0 + 1 + 2
+    const auto* details = stats.details_as<cpu::RunDetails>();
+    EXPECT_TRUE(details && details->runs == 1);
+    return details ? details->streamed : 99u;
+  };
+#if defined(__x86_64__)
+  EXPECT_EQ(streamed(doubled, cpu::Width::Lanes8, cpu::Stores::Streamed, false), 1u);
+#endif
+  EXPECT_EQ(streamed(doubled, cpu::Width::Lanes8, cpu::Stores::Streamed, true), 0u) << "read back at once";
+  EXPECT_EQ(streamed(doubled, cpu::Width::Lanes8, cpu::Stores::Cached, false), 0u);
+  EXPECT_EQ(streamed(doubled, cpu::Width::Lanes8, cpu::Stores::Auto, false), 0u) << "4000 bytes stay in the cache";
+  EXPECT_EQ(streamed(doubled, cpu::Width::Scalar, cpu::Stores::Streamed, false), 0u);
+  EXPECT_EQ(streamed(looping, cpu::Width::Lanes8, cpu::Stores::Streamed, false), 0u);
+  cpu::RunDetails total;
+  EXPECT_TRUE(total.describe().empty());
+  total.runs = 3;
+  total.streamed = 2;
+  EXPECT_EQ(total.describe(), std::vector<std::string>{"2 of 3 runs wrote their outputs past the cache"});
+}
+
+// run_fused's producer writes each strip into a buffer its consumer reads
+// at once: under stores=streamed only the consumer's runs, which write the
+// outputs, stream.
+TEST(CpuBackend, FusedStripsKeepTheProducersRowsInTheCache) {
+  const int w = 64, h = 40;
+  Table2D<Attrib1f> image(w, h), rows(w, h);
+  image.assign(std::vector<float>(static_cast<std::size_t>(w) * h, 1.0f));
+  Program along = SH_BEGIN_PROGRAM("along") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = image[at + ConstAttrib2i(-1, 0)] + image[at + ConstAttrib2i(1, 0)];
+  } SH_END;
+  Program down = SH_BEGIN_PROGRAM("down") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = rows[at + ConstAttrib2i(0, -1)] + rows[at + ConstAttrib2i(0, 1)];
+  } SH_END;
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes8, .stores = cpu::Stores::Streamed});
+  Channel<Attrib1f> out;
+  out.shape(w, h);
+  RunStats stats = run_fused(along, rows, down, {out}, backend("cpu", o), 8);
+  ASSERT_EQ(stats.strips, 5u);
+  EXPECT_EQ(out.values(), std::vector<float>(static_cast<std::size_t>(w) * h, 4.0f));
+  const auto* details = stats.details_as<cpu::RunDetails>();
+  ASSERT_NE(details, nullptr);
+  EXPECT_EQ(details->runs, 10u);
+#if defined(__x86_64__)
+  EXPECT_EQ(details->streamed, 5u);
+#endif
+}
+
 // Streamed or not, the outputs are the same: rows of 20 elements, whose
 // float batches start 0, 16, 32 or 48 bytes past a line (those of four
 // floats always on one: a row that does not start on a line stores both
@@ -750,14 +831,6 @@ TEST(CpuBackend, FetchedTablesReadThroughASourceAtEveryWidth) {
     }
   }
 }
-
-}  // namespace
-
-#include <filesystem>
-#include <sstream>
-#include <fstream>
-
-namespace {
 
 TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   namespace fs = std::filesystem;

@@ -21,10 +21,10 @@ class CpuKernel : public Kernel {
  public:
   CpuKernel(const ir::Program& p, const sh::Options& o)
       : program_(p), options_(o), fetched_(fetches_tables(o)),
-        streamed_from_(may_stream(o) ? streamed_from_bytes(o) : SIZE_MAX), jitted_(program_, options_),
+        streamed_from_(kernel_streams(p, o) ? streamed_from_bytes(o) : SIZE_MAX), jitted_(program_, options_),
         arena_(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
 
-  void run(const RunArgs& args, RunStats&) override {
+  void run(const RunArgs& args, RunStats& stats) override {
     std::vector<void*> inputs, outputs;
     for (const BufferView& b : args.inputs) inputs.push_back(b.data);
     for (const BufferView& b : args.outputs) outputs.push_back(b.data);
@@ -83,6 +83,10 @@ class CpuKernel : public Kernel {
       throw runaway_loop(program_, *loop, args.domain.first + static_cast<std::uint64_t>(status[1]),
                          options_.max_loop_iterations);
     }
+    auto details = std::make_shared<RunDetails>();
+    details->runs = 1;
+    details->streamed = streamed;
+    stats.details = std::move(details);
   }
 
   // On the kernel's arena, whose threads stay between calls (and so keep
@@ -110,10 +114,14 @@ class CpuKernel : public Kernel {
 
  private:
   // Whether the outputs' memory together is too large to stay in the
-  // cache (cpu::Options::stores): the kernel writes them past it.
+  // cache (cpu::Options::stores), and none is read back at once: the
+  // kernel writes them past it.
   bool streams_outputs(const std::vector<BufferView>& outputs) const {
     std::size_t bytes = 0;
-    for (const BufferView& out : outputs) bytes += std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
+    for (const BufferView& out : outputs) {
+      if (out.read_back) return false;
+      bytes += std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
+    }
     return bytes > 0 && bytes >= streamed_from_;
   }
 

@@ -27,10 +27,7 @@ Lowering::Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::
     tap_spans_ = analysis::tap_spans(p, access_);
   }
   reads_position_ = ir::uses(p, ir::Op::Position);
-  // A kernel with loops of its own (a ray's walk, an iteration) spends its
-  // time in them, not on its stores: streaming them bought the tracer
-  // nothing measurable and cost its compile a tenth more.
-  streams_ = may_stream(o) && !p.outputs.empty() && loops_.empty();
+  streams_ = kernel_streams(p, o);
   unwritten_reads_ = analysis::unwritten_reads(p);
   llvm::StringMap<bool> features = isa_features(o);
   avx512_ = features.lookup("avx512f");

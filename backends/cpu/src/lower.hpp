@@ -36,10 +36,10 @@ int lane_count(const sh::Options& options);
 // (signature.hpp), so that a table may live elsewhere.
 bool fetches_tables(const sh::Options& options);
 
-// cpu::Options::stores: whether a kernel may write outputs past the cache
-// (signature.hpp's stream_outputs), and from how many bytes of the
-// outputs' memory a run asks it to.
-bool may_stream(const sh::Options& options);
+// cpu::Options::stores: whether a kernel of `program` may write its
+// outputs past the cache (signature.hpp's stream_outputs), and from how
+// many bytes of the outputs' memory a run asks it to.
+bool kernel_streams(const ir::Program& program, const sh::Options& options);
 std::size_t streamed_from_bytes(const sh::Options& options);
 
 // cpu::Options::isa: the features kernels are compiled for (the host's,

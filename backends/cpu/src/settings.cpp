@@ -195,9 +195,13 @@ int lane_count(const sh::Options& options) {
 
 bool fetches_tables(const sh::Options& options) { return options.get<Options>().tables == Tables::Fetched; }
 
-bool may_stream(const sh::Options& options) {
+// A kernel with loops of its own (a ray's walk, an iteration) spends its
+// time in them, not on its stores: streaming them bought the tracer
+// nothing measurable and cost its compile a tenth more.
+bool kernel_streams(const ir::Program& program, const sh::Options& options) {
   return options.get<Options>().stores != Stores::Cached && lane_count(options) > 1 &&
-         llvm::Triple(llvm::sys::getProcessTriple()).isX86();
+         llvm::Triple(llvm::sys::getProcessTriple()).isX86() && !program.outputs.empty() &&
+         loop_statements(program).empty();
 }
 
 std::size_t streamed_from_bytes(const sh::Options& options) {

@@ -33,6 +33,9 @@ struct BufferView {
   // as a strip of a channel is: whether what a run writes there can stay
   // in the cache (cpu::Options::stores).
   std::size_t memory_bytes = 0;
+  // The caller reads what the run writes here at once (run_fused's strip
+  // buffer): it stays in the cache whatever the stores setting asks.
+  bool read_back = false;
 };
 
 // A table read on demand instead of from memory: whoever calls Kernel::run

@@ -174,14 +174,20 @@ class Strips {
 
   std::size_t count() const { return static_cast<std::size_t>((std::int64_t{height_} + rows_ - 1) / rows_); }
 
-  void run(Kernel& make, Kernel& use, int threads) {
+  // The runs' details (RunStats::details) totalled into `details`.
+  void run(Kernel& make, Kernel& use, int threads, std::shared_ptr<RunDetails>& details) {
+    std::mutex totalling;
     use.run_tasks(count(), threads, [&](std::size_t k) {
       // As a channel's storage, starting a cache line.  Kept by the thread
       // for its next strip, which then neither clears nor maps it again,
       // unless strips asked for far more than the default.
       thread_local Words buffer;
-      strip(static_cast<int>(k), make, use, buffer);
+      RunStats made, used;
+      strip(static_cast<int>(k), make, use, buffer, made, used);
       if (buffer.capacity() * sizeof(std::uint64_t) > kKeptStripBytes) Words().swap(buffer);
+      std::lock_guard<std::mutex> lock(totalling);
+      add_details(details, made.details);
+      add_details(details, used.details);
     });
   }
 
@@ -190,7 +196,7 @@ class Strips {
   // consumer's rows [first, end) reading them there: its taps reach rows
   // [first + reach.low, end - 1 + reach.high], clamped to the table's
   // (or, where it gives zero outside, those of them inside it).
-  void strip(int k, Kernel& make, Kernel& use, Words& buffer) const {
+  void strip(int k, Kernel& make, Kernel& use, Words& buffer, RunStats& made, RunStats& used) const {
     std::int64_t first = std::int64_t{k} * rows_, end = std::min<std::int64_t>(height_, first + rows_);
     std::int64_t low = std::clamp<std::int64_t>(first + reach_.low, 0, height_ - 1);
     std::int64_t high = std::clamp<std::int64_t>(end - 1 + reach_.high, 0, height_ - 1) + 1;
@@ -202,8 +208,8 @@ class Strips {
     p.domain.first = static_cast<std::size_t>(low) * width_;
     p.outputs[0].data = buffer.data();
     p.outputs[0].count = p.count;
-    RunStats ignored;
-    make.run(p, ignored);
+    p.outputs[0].read_back = true;
+    make.run(p, made);
     RunArgs c = consumer_;
     c.on_this_thread = true;
     c.count = static_cast<std::size_t>(end - first) * width_;
@@ -214,7 +220,7 @@ class Strips {
       out.count = c.count;
     }
     c.tables[through_at_].data = shifted_back(buffer.data(), static_cast<std::size_t>(low) * row_bytes_);
-    use.run(c, ignored);
+    use.run(c, used);
   }
 
   RunArgs producer_, consumer_;
@@ -283,15 +289,16 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
     Strips strips(make_args, use_args, through_at, *reach, static_cast<int>(rows_per_strip), row_bytes);
     int threads = choice.options.threads > 0 ? choice.options.threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    strips.run(*make, *use, threads);
+    strips.run(*make, *use, threads, stats.details);
     stats.strips = strips.count();
   } else {
-    RunStats one;
-    make->run(make_args, one);
+    RunStats made, used;
+    make->run(make_args, made);
     rows->written();
     use_args = bind_arguments(consumer, {}, outputs);  // the table's new version
-    use->run(use_args, one);
-    add_run(stats, one);
+    use->run(use_args, used);
+    add_run(stats, made);
+    add_run(stats, used);
   }
   for (const auto& o : outputs) o->written();
   stats.run_ms = ms_since(t0);

@@ -15,8 +15,11 @@
 // max_loop_iterations, and its own options below.
 // kernel_for(p, backend("cpu"))->listing() gives the optimised LLVM IR.
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "sh/backend.hpp"
 #include "sh/options.hpp"
 
 namespace sh::cpu {
@@ -51,6 +54,20 @@ enum class Stores : std::uint8_t { Auto, Cached, Streamed };
 // for a level runs on every host that has it, and lets one host try the
 // code another would run.
 enum class Isa : std::uint8_t { Host, Sse42, Avx2, Avx512 };
+
+// RunStats::details of a cpu run (stats.details_as<cpu::RunDetails>()):
+// how many runs wrote their outputs past the cache (Stores).
+class RunDetails : public sh::RunDetails {
+ public:
+  std::size_t runs = 0;
+  std::size_t streamed = 0;
+
+  std::unique_ptr<sh::RunDetails> clone() const override;
+  void add(const sh::RunDetails& more) override;
+  // A line where a run streamed; none where every run kept its outputs in
+  // the cache, as most do.
+  std::vector<std::string> describe() const override;
+};
 
 struct Options {
   static constexpr const char* backend_name = "cpu";
