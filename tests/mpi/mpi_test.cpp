@@ -112,6 +112,54 @@ TEST(Mpi, ARankThatFailsIsNamedAndTheJobGoesOn) {
 
 namespace {
 
+// A local backend that runs interp's kernels after checking what each run
+// hands it: every stream view holds the run's elements, as a backend that
+// copies a view (opencl on a device of its own memory) takes it to.
+class CheckedViews : public Kernel {
+ public:
+  explicit CheckedViews(std::unique_ptr<Kernel> inner) : inner_(std::move(inner)) {}
+  void run(const RunArgs& args, RunStats& stats) override {
+    for (const std::vector<BufferView>* views : {&args.inputs, &args.outputs})
+      for (const BufferView& v : *views)
+        if (v.count != args.count)
+          throw Error("a view of " + std::to_string(v.count) + " elements for a run of " + std::to_string(args.count));
+    inner_->run(args, stats);
+  }
+
+ private:
+  std::unique_ptr<Kernel> inner_;
+};
+
+class ViewsChecked : public Backend {
+ public:
+  std::string name() const override { return "views_checked"; }
+  std::unique_ptr<Kernel> compile(const ir::Program& p, const Options& o) override {
+    return std::make_unique<CheckedViews>(find_backend("interp").compile(p, o));
+  }
+};
+
+const bool registered = (register_backend("views_checked", [] { return std::make_unique<ViewsChecked>(); }), true);
+
+// Rank 0 computes its share of the stream itself (the last, under a
+// static schedule), in pieces: each a view of its own elements, not of
+// the channel from the piece on.
+TEST(Mpi, RankZerosPiecesAreViewsOfTheirOwnElements) {
+  ASSERT_TRUE(registered);
+  Program p = SH_BEGIN_PROGRAM("pieces") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x * 3.0f;
+  } SH_END;
+  std::vector<float> xs(5000);
+  for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = static_cast<float>(i);
+  Channel<Attrib1f> in(xs), out;
+  Options o;
+  o.set(mpi::Options{.local = "views_checked", .schedule = mpi::Schedule::Static});
+  RunStats s = run(p, {in}, {out}, backend("mpi", o));
+  EXPECT_GT(details(s).parts.at(0).elements, 0u) << "rank 0 computed nothing";
+  for (std::size_t i = 0; i < xs.size(); ++i) ASSERT_EQ(out[i], 3.0f * xs[i]) << i;
+}
+
 TEST(Mpi, StaticScheduleGivesEachRankOneShareAndBadSettingsAreErrors) {
   using namespace sh;
   Program p = SH_BEGIN_PROGRAM("share") {

@@ -341,8 +341,8 @@ class Coordinator : public Kernel {
     RunArgs slice = s.args;
     slice.count = n;
     slice.domain.first += begin;
-    for (BufferView& b : slice.inputs) b.data = static_cast<char*>(b.data) + begin * ir::element_bytes(b.type);
-    for (BufferView& b : slice.outputs) b.data = static_cast<char*>(b.data) + begin * ir::element_bytes(b.type);
+    for (BufferView& b : slice.inputs) b = b.part(begin, n);
+    for (BufferView& b : slice.outputs) b = b.part(begin, n);
     try {
       RunStats run;
       if (s.waves)

@@ -9,6 +9,7 @@
 // every backend built linked into the program (see the top CMakeLists.txt).
 // sh::backends() lists what is there.  A backend's header (sh/cpu.hpp,
 // sh/mpi.hpp, ...) holds only its own API: its options, its statistics.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -36,6 +37,16 @@ struct BufferView {
   // The caller reads what the run writes here at once (run_fused's strip
   // buffer): it stays in the cache whatever the stores setting asks.
   bool read_back = false;
+
+  // Elements [first, first + n) of the view (a run's part of a stream): a
+  // view of them alone, whose memory is still the whole view's.
+  BufferView part(std::size_t first, std::size_t n) const {
+    BufferView p = *this;
+    p.memory_bytes = std::max(memory_bytes, count * ir::element_bytes(type));
+    p.data = static_cast<char*>(data) + first * ir::element_bytes(type);
+    p.count = n;
+    return p;
+  }
 };
 
 // A table read on demand instead of from memory: whoever calls Kernel::run

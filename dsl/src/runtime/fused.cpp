@@ -214,11 +214,7 @@ class Strips {
     c.on_this_thread = true;
     c.count = static_cast<std::size_t>(end - first) * width_;
     c.domain.first = static_cast<std::size_t>(first) * width_;
-    for (BufferView& out : c.outputs) {
-      out.memory_bytes = std::max(out.memory_bytes, out.count * ir::element_bytes(out.type));
-      out.data = static_cast<char*>(out.data) + c.domain.first * ir::element_bytes(out.type);
-      out.count = c.count;
-    }
+    for (BufferView& out : c.outputs) out = out.part(c.domain.first, c.count);
     c.tables[through_at_].data = shifted_back(buffer.data(), static_cast<std::size_t>(low) * row_bytes_);
     use.run(c, used);
   }
