@@ -168,6 +168,15 @@ TEST(OpenClBackend, WidthAddsAKernelOfLanesWithMasksOnlyWhereLanesDisagree) {
     for (std::size_t i = 0; i < in.size(); ++i) ASSERT_EQ(r[i], in[i] * 2.0f + (in[i] > 0.5f ? 1.0f : 0.0f)) << w << " " << i;
   }
   EXPECT_THROW(Options().set("opencl.lanes", "3"), Error);
+  // Set as a number, not a string: refused as the kernel is compiled.
+  Options three;
+  three.set(opencl::Options{.device = {}, .lanes = 3});
+  try {
+    kernel_for(p, backend("opencl", three));
+    FAIL() << "3 lanes a work-item were accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("lanes is 3"), std::string::npos) << e.what();
+  }
 }
 
 // The width "auto" takes the device's float vector width (at most 16).
@@ -298,6 +307,21 @@ TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
     EXPECT_GE(second.to_device, kStreamBytes);
     EXPECT_GE(second.from_device, kStreamBytes);
   }
+  // The same kernel with another table in its place (another scene) holds
+  // one copy: the first table goes to the device again after it.
+  Table1D<Attrib1f> other(1000);
+  other.assign(std::vector<float>(1000, 2.5f));
+  Program q = SH_BEGIN_PROGRAM("bytes") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x + other[x.cast<int>()];
+  } SH_END;
+  RunStats with_other = run(q, {x}, {r}, backend("opencl"));
+  EXPECT_FALSE(with_other.compiled) << "the same kernel, another table";
+  EXPECT_EQ(r[0], 5.5f);
+  opencl::RunDetails fourth = moved();
+  EXPECT_EQ(r[0], 4.5f);
+  EXPECT_EQ(fourth.to_device, first.to_device);
   second.add(third);
   EXPECT_EQ(second.runs, 2u);
   EXPECT_NE(second.describe().front().find("2 runs moved"), std::string::npos) << second.describe().front();

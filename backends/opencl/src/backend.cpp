@@ -1,7 +1,6 @@
 #include <algorithm>
 #include <cstring>
 #include <utility>
-#include <map>
 #include <mutex>
 
 #include "codegen.hpp"
@@ -41,6 +40,8 @@ std::string build_options(const sh::Options& o) {
 // spread work-items over SIMD lanes themselves).
 int lanes_for(const sh::Options& o, const Device& d) {
   int chosen = o.get<Options>().lanes;
+  if (chosen != 0 && chosen != 1 && chosen != 2 && chosen != 4 && chosen != 8 && chosen != 16)
+    throw Error("opencl backend: lanes is " + std::to_string(chosen) + "; expected 1, 2, 4, 8, 16 or 0 (auto)");
   if (chosen != 0) return chosen;
   if (!d.cpu) return 1;
   int lanes = 1;
@@ -58,6 +59,7 @@ class OpenClKernel : public Kernel {
       throw Error("program '" + p.name + "': needs double precision (f64), which OpenCL device '" + device_->name +
                   "' lacks (no cl_khr_fp64); use precision f32 and float values, or another device");
     cl_program_ = build(*device_, p.name, source_, build_options(o));
+    tables_.resize(p.tables.size());
     one_ = make_kernel(kKernelName);
     if (lanes_ > 1) many_ = make_kernel(kLanesKernelName);
   }
@@ -123,7 +125,7 @@ class OpenClKernel : public Kernel {
         moved->to_device += t.bytes();
         moved->from_device += t.bytes();
       } else {
-        set(arg++, sizeof(cl_mem), &table_buffer(t, *moved));
+        set(arg++, sizeof(cl_mem), &table_buffer(static_cast<std::size_t>(&t - args.tables.data()), t, *moved));
       }
       for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
     }
@@ -327,11 +329,14 @@ class OpenClKernel : public Kernel {
     return buffer.mem;
   }
 
-  // Tables stay on the device between runs until their version changes.
-  const cl_mem& table_buffer(const TableView& t, RunDetails& moved) {
-    Cached& c = tables_[t.id];
-    if (!c.buffer.mem || c.version != t.version) {
+  // Tables stay on the device between runs until their version changes,
+  // one for each table the program reads: a run with another table there
+  // (the same kernel for another scene) lets the last one go.
+  const cl_mem& table_buffer(std::size_t slot, const TableView& t, RunDetails& moved) {
+    Cached& c = tables_.at(slot);
+    if (!c.buffer.mem || c.id != t.id || c.version != t.version) {
       c.buffer = make(t.bytes(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table");
+      c.id = t.id;
       c.version = t.version;
       moved.to_device += t.bytes();
     } else {
@@ -395,9 +400,9 @@ class OpenClKernel : public Kernel {
   std::shared_ptr<Device> device_;
   struct Cached {
     Buffer buffer;
-    std::uint64_t version = 0;
+    std::uint64_t id = 0, version = 0;
   };
-  std::map<std::uint64_t, Cached> tables_;
+  std::vector<Cached> tables_;  // by the program's table
   std::vector<std::pair<Buffer, std::size_t>> kept_;  // copied streams' buffers and sizes, by argument
   std::string source_;
   int lanes_;  // elements per work-item of many_
