@@ -3,6 +3,8 @@
 // general kernel gives with those features switched off.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -86,9 +88,14 @@ TEST(Specialisation, ReflectionDepthIsAUniform) {
   EXPECT_LT(sh::rt::share_within(one.render(), four.render(), 0.0f), 1.0);
 }
 
+// Written under a name of their own, then renamed: a file of the user's
+// beside the image is left alone, and a failure says why.
 TEST(Images, PngAndPfmAreWrittenWhole) {
   sh::rt::Image img = render(sh::rt::builtin_scene("cornell"), "cpu", 20, 10);
-  std::string dir = testing::TempDir();
+  std::string dir = testing::TempDir() + "images_" + std::to_string(::getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/out.png.tmp") << "the user's";
   sh::rt::write_png(dir + "/out.png", img);
   sh::rt::write_pfm(dir + "/out.pfm", img.width, img.height, img.distance);
   std::ifstream png(dir + "/out.png", std::ios::binary);
@@ -96,8 +103,24 @@ TEST(Images, PngAndPfmAreWrittenWhole) {
   png.read(magic, 8);
   EXPECT_EQ(std::string(magic + 1, 3), "PNG");
   EXPECT_EQ(std::filesystem::file_size(dir + "/out.pfm"), std::string("Pf\n20 10\n-1.0\n").size() + 200 * 4);
-  EXPECT_FALSE(std::filesystem::exists(dir + "/out.png.tmp"));
+  std::string kept;
+  std::getline(std::ifstream(dir + "/out.png.tmp"), kept);
+  EXPECT_EQ(kept, "the user's");
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(entry.path().extension() == ".tmp", entry.path().filename() == "out.png.tmp") << entry.path();
   EXPECT_THROW(sh::rt::write_png("/nonexistent-dir/x.png", img), sh::Error);
+  std::filesystem::create_directories(dir + "/a-directory.png");
+  for (bool pfm : {false, true})
+    try {
+      if (pfm)
+        sh::rt::write_pfm(dir + "/a-directory.png", img.width, img.height, img.distance);
+      else
+        sh::rt::write_png(dir + "/a-directory.png", img);
+      ADD_FAILURE() << "an image written over a directory";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot write the image: Is a directory"), std::string::npos) << e.what();
+    }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
