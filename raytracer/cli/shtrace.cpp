@@ -2,11 +2,13 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -108,7 +110,8 @@ std::pair<int, int> parse_size(const std::string& s) {
   int w = 0, h = 0;
   char x = 0;
   std::istringstream in(s);
-  if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1) throw Error("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+  if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || !(in >> std::ws).eof())
+    throw Error("--size: expected WIDTHxHEIGHT, got '" + s + "'");
   return {w, h};
 }
 
@@ -217,7 +220,7 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
   if (!up.empty()) scene.camera.up = parse_vec3("--up", up);
-  if (fov > 0) scene.camera.fov_degrees = fov;
+  if (!std::isnan(fov)) scene.camera.fov_degrees = fov;  // the scene's checks name a bad one
   RenderSettings s = settings_for(c, backend_name);
   s.specialise = !general;
   s.progress = true;
@@ -245,11 +248,10 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   report.render_ms = best_ms;
   std::string written = shtrace::write_image(output, c.scene, [&](const std::string& path) { write_png(path, image); });
   if (!aov.empty()) {
-    shtrace::say_if_replacing(aov + "_distance.pfm");
-    shtrace::say_if_replacing(aov + "_triangle.pfm");
-    write_pfm(aov + "_distance.pfm", image.width, image.height, image.distance);
     std::vector<float> ids(image.triangle.begin(), image.triangle.end());
-    write_pfm(aov + "_triangle.pfm", image.width, image.height, ids);
+    for (const auto& [suffix, values] : {std::pair{"_distance.pfm", &image.distance}, std::pair{"_triangle.pfm", &ids}})
+      shtrace::write_image(aov + suffix, c.scene,
+                           [&](const std::string& path) { write_pfm(path, image.width, image.height, *values); });
   }
   std::printf("rendered %dx%d on %s: compile %.1f ms, render %.1f ms%s (%.2f Mrays/s primary, %.2f fps)\nimage: %s\n",
               image.width, image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
@@ -357,7 +359,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   Common common;
   std::string backend_name, output, aov, eye, look_at, up;
-  float fov = 0;
+  float fov = std::numeric_limits<float>::quiet_NaN();  // the scene's unless given
   bool dump_ir = false, general = false, analyze = false, ir_optimized = false;
   std::string dump_ir_bytes, ir_file;
   int frames = 1;

@@ -38,6 +38,24 @@ render --scene cornell --size 8x6 -o fresh.png > fresh.txt
 if grep -q "replacing" fresh.txt; then echo "a new file reported as replaced"; exit 1; fi
 echo "-o: an existing file is replaced with a line saying so; a new one without"
 
+render --scene cornell --size 8x6 -o aov.png --aov maps/cornell > aov.txt
+test -s maps/cornell_distance.pfm && test -s maps/cornell_triangle.pfm
+grep -q "^aov: maps/cornell_distance.pfm, maps/cornell_triangle.pfm$" aov.txt
+echo "--aov: its directory made, both maps written"
+
+refused() {  # the command fails, with a message naming the option, and writes no image
+  local option=$1; shift
+  if render --scene cornell -o refused.png "$@" > refused.txt 2>&1; then echo "accepted: $*"; exit 1; fi
+  grep -q -- "$option" refused.txt || { echo "no word of $option for: $*"; cat refused.txt; exit 1; }
+  test ! -e refused.png
+}
+refused --size --size 8x6x3
+refused --size --size 8x6abc
+refused fov --size 8x6 --fov 0
+refused fov --size 8x6 --fov -30
+refused fov --size 8x6 --fov 180
+echo "bad --size and --fov are errors naming them"
+
 leftovers=$(find . -name "*.tmp" -o -name ".*.png.*")
 test -z "$leftovers" || { echo "temporary files left: $leftovers"; exit 1; }
 echo "no temporary files left"
