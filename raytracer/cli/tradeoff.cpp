@@ -1,6 +1,11 @@
 #include "tradeoff.hpp"
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -108,13 +113,36 @@ std::string label(const Setting& s) {
 }
 
 void write_through_temp(const std::string& path, const std::string& text) {
-  std::string tmp = path + ".tmp";
+  std::string tmp = path + "." + std::to_string(::getpid()) + ".tmp";
   {
     std::ofstream out(tmp);
     out << text;
-    if (!out.flush()) throw Error(path + ": cannot write");
+    if (!out.flush()) {
+      std::remove(tmp.c_str());
+      throw Error(path + ": cannot write");
+    }
   }
   std::filesystem::rename(tmp, path);
+}
+
+// A gnuplot string of any text: single-quoted, a quote in it doubled.
+std::string gnuplot_string(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// gnuplot on a script, with no shell between (the script's name may hold
+// any character): whether it ran and succeeded.
+bool run_gnuplot(const std::string& script) {
+  std::string program = "gnuplot";
+  char* argv[] = {program.data(), const_cast<char*>(script.c_str()), nullptr};
+  pid_t child = 0;
+  if (posix_spawnp(&child, "gnuplot", nullptr, nullptr, argv, environ) != 0) return false;
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0)
+    if (errno != EINTR) return false;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 }  // namespace
@@ -223,17 +251,16 @@ int tradeoff(const TradeoffOptions& o) {
     points += line;
     if (r->pareto) front += line;
   }
-  std::string gp = "set terminal pngcairo size 1100,700 noenhanced\nset output '" + o.out +
-                   ".png'\nset title 'Error against render time, scene " + o.scene +
-                   "'\nset xlabel 'render time (ms, warm)'\nset ylabel 'RMSE against the converged reference'\n"
+  std::string gp = "set terminal pngcairo size 1100,700 noenhanced\nset output " + gnuplot_string(o.out + ".png") +
+                   "\nset title " + gnuplot_string("Error against render time, scene " + o.scene) +
+                   "\nset xlabel 'render time (ms, warm)'\nset ylabel 'RMSE against the converged reference'\n"
                    "set logscale xy\nset grid\nset key top right\n"
                    "$all << EOD\n" + points + "EOD\n$front << EOD\n" + front + "EOD\n"
                    "plot $all using 1:2 with points pt 7 ps 1 lc rgb '#7f7f7f' title 'settings', \\\n"
                    "     $front using 1:2 with linespoints pt 7 ps 1.3 lw 2 lc rgb '#d62728' title 'Pareto front', \\\n"
                    "     $front using 1:2:3 with labels offset 1,0.6 left font ',8' notitle\n";
   write_through_temp(o.out + ".gp", gp);
-  std::string command = "gnuplot '" + o.out + ".gp'";
-  if (std::system(command.c_str()) != 0)
+  if (!run_gnuplot(o.out + ".gp"))
     std::fprintf(stderr, "tradeoff: gnuplot failed or is missing (apt-get install gnuplot-nox); the script is %s.gp\n",
                  o.out.c_str());
   std::printf("%zu settings; csv: %s.csv, plot: %s.png\n", results.size(), o.out.c_str(), o.out.c_str());
