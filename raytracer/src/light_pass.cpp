@@ -1,5 +1,7 @@
 // The light pass (bidirectional.hpp): one stream element per ray, from a
 // light to a sample point of an element; energy left by scatter-add.
+#include <algorithm>
+#include <cstdint>
 #include <map>
 #include <tuple>
 
@@ -30,9 +32,16 @@ Point3f lattice_point(const SceneTables& s, const Attrib1i& tri, const Attrib1f&
   return v0 + (i * (s.v1[tri] - v0) + j * (s.v2[tri] - v0)) / k;
 }
 
-LightPassSettings checked(LightPassSettings settings) {
+LightPassSettings checked(LightPassSettings settings, std::size_t triangles) {
   if (settings.subdivision < 1 || settings.subdivision > 64)
     throw Error("light pass: elements per triangle side must be 1..64, got " + std::to_string(settings.subdivision));
+  // Kernels number element and lattice slots in 32 bits.
+  int k = settings.subdivision;
+  std::size_t slots = triangles * static_cast<std::size_t>(std::max(element_slots(k), lattice_slots(k)));
+  if (slots > static_cast<std::size_t>(INT32_MAX))
+    throw Error("light pass: " + std::to_string(triangles) + " triangles of " + std::to_string(k) + " x " +
+                std::to_string(k) + " elements take " + std::to_string(slots) +
+                " slots, more than a kernel numbers (2^31 - 1); use fewer elements per side");
   if (settings.samples < 1) throw Error("light pass: rays per element must be at least 1, got " + std::to_string(settings.samples));
   if (settings.depth < 0 || settings.depth > 64) throw Error("light pass: depth must be 0..64, got " + std::to_string(settings.depth));
   return settings;
@@ -67,7 +76,7 @@ Vec3 ElementLight::total() const {
 
 LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSettings settings)
     : lights_(scene.lights.size()),
-      settings_(checked(settings)),
+      settings_(checked(settings, scene.mesh.triangles())),
       element_table_(static_cast<int>(std::max<std::size_t>(1, scene.mesh.triangles() * settings.subdivision * settings.subdivision))),
       emitters_(static_cast<int>(std::max<std::size_t>(1, 2 * scene.lights.size()))),
       energy_(static_cast<int>(scene.mesh.triangles() * element_slots(settings.subdivision)), "element_energy") {

@@ -42,6 +42,31 @@ std::vector<float> light_pass(const sh::rt::Scene& scene, const sh::BackendChoic
   return pass.run(choice);
 }
 
+// Elements whose slots a kernel could not number are refused by name,
+// before any table is sized: 2^18 triangles of 64 x 64 elements are 2^31.
+TEST(LightPass, TooManyElementSlotsAreRefusedByName) {
+  sh::rt::Scene many;
+  many.materials.push_back({});
+  for (int t = 0; t < (1 << 18); ++t) {
+    float x = static_cast<float>(t % 512), y = static_cast<float>(t / 512);
+    many.mesh.positions.insert(many.mesh.positions.end(), {{x, y, 0}, {x + 1, y, 0}, {x, y + 1, 0}});
+  }
+  many.mesh.normals.assign(many.mesh.positions.size(), Vec3{0, 0, 1});
+  many.mesh.material.assign(many.mesh.triangles(), 0);
+  many.lights.push_back({{0, 0, 5}, {1, 1, 1}});
+  sh::rt::Grid grid = sh::rt::build_grid(many, 0.05);
+  sh::rt::SceneTables tables(many, grid);
+  sh::rt::LightPassSettings lp;
+  lp.subdivision = 64;
+  try {
+    sh::rt::LightPass pass(many, tables, lp);
+    FAIL() << "2^31 element slots were accepted";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("262144 triangles of 64 x 64 elements take 2147483648 slots"), std::string::npos)
+        << e.what();
+  }
+}
+
 class LightPassOn : public testing::TestWithParam<std::string> {};
 
 // Every ray reaches its element (nothing else is inside the box), so each
