@@ -60,15 +60,16 @@ class OpenClKernel : public Kernel {
                   "' lacks (no cl_khr_fp64); use precision f32 and float values, or another device");
     cl_program_ = build(*device_, p.name, source_, build_options(o));
     tables_.resize(p.tables.size());
-    one_ = make_kernel(kKernelName);
-    if (lanes_ > 1) many_ = make_kernel(kLanesKernelName);
+    try {
+      one_ = make_kernel(kKernelName);
+      if (lanes_ > 1) many_ = make_kernel(kLanesKernelName);
+    } catch (...) {
+      release();  // a constructor that throws runs no destructor
+      throw;
+    }
   }
 
-  ~OpenClKernel() override {
-    for (const Launcher* k : {&one_, &many_})
-      if (k->kernel) clReleaseKernel(k->kernel);
-    if (cl_program_) clReleaseProgram(cl_program_);
-  }
+  ~OpenClKernel() override { release(); }
 
   void run(const RunArgs& args, RunStats& stats) override {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -134,17 +135,24 @@ class OpenClKernel : public Kernel {
     moved->to_device += sizeof status;
     moved->from_device += sizeof status;
 
-    if (copied) {
-      run_in_pieces(args, streams, sums.empty(), *moved);
-    } else {
-      launch(args.count, sums.empty());
-      take_outputs(args, streams, in_place, *moved);
+    try {
+      if (copied) {
+        run_in_pieces(args, streams, sums.empty(), *moved);
+      } else {
+        launch(args.count, sums.empty());
+        take_outputs(args, streams, in_place, *moved);
+      }
+      for (const auto& [t, mem] : sums)
+        check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, t->bytes(), t->sums, 0, nullptr, nullptr),
+              where("reading an accumulator"));
+      check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
+            where("finishing the run"));
+    } catch (...) {
+      // Kernels and reads already enqueued write the caller's memory: none
+      // may once the run has returned.
+      clFinish(device_->queue);
+      throw;
     }
-    for (const auto& [t, mem] : sums)
-      check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, t->bytes(), t->sums, 0, nullptr, nullptr),
-            where("reading an accumulator"));
-    check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
-          where("finishing the run"));
     if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.domain.first) + status[1]);
     stats.details = std::move(moved);
   }
@@ -152,6 +160,12 @@ class OpenClKernel : public Kernel {
   std::string listing() const override { return source_; }
 
  private:
+  void release() {
+    for (const Launcher* k : {&one_, &many_})
+      if (k->kernel) clReleaseKernel(k->kernel);
+    if (cl_program_) clReleaseProgram(cl_program_);
+  }
+
   // A kernel and the work-items of its whole work-groups.
   struct Launcher {
     cl_kernel kernel = nullptr;

@@ -154,10 +154,18 @@ std::shared_ptr<Device> open_device(const std::string& choice) {
   cl_int err = CL_SUCCESS;
   d->context = clCreateContext(nullptr, 1, &f.device, nullptr, nullptr, &err);
   check(err, "creating an OpenCL context on " + d->name);
-  d->queue = clCreateCommandQueue(d->context, f.device, 0, &err);
-  check(err, "creating an OpenCL queue on " + d->name);
-  d->copy_queue = clCreateCommandQueue(d->context, f.device, 0, &err);
-  check(err, "creating an OpenCL copy queue on " + d->name);
+  try {
+    d->queue = clCreateCommandQueue(d->context, f.device, 0, &err);
+    check(err, "creating an OpenCL queue on " + d->name);
+    d->copy_queue = clCreateCommandQueue(d->context, f.device, 0, &err);
+    check(err, "creating an OpenCL copy queue on " + d->name);
+  } catch (...) {
+    // An open device lives as long as the process; one that failed to open
+    // gives back what it took.
+    if (d->queue) clReleaseCommandQueue(d->queue);
+    clReleaseContext(d->context);
+    throw;
+  }
   open.emplace(f.device, d);
   return d;
 }
