@@ -279,11 +279,14 @@ TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
   constexpr std::size_t kElements = 256, kTableBytes = 1000 * sizeof(float);
   Table1D<Attrib1f> table(1000);
   table.assign(std::vector<float>(1000, 0.5f));
-  Program p = SH_BEGIN_PROGRAM("bytes") {
-    InputAttrib1f x;
-    OutputAttrib1f r;
-    r = x + table[x.cast<int>()];
-  } SH_END;
+  auto adding = [](const Table1D<Attrib1f>& t) {
+    return SH_BEGIN_PROGRAM("bytes") {
+      InputAttrib1f x;
+      OutputAttrib1f r;
+      r = x + t[x.cast<int>()];
+    } SH_END;
+  };
+  Program p = adding(table);
   Channel<Attrib1f> x(std::vector<float>(kElements, 3.0f)), r;
   auto moved = [&] {
     RunStats s = run(p, {x}, {r}, backend("opencl"));
@@ -311,12 +314,7 @@ TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
   // one copy: the first table goes to the device again after it.
   Table1D<Attrib1f> other(1000);
   other.assign(std::vector<float>(1000, 2.5f));
-  Program q = SH_BEGIN_PROGRAM("bytes") {
-    InputAttrib1f x;
-    OutputAttrib1f r;
-    r = x + other[x.cast<int>()];
-  } SH_END;
-  RunStats with_other = run(q, {x}, {r}, backend("opencl"));
+  RunStats with_other = run(adding(other), {x}, {r}, backend("opencl"));
   EXPECT_FALSE(with_other.compiled) << "the same kernel, another table";
   EXPECT_EQ(r[0], 5.5f);
   opencl::RunDetails fourth = moved();
