@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <sys/mman.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <sh/cpu.hpp>
@@ -11,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -877,6 +880,27 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   auto third = cpu.compile(ir, sh::Options{});
   run_with(*third, y1);
   EXPECT_EQ(y1[1], 17.f) << "a corrupt cache entry is compiled afresh";
+  // An entry that exists but does not open (here a socket in its place;
+  // elsewhere another user's file) is compiled afresh too.
+  cpu.compile(ir, sh::Options{});  // stores the entry again
+  int in_the_way = socket(AF_UNIX, SOCK_STREAM, 0);
+  std::size_t replaced = 0;
+  for (const auto& f : fs::directory_iterator(dir))
+    if (f.path().extension() == ".o") {
+      ++replaced;
+      fs::remove(f.path());
+      sockaddr_un at{};
+      at.sun_family = AF_UNIX;
+      std::strncpy(at.sun_path, f.path().c_str(), sizeof at.sun_path - 1);
+      ASSERT_EQ(bind(in_the_way, reinterpret_cast<const sockaddr*>(&at), sizeof at), 0) << f.path();
+    }
+  ASSERT_EQ(replaced, 1u);
+  auto fourth = cpu.compile(ir, sh::Options{});
+  EXPECT_EQ(fourth->listing().find("loaded from the object cache"), std::string::npos);
+  y1[1] = 0;
+  run_with(*fourth, y1);
+  EXPECT_EQ(y1[1], 17.f) << "an unreadable cache entry is compiled afresh";
+  close(in_the_way);
   unsetenv("SH_CACHE_DIR");
   fs::remove_all(dir);
 }

@@ -29,9 +29,9 @@ void ObjectCache::store(const std::vector<std::string>& objects) const {
 
 std::vector<std::unique_ptr<llvm::MemoryBuffer>> ObjectCache::objects() {
   std::vector<std::unique_ptr<llvm::MemoryBuffer>> out;
+  hit_ = true;  // an entry that does not read is forgotten by the caller, who compiles afresh
   std::optional<std::string> file = detail::read_cache_file(path_ + ".o");
   if (!file) return out;
-  hit_ = true;  // a file that does not read is forgotten by the caller
   for (std::size_t at = 0; at < file->size();) {
     std::uint64_t size = 0;
     if (file->size() - at < sizeof size) return {};

@@ -4,6 +4,7 @@
 #include <link.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -44,12 +45,18 @@ std::optional<std::string> cache_path(const std::string& kind, const std::string
 }
 
 void write_cache_file(const std::string& path, const std::string& bytes) {
-  std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()))) return;
-  }
+  // A name of this write's own: two threads (or processes) storing one
+  // entry never write one file.
+  static std::atomic<unsigned> writes{0};
+  std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(writes++);
   std::error_code ignored;
+  std::ofstream out(tmp, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) {  // a full disk: nothing left behind
+    std::filesystem::remove(tmp, ignored);
+    return;
+  }
   std::filesystem::rename(tmp, path, ignored);
   if (ignored) std::filesystem::remove(tmp, ignored);
 }
