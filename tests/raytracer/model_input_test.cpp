@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <assimp/scene.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -247,6 +248,18 @@ TEST_F(ModelInput, JsonSceneMeshesLoadInTheChildToo) {
   std::string e = error_of(path, limits);
   EXPECT_TRUE(mentions(e, "s.json: objects[0].file: "));
   EXPECT_TRUE(mentions(e, "m.obj: the model loader was killed by signal 7"));
+}
+
+// A FIFO where a scene or model file should be is refused at once: opening
+// it would wait for a writer, before any limit on the load applies.
+TEST_F(ModelInput, AFifoInPlaceOfAFileIsRefusedWithoutWaiting) {
+  for (const char* name : {"pipe.json", "pipe.obj"})
+    ASSERT_EQ(::mkfifo((dir_ / name).c_str(), 0600), 0) << name;
+  EXPECT_TRUE(mentions(error_of((dir_ / "pipe.json").string()), "pipe.json: cannot open the scene file: not a regular file"));
+  EXPECT_TRUE(mentions(error_of((dir_ / "pipe.obj").string()), "pipe.obj: cannot open the model file: not a regular file"));
+  std::string in_scene = write("s.json", R"({"objects": [{"type": "mesh", "file": "pipe.obj"}]})");
+  EXPECT_TRUE(mentions(error_of(in_scene), "s.json: objects[0].file: "));
+  EXPECT_TRUE(mentions(error_of(in_scene), "pipe.obj: cannot open the model file: not a regular file"));
 }
 
 // Errors that name the cause, not a consequence.

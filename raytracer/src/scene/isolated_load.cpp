@@ -29,6 +29,7 @@
 #include <fstream>
 #include <new>
 
+#include "input_file.hpp"
 #include "model_reader.hpp"
 #include "sh/error.hpp"
 
@@ -260,7 +261,7 @@ Scene outcome(int status, const std::string& answer, const std::string& path, co
 
 Scene read_model_isolated(const std::string& path, const Transform& t, const LoadLimits& limits) {
   if (!(limits.seconds > 0) || limits.memory_mib == 0) throw Error(path + ": model load limits must be positive");
-  if (!std::ifstream(path)) throw Error(path + ": cannot open the model file");
+  check_input_file(path, "the model file");
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw Error(path + ": cannot make a pipe for the loading process: " + std::strerror(errno));
   std::size_t address_space = address_space_bytes();

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "input_file.hpp"
 #include "sh/error.hpp"
 #include "sh/raytracer/scene.hpp"
 
@@ -306,6 +307,7 @@ json parse(const std::string& text, const std::string& path) {
 }  // namespace
 
 Scene load_scene_file(const std::string& path, const LoadLimits& limits) {
+  check_input_file(path, "the scene file");
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open the scene file");
   std::stringstream buffer;

@@ -7,10 +7,11 @@
 #include <assimp/LogStream.hpp>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <filesystem>
 #include <numbers>
 
 #include "sh/error.hpp"
+#include "input_file.hpp"
 #include "model_reader.hpp"
 #include "sh/raytracer/scene.hpp"
 
@@ -169,7 +170,7 @@ Scene triangles_of(const aiScene& model, const std::string& path, const Transfor
 }
 
 Scene read_model_file(const std::string& path, const Transform& t) {
-  if (!std::ifstream(path)) throw Error(path + ": cannot open the model file");
+  check_input_file(path, "the model file");
   LibraryErrors errors;
   Assimp::Importer importer;
   // Triangulate fans each polygon from its first vertex, in file order.
@@ -215,7 +216,8 @@ Scene load_scene(const std::string& what, const LoadLimits& limits) {
   auto dot = what.find_last_of('.');
   std::string ext = dot == std::string::npos ? "" : what.substr(dot + 1);
   if (ext == "json") return load_scene_file(what, limits);
-  if (!std::ifstream(what))
+  std::error_code missing;
+  if (!std::filesystem::exists(what, missing))
     throw Error(what + ": no such file, and not a built-in scene (built in: cornell, spheres, procedural)");
   return load_model_as_scene(what, limits);
 }
