@@ -1,6 +1,8 @@
 // The IR's printer, verifier and hash.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <sh/sh.hpp>
 
 namespace {
@@ -169,6 +171,48 @@ TEST(Verifier, AcceptsRecordedProgramsAndRejectsBrokenOnes) {
   ir::Program bad_type = p;
   bad_type.vars[4].type.scalar = ir::Scalar::I32;
   EXPECT_THROW(ir::verify(bad_type), Error);
+}
+
+// What a program read from bytes could hold and the recorder never makes:
+// a uniform in no list (it would have no value), an integer constant no
+// int32 holds (0.5, NaN: the folder and the backends would each cast it
+// their way), a break in a loop's update (whose loop would it leave?).
+TEST(Verifier, RejectsWhatOnlyBytesCouldHold) {
+  auto message = [](const ir::Program& q) {
+    try {
+      ir::verify(q);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  Attrib1f scale = 1.0f;
+  ir::Program p = saxpy_like(scale).ir();
+  ASSERT_EQ(p.uniforms.size(), 1u);
+  ir::Program unlisted = p;
+  unlisted.uniforms.clear();
+  EXPECT_NE(message(unlisted).find("of kind uniform is in none of the program's lists"), std::string::npos) << message(unlisted);
+
+  for (double bad : {0.5, std::nan(""), 3e9}) {
+    ir::Program q = p;
+    q.vars.push_back(ir::Var{ir::VarKind::Const, ir::Type{ir::Scalar::I32, 1}, "", {bad, 0, 0, 0}, 0});
+    EXPECT_NE(message(q).find("which that type cannot"), std::string::npos) << bad << ": " << message(q);
+  }
+  ir::Program truth = p;
+  truth.vars.push_back(ir::Var{ir::VarKind::Const, ir::Type{ir::Scalar::Bool, 1}, "", {2, 0, 0, 0}, 0});
+  EXPECT_NE(message(truth).find("which that type cannot"), std::string::npos) << message(truth);
+
+  Program looping = SH_BEGIN_PROGRAM("looping") {
+    Input<Attrib1f> x;
+    Output<Attrib1f> r;
+    r = x;
+    SH_FOR(Attrib1f i = 0.0f, i < x, i += 1.0f) { r += i; } SH_ENDFOR;
+  } SH_END;
+  ir::Program q = looping.ir();
+  EXPECT_EQ(message(q), "accepted");
+  for (ir::Stmt& s : q.body)
+    if (auto* loop = std::get_if<ir::Loop>(&s.node)) loop->update.push_back(ir::Stmt{ir::Break{}});
+  EXPECT_NE(message(q).find("in a loop's header or update"), std::string::npos) << message(q);
 }
 
 TEST(Hash, IgnoresNamesAndUniformValuesButNotStructure) {

@@ -1,5 +1,9 @@
 #include "sh/ir/verifier.hpp"
 
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include "sh/error.hpp"
@@ -18,8 +22,11 @@ class Verifier {
     for (VarId id : p_.outputs) expect_kind(id, {VarKind::Output, VarKind::InOut}, "output list");
     for (VarId id : p_.uniforms) expect_kind(id, {VarKind::Uniform}, "uniform list");
     long array_values = 0;
-    for (const Var& v : p_.vars) {
+    for (VarId id = 0; id < static_cast<VarId>(p_.vars.size()); ++id) {
+      const Var& v = p_.var(id);
       if (v.type.width < 1 || v.type.width > 4) fail("a variable has width " + std::to_string(v.type.width));
+      listed(id);
+      if (v.kind == VarKind::Const) constant(id);
       if (v.kind == VarKind::Array) array_values += static_cast<long>(v.length) * v.type.width;
       bool array = v.kind == VarKind::Array;
       if (array ? v.length < 1 || v.length > kMaxArrayLength : v.length != 0)
@@ -43,6 +50,38 @@ class Verifier {
       }
     }
     throw Error(msg);
+  }
+
+  // A stream or uniform variable is bound through its list: one left out
+  // would have no value to read, and no place to write.
+  void listed(VarId id) {
+    auto in = [&](const std::vector<VarId>& list) { return std::find(list.begin(), list.end(), id) != list.end(); };
+    VarKind k = p_.var(id).kind;
+    bool missing = ((k == VarKind::Input || k == VarKind::InOut) && !in(p_.inputs)) ||
+                   ((k == VarKind::Output || k == VarKind::InOut) && !in(p_.outputs)) ||
+                   (k == VarKind::Uniform && !in(p_.uniforms));
+    if (missing)
+      fail("variable %" + std::to_string(id) + " of kind " + var_kind_name(k) + " is in none of the program's lists");
+  }
+
+  // An integer constant holds int32 values and a truth value 0 or 1, which
+  // every backend and the constant folder read alike (a float constant
+  // may hold any double: each backend rounds it to its precision).
+  void constant(VarId id) {
+    const Var& v = p_.var(id);
+    for (int c = 0; c < v.type.width; ++c) {
+      double x = v.value[static_cast<std::size_t>(c)];
+      bool fits = true;
+      switch (v.type.scalar) {
+        case Scalar::I32: fits = x >= INT32_MIN && x <= INT32_MAX && x == std::trunc(x); break;
+        case Scalar::Bool: fits = x == 0 || x == 1; break;
+        case Scalar::F32:
+        case Scalar::F64: break;
+      }
+      if (!fits)
+        fail("constant %" + std::to_string(id) + " of type " + type_name(v.type) + " holds " + std::to_string(x) +
+             ", which that type cannot");
+    }
   }
 
   void expect_kind(VarId id, std::initializer_list<VarKind> kinds, const char* where) {
@@ -174,16 +213,18 @@ class Verifier {
         block(i->then_body, loop_depth);
         block(i->else_body, loop_depth);
       } else if (auto* l = std::get_if<Loop>(&s.node)) {
-        block(l->header, loop_depth);
+        // A break or continue in a loop's header or update would belong to
+        // no loop in particular (the recorder refuses them there).
+        block(l->header, 0);
         condition(l->cond, s);
         block(l->body, loop_depth + 1);
-        block(l->update, loop_depth);
+        block(l->update, 0);
       } else if (auto* sc = std::get_if<Scatter>(&s.node)) {
         scatter(*sc, s);
       } else if (auto* pf = std::get_if<Prefetch>(&s.node)) {
         prefetch(*pf, s);
       } else if (loop_depth == 0) {
-        fail("break or continue outside a loop body", &s);
+        fail("break or continue outside a loop body (or in a loop's header or update)", &s);
       }
     }
   }
