@@ -64,6 +64,35 @@ TEST_P(Conformance, AlgebraConnectsCombinesAndBinds) {
   }
 }
 
+// A composed program reads each part's tables with the edge mode the part
+// was recorded with, even where the table's setting changed since, or the
+// other part reads the same table with another.
+TEST_P(Conformance, AlgebraKeepsEachPartsEdgeMode) {
+  sh::Table1D<Attrib1f> t(4);
+  t.assign(std::vector<float>{1, 2, 3, 4});
+  auto shifted = [&](const char* name, int by) {
+    return SH_BEGIN_PROGRAM(name) {
+      sh::Input<sh::Attrib1i> i;
+      sh::Output<Attrib1f> r;
+      r = t[i + by];
+    } SH_END;
+  };
+  t.edge(sh::Edge::Clamp);
+  sh::Program clamped = shifted("clamped", 2);
+  t.edge(sh::Edge::Repeat);
+  sh::Program wrapped = shifted("wrapped", 2);
+  sh::Program both = clamped & wrapped;
+  sh::Channel<sh::Attrib1i> is(std::vector<std::int32_t>{0, 1, 2, 3});
+  sh::Channel<Attrib1f> alone_c, alone_w, c, w;
+  run(clamped, {is}, {alone_c});
+  run(wrapped, {is}, {alone_w});
+  run(both, {is, is}, {c, w});
+  EXPECT_EQ(alone_c.values(), (std::vector<float>{3, 4, 4, 4}));
+  EXPECT_EQ(alone_w.values(), (std::vector<float>{3, 4, 1, 2}));
+  EXPECT_EQ(c.values(), alone_c.values());
+  EXPECT_EQ(w.values(), alone_w.values());
+}
+
 TEST_P(Conformance, InOutChannelIsReadAndWritten) {
   sh::Program p = SH_BEGIN_PROGRAM("accumulate") {
     sh::InOut<Attrib1f> acc;

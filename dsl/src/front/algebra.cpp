@@ -24,7 +24,7 @@ class Glue {
     for (std::size_t i = 0; i < p.vars.size(); ++i)
       if (p.vars[i].kind != ir::VarKind::Uniform) vars[i] = out_.add_var(p.vars[i]);
     std::vector<int> tables(p.tables.size());
-    for (std::size_t t = 0; t < p.tables.size(); ++t) tables[t] = table(part.tables()[t]);
+    for (std::size_t t = 0; t < p.tables.size(); ++t) tables[t] = table(part.tables()[t], p.tables[t]);
     Block body = p.body;
     remap(body, vars, tables);
     for (ir::Stmt& s : body) out_.body.push_back(std::move(s));
@@ -82,11 +82,13 @@ class Glue {
  private:
   using Block = ir::Block;
 
-  int table(const std::shared_ptr<detail::TableStorage>& storage) {
+  // A part's table as the part recorded it: its edge mode then, not the
+  // table's now (one table read with two edge modes is two entries).
+  int table(const std::shared_ptr<detail::TableStorage>& storage, const ir::TableDecl& recorded) {
     for (std::size_t i = 0; i < tables_.size(); ++i)
-      if (tables_[i] == storage) return static_cast<int>(i);
+      if (tables_[i] == storage && out_.tables[i].edge == recorded.edge) return static_cast<int>(i);
     tables_.push_back(storage);
-    out_.tables.push_back(storage->decl);
+    out_.tables.push_back(recorded);
     return static_cast<int>(tables_.size() - 1);
   }
 
