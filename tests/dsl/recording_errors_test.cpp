@@ -1,6 +1,8 @@
 // Every recording error throws sh::Error naming the program and the fault.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <sh/sh.hpp>
 
 #include "../common/expect_error.hpp"
@@ -107,6 +109,27 @@ TEST(RecordingErrors, VariableOfAnotherProgram) {
         } SH_END;
       },
       {"inner", "another program"});
+}
+
+// A value kept from a recording that has ended is another program's too,
+// though the next recording may live at the ended one's address.
+TEST(RecordingErrors, VariableOfAnEndedProgram) {
+  std::optional<Attrib1f> kept;
+  SH_BEGIN_PROGRAM("first") {
+    Output<Attrib1f> r;
+    Attrib1f t = 1.0f;
+    kept.emplace(t);
+    r = t;
+  } SH_END;
+  for (int again = 0; again < 3; ++again)
+    expect_error(
+        [&] {
+          SH_BEGIN_PROGRAM("second") {
+            Output<Attrib1f> r;
+            r = *kept;
+          } SH_END;
+        },
+        {"second", "another program"});
 }
 
 TEST(RecordingErrors, ControlFlowOutsideProgram) {

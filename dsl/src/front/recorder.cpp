@@ -1,5 +1,7 @@
 #include "recorder.hpp"
 
+#include <atomic>
+
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
 
@@ -25,12 +27,16 @@ RecordingScope::RecordingScope(std::string name) : recorder_(std::make_unique<Re
 
 RecordingScope::~RecordingScope() { recording_stack.pop_back(); }
 
-Recorder::Recorder(std::string name) : current_(&prog_.body) { prog_.name = std::move(name); }
+Recorder::Recorder(std::string name) : current_(&prog_.body) {
+  static std::atomic<std::uint64_t> recordings{0};
+  serial_ = ++recordings;
+  prog_.name = std::move(name);
+}
 
 void Recorder::fail(const std::string& what) const { throw Error("program '" + prog_.name + "': " + what); }
 
 void Recorder::declare(const std::shared_ptr<VarNode>& node, Declared how) {
-  node->owner = this;
+  node->recording = serial_;
   ir::VarId id = id_of(node);
   if (how == Declared::Input || how == Declared::InOut) prog_.inputs.push_back(id);
   if (how == Declared::Output || how == Declared::InOut) prog_.outputs.push_back(id);
@@ -39,7 +45,7 @@ void Recorder::declare(const std::shared_ptr<VarNode>& node, Declared how) {
 ir::VarId Recorder::id_of(const std::shared_ptr<VarNode>& node) {
   auto it = ids_.find(node.get());
   if (it != ids_.end()) return it->second;
-  if (node->kind != ir::VarKind::Uniform && node->kind != ir::VarKind::Const && node->owner != this)
+  if (node->kind != ir::VarKind::Uniform && node->kind != ir::VarKind::Const && node->recording != serial_)
     fail("uses a variable of another program ('" + node->name + "'); pass values through inputs or uniforms");
   ir::Var v;
   v.kind = node->kind;
@@ -124,7 +130,7 @@ void Recorder::emit(ir::Assign a) {
 Value Recorder::emit_result(ir::Type type, ir::Op op, std::vector<ir::Operand> args, int table) {
   auto node = std::make_shared<VarNode>();
   node->type = type;
-  node->owner = this;
+  node->recording = serial_;
   ir::VarId dest = id_of(node);
   ir::Swizzle all = ir::Swizzle::identity(type.width);
   emit(ir::Assign{dest, all, op, std::move(args), table});

@@ -18,6 +18,9 @@ class Recorder {
   explicit Recorder(std::string name);
 
   const std::string& name() const { return prog_.name; }
+  // This recording's number in the process: unlike its address, never
+  // another recording's after it ends.
+  std::uint64_t serial() const { return serial_; }
   [[noreturn]] void fail(const std::string& what) const;
 
   void declare(const std::shared_ptr<VarNode>& node, Declared how);
@@ -77,6 +80,7 @@ class Recorder {
   std::vector<ir::Assign> local_copies_;  // inputs written by the program, copied first
   std::vector<Open> open_;
   ir::Block* current_;
+  std::uint64_t serial_;
 };
 
 Recorder* current_recorder();

@@ -23,7 +23,7 @@ struct VarNode {
   std::string name;
   std::array<double, 4> value{};  // host value of a uniform or constant
   std::uint64_t version = 0;      // bumped at every host write of a uniform
-  const Recorder* owner = nullptr;  // the recording a non-uniform belongs to
+  std::uint64_t recording = 0;      // the recording a non-uniform belongs to (Recorder::serial)
   int length = 0;                   // an array's elements (kind Array)
 };
 
