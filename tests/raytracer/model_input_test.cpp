@@ -276,6 +276,21 @@ TEST_F(ModelInput, DeepNestingIsAnErrorNamingTheField) {
   EXPECT_TRUE(mentions(error_of(write("deep.json", nested)), "deep.json: objects[0].center"));
 }
 
+// Shapes are made in the loading process itself: their triangles count
+// against the load's memory limit.
+TEST_F(ModelInput, ShapesBeyondTheMemoryLimitAreRefusedByName) {
+  std::string path = write("big.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "segments": 64},
+                                                        {"type": "sphere", "center": [3, 0, 0], "radius": 1, "segments": 4096}]})");
+  sh::rt::LoadLimits limits;
+  limits.memory_mib = 100;
+  std::string e = error_of(path, limits);
+  EXPECT_TRUE(mentions(e, "big.json: objects[1].segments: makes 16769024 triangles"));
+  EXPECT_TRUE(mentions(e, "more than the load limit of 100 MiB (--load-memory)"));
+  limits.memory_mib = 4096;
+  EXPECT_EQ(sh::rt::load_scene(write("fits.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                                                                   "segments": 64}]})"), limits).mesh.triangles(), 64u * 62u);
+}
+
 TEST_F(ModelInput, SphereTooSmallForItsPlaceSaysSo) {
   std::string e = error_of(write("tiny.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1e-30}]})"));
   EXPECT_TRUE(mentions(e, "tiny.json: objects[0].radius: 1e-30 is too small"));

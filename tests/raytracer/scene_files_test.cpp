@@ -110,6 +110,10 @@ TEST_F(SceneFiles, WrongTypesAndValuesAreNamed) {
   expect_error(write("t3.json", R"({"objects": [{"type": "cone"}]})"), {"objects[0].type", "unknown object type"});
   expect_error(write("t4.json", R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "gold"}]})"),
                {"objects[0].material", "no material named 'gold'"});
+  expect_error(write("t5.json", R"({"lights": [{"type": 5}], "objects": []})"), {"t5.json", "lights[0].type", "expected a string"});
+  expect_error(write("t6.json", R"({"camera": {"eye": [0,0,10], "look_at": [0,0,0], "up": [0,1e-23,0]},
+                                     "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})"),
+               {"t6.json", "camera: up is parallel to the view direction, or too short"});
 }
 
 TEST_F(SceneFiles, MeshThatFailsToLoad) {

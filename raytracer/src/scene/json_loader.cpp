@@ -154,6 +154,7 @@ void read_lights(const Reader& r, const json& j, Scene& s) {
   if (!j.is_array()) r.fail("lights", "expected an array");
   for (std::size_t i = 0; i < j.size(); ++i) {
     std::string at = "lights[" + std::to_string(i) + "]";
+    if (j[i].is_object() && j[i].contains("type") && !j[i]["type"].is_string()) r.fail(at + ".type", "expected a string");
     std::string type = j[i].is_object() ? j[i].value("type", "point") : "point";
     if (type == "disk") {
       r.only(j[i], at, {"type", "center", "normal", "radius", "color"});
@@ -191,6 +192,17 @@ void zero_area(const Reader& r, const std::string& at, std::size_t dropped, Scen
     s.warnings.push_back(r.file() + ": " + at + ": " + std::to_string(dropped) + " zero-area triangles left out");
 }
 
+// Shapes are made in this process, where no loading child's limit holds:
+// the scene may take as much memory as a model's load may (a position, a
+// normal and a material a corner and a triangle).
+void within_memory(const Reader& r, const std::string& at, const Scene& s, std::size_t adding, const LoadLimits& limits) {
+  constexpr std::size_t kBytesPerTriangle = 3 * sizeof(Vec3) * 2 + sizeof(std::int32_t);
+  std::size_t mib = (s.mesh.triangles() + adding) * kBytesPerTriangle >> 20;
+  if (mib > limits.memory_mib)
+    r.fail(at, "makes " + std::to_string(adding) + " triangles, and the scene would take " + std::to_string(mib) +
+                   " MiB, more than the load limit of " + std::to_string(limits.memory_mib) + " MiB (--load-memory)");
+}
+
 void read_object(const Reader& r, const json& o, const std::string& at, Scene& s,
                  const std::map<std::string, int>& materials, const LoadLimits& limits) {
   if (!o.is_object()) r.fail(at, "expected an object");
@@ -221,6 +233,7 @@ void read_object(const Reader& r, const json& o, const std::string& at, Scene& s
     if (radius <= 0) r.fail(at + ".radius", "must be positive");
     // Fewer than 4 segments make one ring, all pole triangles: nothing.
     int segments = o.contains("segments") ? r.integer(o["segments"], at + ".segments", 4, 4096) : 32;
+    within_memory(r, at + ".segments", s, static_cast<std::size_t>(segments) * static_cast<std::size_t>(segments - 2), limits);
     std::size_t before = s.mesh.triangles();
     std::size_t dropped = add_sphere(s, r.vec3(r.required(o, at, "center"), at + ".center"), radius, material, segments);
     if (s.mesh.triangles() == before)

@@ -97,8 +97,10 @@ void validate(const Scene& s, const std::string& where) {
   for (std::size_t i = 0; i < s.lights.size(); ++i)
     if (!finite(s.lights[i].position)) throw Error(where + ": lights[" + std::to_string(i) + "].position: NaN or infinite coordinate");
   if (length(s.camera.look_at - s.camera.eye) == 0) throw Error(where + ": camera: eye and look_at coincide");
-  if (length(cross(s.camera.look_at - s.camera.eye, s.camera.up)) == 0)
-    throw Error(where + ": camera: up is parallel to the view direction");
+  // As the camera makes its frame: a side vector of length one, or none.
+  Vec3 side = normalize(cross(normalize(s.camera.look_at - s.camera.eye), s.camera.up));
+  if (!finite(side) || !(length(side) > 0.5f))
+    throw Error(where + ": camera: up is parallel to the view direction, or too short to give one");
   if (!(s.camera.fov_degrees > 0 && s.camera.fov_degrees < 180))
     throw Error(where + ": camera: fov must be between 0 and 180 degrees");
 }
