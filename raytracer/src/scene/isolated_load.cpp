@@ -276,7 +276,11 @@ Scene read_model_isolated(const std::string& path, const Transform& t, const Loa
     throw Error(path + ": cannot start the loading process: " + std::strerror(error));
   }
   if (pid == 0) {
-    ::close(fds[0]);
+    // Only its own pipe stays open: another thread's load's pipe, kept
+    // here, would keep that load from seeing its own child finish.
+    auto write_end = static_cast<unsigned>(fds[1]);
+    if (write_end > 3) ::close_range(3, write_end - 1, 0);
+    ::close_range(write_end + 1, ~0U, 0);
     child(fds[1], path, t, limits, address_space);
   }
   ::close(fds[1]);
