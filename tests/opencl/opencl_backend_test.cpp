@@ -262,7 +262,7 @@ TEST(OpenClBackend, CopiedStreamsInPiecesGiveTheResultsOfStreamsInPlace) {
     if (length == 0) continue;  // an empty stream runs no kernel
     const auto* moved = stats.details_as<opencl::RunDetails>();
     ASSERT_NE(moved, nullptr);
-    constexpr std::size_t kAccumulator = 4 * sizeof(int), kStatus = 2 * sizeof(cl_long);
+    constexpr std::size_t kAccumulator = 4 * sizeof(int), kStatus = 3 * sizeof(cl_long);
     EXPECT_EQ(moved->to_device, 4 * length * sizeof(float) + kAccumulator + kStatus) << length;
     EXPECT_EQ(moved->from_device, 3 * length * sizeof(float) + kAccumulator + kStatus) << length;
     EXPECT_EQ(moved->in_place, 0u);

@@ -130,7 +130,7 @@ class OpenClKernel : public Kernel {
       }
       for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
     }
-    cl_long status[2] = {0, 0};
+    cl_long status[3] = {0, 0, 0};  // the loop past its cap, its element, the claim to report them
     set_buffer(arg++, buffers, make(sizeof status, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, status, "the status"));
     moved->to_device += sizeof status;
     moved->from_device += sizeof status;

@@ -97,9 +97,12 @@ void Generator::enter_masked(const analysis::VarSet& live) {
 }
 
 // Past the iteration cap the kernel stops and reports the loop and the
-// element (in the SPMD form, the first lane still looping).
+// element (in the SPMD form, the first lane still looping).  The first
+// work-item there claims the report (status[2]) atomically, so that two
+// never mix one's loop with the other's element.
 void Generator::count_iteration(int number, const std::string& counter, const std::string& element, int depth) {
-  line(depth, "if (++" + counter + " > " + std::to_string(o_.max_loop_iterations) + "L) { if (status[0] == 0) { status[0] = " +
+  line(depth, "if (++" + counter + " > " + std::to_string(o_.max_loop_iterations) +
+                  "L) { if (atomic_cmpxchg((volatile __global int*)(status + 2), 0, 1) == 0) { status[0] = " +
                   std::to_string(number + 1) + "; status[1] = " + element + "; } return; }");
 }
 
