@@ -39,6 +39,21 @@ TEST(HostMemory, ChannelTooSmallNamesTheBytes) {
   EXPECT_EQ(fits.count(), 1u);
 }
 
+// Element counts whose bytes pass what a size_t counts are refused, not
+// wrapped to a small allocation that every later check would trust.
+TEST(HostMemory, CountsWhoseBytesWrapAreRefused) {
+  const std::size_t wraps = std::size_t{1} << 60;  // x 16 bytes = 2^64
+  std::string shaped = error_of([] { sh::Channel<sh::Attrib4f> c; c.shape(std::size_t{1} << 30, std::size_t{1} << 30); });
+  EXPECT_NE(shaped.find("1152921504606846976 elements of f32x4 are more bytes than memory can hold"), std::string::npos)
+      << shaped;
+  EXPECT_NE(error_of([&] { sh::Channel<sh::Attrib4f> c(wraps); }).find("more bytes than memory"), std::string::npos);
+  std::vector<float> data(16);
+  ShHostMemoryPtr memory = new ShHostMemory(data.size() * sizeof(float), data.data(), SH_FLOAT);
+  EXPECT_NE(error_of([&] { ShChannel<ShAttrib4f> c(memory, wraps); }).find("more bytes than memory"), std::string::npos);
+  EXPECT_NE(error_of([] { sh::Table2D<sh::Attrib4f> t(1 << 30, 1 << 30); }).find("more bytes than memory"),
+            std::string::npos);
+}
+
 TEST(HostMemory, MisalignedMemoryIsRefused) {
   alignas(8) unsigned char bytes[64] = {};
   ShHostMemoryPtr odd = new ShHostMemory(32, bytes + 2, SH_FLOAT);

@@ -25,6 +25,13 @@ void TableStorage::touch() {
   version = next_version();
 }
 
+std::size_t Buffer::bytes_for(std::size_t count) const {
+  std::size_t element = ir::element_bytes(type_);
+  if (count > std::numeric_limits<std::size_t>::max() / element)
+    throw Error(std::to_string(count) + " elements of " + ir::type_name(type_) + " are more bytes than memory can hold");
+  return count * element;
+}
+
 void Buffer::resize(std::size_t count) {
   if (memory_) {
     check_fits(count, "a channel of " + ir::type_name(type_));

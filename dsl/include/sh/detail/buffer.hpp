@@ -25,7 +25,9 @@ class Buffer {
   ir::Type type() const { return type_; }
   std::size_t size() const { return count_; }
   std::size_t bytes() const { return bytes_for(count_); }
-  std::size_t bytes_for(std::size_t count) const { return count * type_.width * ir::storage_bytes(type_.scalar); }
+  // Throws sh::Error where the bytes would pass what a size_t counts (a
+  // product that wrapped would pass every check after it).
+  std::size_t bytes_for(std::size_t count) const;
   // Owned storage is reallocated and zeroed; a view keeps its bytes and
   // only checks that `count` elements fit in them.
   void resize(std::size_t count);
