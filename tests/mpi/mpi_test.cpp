@@ -214,6 +214,37 @@ const mpi::TableCacheStats& cache_of(const RunStats& s, const std::string& table
   throw std::runtime_error("no cache for table " + table);
 }
 
+// A composed program whose parts read one split table with two edge modes
+// holds it in two entries: the table is split and sent once, and both
+// read it (this hung every rank before).
+TEST(MpiSplitTables, OneTableReadWithTwoEdgeModesIsSplitOnce) {
+  Table1D<Attrib1f> t(1000);
+  std::vector<float> values(1000);
+  for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(k);
+  t.assign(values);
+  auto shifted = [&](const char* name) {
+    return SH_BEGIN_PROGRAM(name) {
+      InputAttrib1i i;
+      OutputAttrib1f r;
+      r = t[i + 990];
+    } SH_END;
+  };
+  t.edge(Edge::Clamp);
+  Program clamped = shifted("clamped");
+  t.edge(Edge::Repeat);
+  Program both = clamped & shifted("wrapped");
+  std::vector<std::int32_t> is(40);
+  for (std::size_t k = 0; k < is.size(); ++k) is[k] = static_cast<std::int32_t>(k);
+  Channel<Attrib1i> in(is);
+  Channel<Attrib1f> c, w, c_cpu, w_cpu;
+  run(both, {in, in}, {c, w}, backend("mpi", split(4)));
+  run(both, {in, in}, {c_cpu, w_cpu}, backend("cpu"));
+  EXPECT_EQ(c.values(), c_cpu.values());
+  EXPECT_EQ(w.values(), w_cpu.values());
+  EXPECT_EQ(c[20], 999.f);
+  EXPECT_EQ(w[20], 10.f);
+}
+
 // Scattered reads through a cache of 4 blocks of 256 bytes, under divergent
 // control flow, must give what the whole table gives, on every local
 // backend that reads split tables.

@@ -262,6 +262,10 @@ class Coordinator : public Kernel {
   std::string run_command(const RunArgs& args, const std::vector<bool>& split, const Waves* waves) {
     Packer p;
     p.put(Command::Run).put(id_);
+    // A table the program reads twice (a composed program's parts with two
+    // edge modes) is split once: hold_split_tables sends its blocks for the
+    // first of its entries.
+    std::set<std::uint64_t> splitting;
     for (std::size_t i = 0; i < args.tables.size(); ++i) {
       const TableView& table = args.tables[i];
       p.put(table.id);
@@ -271,7 +275,7 @@ class Coordinator : public Kernel {
       }
       p.put(static_cast<bool>(split[i]));
       if (split[i]) {  // its blocks follow, one share per rank
-        bool fresh = !holds_split(table, split_);
+        bool fresh = !holds_split(table, split_) && splitting.insert(table.id).second;
         p.put(fresh);
         if (fresh) p.put(table).put(split_);
         continue;
