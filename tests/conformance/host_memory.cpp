@@ -210,6 +210,13 @@ TEST_P(Conformance, TableMemoryReadBackAndWritten) {
   data[1] = -2.f;
   memory->dirty();
   EXPECT_EQ(run_reads(*this, p), (std::vector<float>{1, -2, 3, 4}));
+  // Filled through its memory alone, never by assign(): a table all the same.
+  ShArray1D<ShAttrib1f> fresh(4);
+  sh::Program q = read_four(fresh);
+  float* bytes = static_cast<float*>(fresh.memory()->data());
+  for (int i = 0; i < 4; ++i) bytes[i] = 10.f + static_cast<float>(i);
+  fresh.memory()->dirty();
+  EXPECT_EQ(run_reads(*this, q), (std::vector<float>{10, 11, 12, 13}));
 }
 
 }  // namespace

@@ -166,7 +166,9 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
   for (const auto& u : program.uniforms()) args.uniforms.push_back(u->value);
   for (std::size_t t = 0; t < program.tables().size(); ++t) {
     detail::TableStorage& s = *program.tables()[t];
-    if (!s.filled)
+    // Filled by assign() or set(), on memory given to it, or through its
+    // memory() marked dirty().
+    if (!s.filled && s.buffer.memory_version() == 0)
       throw Error("program '" + p.name + "': table " + std::to_string(t) +
                   (s.decl.name.empty() ? "" : " '" + s.decl.name + "'") + " was never filled");
     void* sums = s.decl.accumulator ? s.buffer.data() : nullptr;
