@@ -18,9 +18,6 @@ class Recorder {
   explicit Recorder(std::string name);
 
   const std::string& name() const { return prog_.name; }
-  // This recording's number in the process: unlike its address, never
-  // another recording's after it ends.
-  std::uint64_t serial() const { return serial_; }
   [[noreturn]] void fail(const std::string& what) const;
 
   void declare(const std::shared_ptr<VarNode>& node, Declared how);
@@ -80,6 +77,8 @@ class Recorder {
   std::vector<ir::Assign> local_copies_;  // inputs written by the program, copied first
   std::vector<Open> open_;
   ir::Block* current_;
+  // This recording's number in the process (VarNode::recording): unlike
+  // its address, never another recording's after it ends.
   std::uint64_t serial_;
 };
 

@@ -103,26 +103,33 @@ void check_grid(const ir::Program& c, const TableStorage& through, const LaunchD
 }
 
 // The bytes [first, second) of a block of memory.
-std::pair<std::uintptr_t, std::uintptr_t> byte_range(const void* p, std::size_t bytes) {
+using Bytes = std::pair<std::uintptr_t, std::uintptr_t>;
+
+Bytes byte_range(const void* p, std::size_t bytes) {
   auto at = reinterpret_cast<std::uintptr_t>(p);
   return {at, at + bytes};
 }
 
-bool overlap(std::pair<std::uintptr_t, std::uintptr_t> a, std::pair<std::uintptr_t, std::uintptr_t> b) {
+bool overlap(Bytes a, Bytes b) {
   return a.first < b.second && b.first < a.second;
+}
+
+// Whether a table of either program, other than `besides`, lies in any
+// of `bytes`.
+bool a_table_in(Bytes bytes, const RunArgs& make, const RunArgs& use, const TableView* besides = nullptr) {
+  for (const RunArgs* args : {&make, &use})
+    for (const TableView& t : args->tables)
+      if (&t != besides && t.data && overlap(bytes, byte_range(t.data, t.bytes()))) return true;
+  return false;
 }
 
 // Whether a run's output lies in memory a table of either program holds
 // (an in-place blur): strips write rows another strip's producer still
 // reads, where one run after the other does not.
 bool writes_a_table(const RunArgs& make, const RunArgs& use) {
-  for (const BufferView& out : use.outputs) {
-    auto written = byte_range(out.data, out.count * ir::element_bytes(out.type));
-    for (const RunArgs* args : {&make, &use})
-      for (const TableView& t : args->tables)
-        if (t.data && overlap(written, byte_range(t.data, t.bytes()))) return true;
-  }
-  return false;
+  return std::any_of(use.outputs.begin(), use.outputs.end(), [&](const BufferView& out) {
+    return a_table_in(byte_range(out.data, out.count * ir::element_bytes(out.type)), make, use);
+  });
 }
 
 // Whether a table other than the consumer's `through_at` views memory of
@@ -131,14 +138,7 @@ bool writes_a_table(const RunArgs& make, const RunArgs& use) {
 // held before the call, where one run after the other reads the rows.
 bool views_the_table(const RunArgs& make, const RunArgs& use, int through_at) {
   const TableView& through = use.tables[static_cast<std::size_t>(through_at)];
-  auto held = byte_range(through.data, through.bytes());
-  for (const RunArgs* args : {&make, &use})
-    for (std::size_t k = 0; k < args->tables.size(); ++k) {
-      const TableView& t = args->tables[k];
-      bool itself = args == &use && k == static_cast<std::size_t>(through_at);
-      if (!itself && t.data && overlap(held, byte_range(t.data, t.bytes()))) return true;
-    }
-  return false;
+  return a_table_in(byte_range(through.data, through.bytes()), make, use, &through);
 }
 
 // The producer's output in the table's own memory, shaped as the domain.
