@@ -24,4 +24,8 @@ ElementAt element_at(const Attrib2f& uv, const Attrib1f& k) {
   return e;
 }
 
+Attrib1i side_met(const Vector3f& ng, const Vector3f& d) {
+  return (dot(ng, d) > 0.0f).cast<std::int32_t>();
+}
+
 }  // namespace sh::rt

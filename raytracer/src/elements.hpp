@@ -15,4 +15,8 @@ struct ElementAt {
 // uv: barycentrics along e1 and e2; k: the subdivision.
 ElementAt element_at(const Attrib2f& uv, const Attrib1f& k);
 
+// The side (bidirectional.hpp) a ray going along d meets of a triangle
+// whose geometric normal is ng: the back where it goes the way ng points.
+Attrib1i side_met(const Vector3f& ng, const Vector3f& d);
+
 }  // namespace sh::rt

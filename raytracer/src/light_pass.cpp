@@ -37,7 +37,7 @@ LightPassSettings checked(LightPassSettings settings, std::size_t triangles) {
     throw Error("light pass: elements per triangle side must be 1..64, got " + std::to_string(settings.subdivision));
   // Kernels number element and lattice slots in 32 bits.
   int k = settings.subdivision;
-  std::size_t slots = triangles * static_cast<std::size_t>(std::max(element_slots(k), lattice_slots(k)));
+  std::size_t slots = side_slot(triangles, 0, std::max(element_slots(k), lattice_slots(k)));
   if (slots > static_cast<std::size_t>(INT32_MAX))
     throw Error("light pass: " + std::to_string(triangles) + " triangles of " + std::to_string(k) + " x " +
                 std::to_string(k) + " elements take " + std::to_string(slots) +
@@ -79,7 +79,7 @@ LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSet
       settings_(checked(settings, scene.mesh.triangles())),
       element_table_(static_cast<int>(std::max<std::size_t>(1, scene.mesh.triangles() * settings.subdivision * settings.subdivision))),
       emitters_(static_cast<int>(std::max<std::size_t>(1, 2 * scene.lights.size()))),
-      energy_(static_cast<int>(scene.mesh.triangles() * element_slots(settings.subdivision)), "element_energy") {
+      energy_(static_cast<int>(side_slot(scene.mesh.triangles(), 0, element_slots(settings.subdivision))), "element_energy") {
   if (tables.octree && tables.octree->lazy)
     throw Error("light pass: runs over a grid or a static octree (a lazy octree is built by the view's rays)");
   int k = settings.subdivision;
@@ -127,7 +127,8 @@ LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSet
     Attrib2f uv;
     Attrib1f arrives = intersect(o, d, kFar, t, tri, uv) && (tri == target).cast<float>();
     auto leave_energy = [&](const Surface& x) {
-      SH_IF(x.shaded() > 0.0f) { energy_.add(tri * element_slots(k) + element_at(uv, subdivision_).slot, power); } SH_ENDIF;
+      Attrib1i side = (kSides * tri + side_met(x.ng, d)) * element_slots(k);
+      SH_IF(x.shaded() > 0.0f) { energy_.add(side + element_at(uv, subdivision_).slot, power); } SH_ENDIF;
     };
     if (f.reflections || f.refractions) {
       Attrib1f bounces = 0.0f;
@@ -173,7 +174,7 @@ std::vector<float> LightPass::run(const BackendChoice& choice, LightPassReport* 
 
 // A lattice point is shared by the triangles that meet there with the same
 // shading normal (a smooth mesh), not across a crease: its luminance is the
-// mean over the elements around it on either side.
+// mean over the elements around it, on its side of the surface.
 ElementLight luminance_of(const Scene& scene, int k, std::vector<float> energy) {
   const Mesh& m = scene.mesh;
   std::size_t triangles = m.triangles();
@@ -181,7 +182,7 @@ ElementLight luminance_of(const Scene& scene, int k, std::vector<float> energy) 
   out.subdivision = k;
   out.energy = std::move(energy);
   out.luminance.assign(out.energy.size(), 0.0f);
-  out.vertex.assign(triangles * lattice_slots(k) * 3, 0.0f);
+  out.vertex.assign(side_slot(triangles, 0, lattice_slots(k)) * 3, 0.0f);
   Box bounds = accelerator_bounds(scene);
   float cell = std::max(length(bounds.hi - bounds.lo), 1e-30f) * 1e-5f;
   using Key = std::tuple<long long, long long, long long, int, int, int>;
@@ -195,29 +196,36 @@ ElementLight luminance_of(const Scene& scene, int k, std::vector<float> energy) 
     int count = 0;
   };
   std::map<Key, Mean> around;
-  std::vector<Key> lattice_key(triangles * lattice_slots(k));
+  std::vector<Key> lattice_key(side_slot(triangles, 0, lattice_slots(k)));
   for (std::size_t t = 0; t < triangles; ++t) {
     Vec3 v0 = m.positions[3 * t], e1 = m.positions[3 * t + 1] - v0, e2 = m.positions[3 * t + 2] - v0;
-    float area = 0.5f * length(cross(e1, e2)) / static_cast<float>(k * k);
-    for (int j = 0; j <= k; ++j)
-      for (int i = 0; i + j <= k; ++i) {
-        float u = static_cast<float>(i) / k, v = static_cast<float>(j) / k;
-        Vec3 n = normalize((1 - u - v) * m.normals[3 * t] + u * m.normals[3 * t + 1] + v * m.normals[3 * t + 2]);
-        lattice_key[t * lattice_slots(k) + j * (k + 1) + i] = key_of(v0 + u * e1 + v * e2, n);
-      }
-    for_each_element(k, [&](int i, int j, int down) {
-      std::size_t slot = t * element_slots(k) + 2 * (j * k + i) + down;
-      Vec3 e{out.energy[3 * slot], out.energy[3 * slot + 1], out.energy[3 * slot + 2]};
-      Vec3 lum = area > 0 ? e * (1 / area) : Vec3{};
-      out.luminance[3 * slot] = lum.x, out.luminance[3 * slot + 1] = lum.y, out.luminance[3 * slot + 2] = lum.z;
-      int here = j * (k + 1) + i;
-      int corners[3] = {down ? here + k + 2 : here, down ? here + k + 1 : here + 1, down ? here + 1 : here + k + 1};
-      for (int c : corners) {
-        Mean& mean = around[lattice_key[t * lattice_slots(k) + c]];
-        mean.sum = mean.sum + lum;
-        ++mean.count;
-      }
-    });
+    Vec3 face = cross(e1, e2);
+    float area = 0.5f * length(face) / static_cast<float>(k * k);
+    for (int side = 0; side < kSides; ++side) {
+      // The side's points meet those of the sides that face the same way
+      // with the same shading normal, whichever way their triangles wind.
+      Vec3 facing = side == 0 ? face : -1.0f * face;
+      std::size_t lattice = side_slot(t, side, lattice_slots(k)), elements = side_slot(t, side, element_slots(k));
+      for (int j = 0; j <= k; ++j)
+        for (int i = 0; i + j <= k; ++i) {
+          float u = static_cast<float>(i) / k, v = static_cast<float>(j) / k;
+          Vec3 n = normalize((1 - u - v) * m.normals[3 * t] + u * m.normals[3 * t + 1] + v * m.normals[3 * t + 2]);
+          lattice_key[lattice + j * (k + 1) + i] = key_of(v0 + u * e1 + v * e2, dot(n, facing) < 0 ? -1.0f * n : n);
+        }
+      for_each_element(k, [&](int i, int j, int down) {
+        std::size_t slot = elements + 2 * (j * k + i) + down;
+        Vec3 e{out.energy[3 * slot], out.energy[3 * slot + 1], out.energy[3 * slot + 2]};
+        Vec3 lum = area > 0 ? e * (1 / area) : Vec3{};
+        out.luminance[3 * slot] = lum.x, out.luminance[3 * slot + 1] = lum.y, out.luminance[3 * slot + 2] = lum.z;
+        int here = j * (k + 1) + i;
+        int corners[3] = {down ? here + k + 2 : here, down ? here + k + 1 : here + 1, down ? here + 1 : here + k + 1};
+        for (int c : corners) {
+          Mean& mean = around[lattice_key[lattice + c]];
+          mean.sum = mean.sum + lum;
+          ++mean.count;
+        }
+      });
+    }
   }
   for (std::size_t l = 0; l < lattice_key.size(); ++l) {
     auto it = around.find(lattice_key[l]);

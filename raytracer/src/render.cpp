@@ -73,7 +73,7 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
     light_pass_ = std::make_unique<LightPass>(scene_, *tables_, settings_.light_pass);
     int k = settings_.light_pass.subdivision;
     tables_->luminance = std::make_unique<LuminanceTables>(
-        k, std::vector<float>(scene_.mesh.triangles() * lattice_slots(k) * 3, 0.0f));
+        k, std::vector<float>(side_slot(scene_.mesh.triangles(), 0, lattice_slots(k)) * 3, 0.0f));
     features_.luminance = true;
   }
   if (settings_.wavefront && refiner_)

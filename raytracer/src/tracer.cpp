@@ -19,12 +19,12 @@ Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const
   return x.diffuse * facing + highlight;
 }
 
-// The light pass's luminance at a hit: its element's lattice points,
-// interpolated.
-Color3f vertex_light(const SceneTables& s, const Attrib1i& tri, const Attrib2f& uv) {
+// The light pass's luminance at a hit: its element's lattice points on the
+// side the ray met, interpolated.
+Color3f vertex_light(const SceneTables& s, const Surface& x, const Vector3f& d, const Attrib1i& tri, const Attrib2f& uv) {
   const LuminanceTables& l = *s.luminance;
   ElementAt e = element_at(uv, l.subdivision);
-  Attrib1i base = tri * lattice_slots(l.k);
+  Attrib1i base = (kSides * tri + side_met(x.ng, d)) * lattice_slots(l.k);
   return e.weights(0) * l.vertex[base + e.corners(0)] + e.weights(1) * l.vertex[base + e.corners(1)] +
          e.weights(2) * l.vertex[base + e.corners(2)];
 }
@@ -144,7 +144,7 @@ Attrib1f trace(const SceneTables& s, const Features& f, Intersector& intersect, 
     SH_IF(hit) {
       Surface x = surface_at(s, p.d, p.walk.triangle, p.walk.uv, f);
       Color3f local = s.ambient * x.diffuse;
-      if (f.luminance) local += x.diffuse * vertex_light(s, p.walk.triangle, p.walk.uv);
+      if (f.luminance) local += x.diffuse * vertex_light(s, x, p.d, p.walk.triangle, p.walk.uv);
       if (f.shadows) local += direct(s, intersect, x, -p.d, !f.luminance);
       if (f.soft_shadows) local += soft_direct(s, intersect, x, -p.d, turn);
       if (f.reflections || f.refractions) {

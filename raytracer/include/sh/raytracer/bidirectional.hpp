@@ -15,6 +15,11 @@
 // cut into k x k cells, each cell an "up" triangle and, inside the
 // triangle, a "down" one.  Element slot 2 (j k + i) + down; lattice point
 // (i, j) at v0 + (i e1 + j e2) / k, slot j (k + 1) + i.
+//
+// Each side of a triangle keeps its own light, so that a single-layer
+// surface lit from one side stays dark seen from the other: side 0 is the
+// one its geometric normal (e1 x e2) faces, side 1 the back.  A triangle's
+// slots are its front's, then its back's (side_slot).
 #include <memory>
 #include <vector>
 
@@ -31,8 +36,15 @@ struct LightPassSettings {
   int depth = 3;        // bounces off mirrors and through glass
 };
 
-inline int element_slots(int k) { return 2 * k * k; }
-inline int lattice_slots(int k) { return (k + 1) * (k + 1); }
+inline int element_slots(int k) { return 2 * k * k; }         // of one side
+inline int lattice_slots(int k) { return (k + 1) * (k + 1); }  // of one side
+constexpr int kSides = 2;
+
+// The first of a side's `slots` (element or lattice) in a table of every
+// triangle's.
+inline std::size_t side_slot(std::size_t triangle, int side, int slots) {
+  return (kSides * triangle + static_cast<std::size_t>(side)) * static_cast<std::size_t>(slots);
+}
 
 // Calls f(i, j, down) for each element of a triangle split k x k.
 template <class F>
@@ -42,12 +54,13 @@ void for_each_element(int k, F f) {
       for (int down = 0; down < (i + j < k - 1 ? 2 : 1); ++down) f(i, j, down);
 }
 
-// What a light pass left on the scene, per triangle's slots (rgb each).
+// What a light pass left on the scene, per triangle's and side's slots
+// (rgb each).
 struct ElementLight {
   int subdivision = 0;
   std::vector<float> energy;     // element slots: what arrived
   std::vector<float> luminance;  // element slots: energy / area
-  std::vector<float> vertex;     // lattice slots: mean luminance of the elements around the point
+  std::vector<float> vertex;     // lattice slots: mean luminance of the elements around the point on its side
   Vec3 total() const;            // sum of energy
 };
 
@@ -66,7 +79,7 @@ struct LightPassReport {
 class LightPass {
  public:
   LightPass(const Scene& scene, const SceneTables& tables, LightPassSettings settings);
-  // The energy each element slot received (rgb).
+  // The energy each element slot of each side received (rgb).
   std::vector<float> run(const BackendChoice& choice, LightPassReport* report = nullptr);
   std::size_t rays() const { return lights_ * (elements_.size() / 4) * settings_.samples; }
   const LightPassSettings& settings() const { return settings_; }
