@@ -108,6 +108,33 @@ TEST(Mpi, ARankThatFailsIsNamedAndTheJobGoesOn) {
   EXPECT_EQ(out[3999], -2.f);
 }
 
+// Checked mode on the ranks (interp as the local backend): each kind of
+// finding comes back from whichever rank computed it, from the element
+// first in the stream, numbered in the whole stream.
+TEST(Mpi, CheckedModeFindingsComeBackFromEveryRank) {
+  Table1D<Attrib1f> t(3);
+  t.assign({1, 2, 3});
+  Program p = SH_BEGIN_PROGRAM("checked_ranks") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = sqrt(x) + t[x];
+  } SH_END;
+  std::vector<float> xs(6000, 1.0f);
+  xs[5100] = 7.0f;   // out of range
+  xs[3000] = -4.0f;  // NaN and out of range
+  xs[4500] = -1.0f;  // a later NaN
+  Channel<Attrib1f> in(xs), out;
+  Options o;
+  o.checked = true;
+  o.set(mpi::Options{.local = "interp", .chunk = 100});
+  RunStats s = run(p, {in}, {out}, backend("mpi", o));
+  std::string all;
+  for (const std::string& d : s.diagnostics) all += d + "\n";
+  ASSERT_EQ(s.diagnostics.size(), 2u) << all;
+  EXPECT_NE(all.find("first NaN: element 3000,"), std::string::npos) << all;
+  EXPECT_NE(all.find("first out-of-range table read: element 3000,"), std::string::npos) << all;
+}
+
 }  // namespace
 
 namespace {

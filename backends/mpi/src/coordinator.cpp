@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -67,6 +68,7 @@ class Coordinator : public Kernel {
     const Waves* waves;
     bool fixed;
     std::vector<bool> share_taken;  // static: per rank
+    std::vector<std::pair<std::size_t, std::string>> findings;  // checked mode's, each with its chunk's first element
 
     struct Range {
       std::size_t begin, count;
@@ -109,7 +111,7 @@ class Coordinator : public Kernel {
     bool fixed = mine_.schedule == mpi::Schedule::Static || (mine_.schedule == mpi::Schedule::Auto && waves);
     std::size_t shares = fixed ? ranks_ : 16 * ranks_;
     std::size_t chunk = mine_.chunk > 0 && !fixed ? mine_.chunk : std::max<std::size_t>(1, (args.count + shares - 1) / shares);
-    Schedule s{args, chunk, 0, {}, waves, fixed, std::vector<bool>(static_cast<std::size_t>(ranks_), false)};
+    Schedule s{args, chunk, 0, {}, waves, fixed, std::vector<bool>(static_cast<std::size_t>(ranks_), false), {}};
     std::size_t served = 0;  // serving ranks that have been told they are done
     // Per serving rank (rank r at r - 1), however their stats arrive.
     std::vector<PartStats> parts(static_cast<std::size_t>(ranks_ - 1));
@@ -172,6 +174,7 @@ class Coordinator : public Kernel {
     }
     details->parts = std::move(parts);
     stats.details = std::move(details);
+    stats.diagnostics = first_findings(std::move(s.findings));
     if (!s.error.empty()) throw Error("mpi backend: " + s.error);
   }
 
@@ -334,6 +337,18 @@ class Coordinator : public Kernel {
       std::size_t bytes = n * ir::element_bytes(out.type);
       std::memcpy(static_cast<char*>(out.data) + begin * ir::element_bytes(out.type), u.take(bytes), bytes);
     }
+    for (auto k = u.get<std::uint64_t>(); k > 0; --k) s.findings.emplace_back(begin, u.text());
+  }
+
+  // Each kind of finding ("first NaN: element ...") from the chunk that
+  // comes first in the stream, as one run over the whole stream reports it.
+  static std::vector<std::string> first_findings(std::vector<std::pair<std::size_t, std::string>> findings) {
+    std::stable_sort(findings.begin(), findings.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> first;
+    std::set<std::string> kinds;
+    for (auto& [begin, finding] : findings)
+      if (kinds.insert(finding.substr(0, finding.find(':'))).second) first.push_back(std::move(finding));
+    return first;
   }
 
   // Rank 0 computes in pieces an eighth of a chunk (dynamic schedule), so
@@ -356,6 +371,7 @@ class Coordinator : public Kernel {
       mine.waves += run.waves;
       mine.resumed += run.resumed;
       mine.elements += n;
+      for (std::string& finding : run.diagnostics) s.findings.emplace_back(begin, std::move(finding));
     } catch (const std::exception& e) {
       if (s.error.empty()) s.error = std::string("rank 0: ") + e.what();
     }

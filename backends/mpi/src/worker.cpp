@@ -200,8 +200,8 @@ class Worker {
       args.outputs.push_back({k.program.type_of(v), args.count, outputs.back().data()});
     }
     auto busy = Clock::now();
+    RunStats run;
     try {
-      RunStats run;
       if (waves)
         run_in_waves(*k.kernel, args, *waves, run);
       else
@@ -217,6 +217,8 @@ class Worker {
     Packer p;
     p.put(begin).put(static_cast<std::uint64_t>(args.count));
     for (const std::string& o : outputs) p.raw(o.data(), o.size());
+    p.put(static_cast<std::uint64_t>(run.diagnostics.size()));
+    for (const std::string& finding : run.diagnostics) p.put(finding);
     send(p.bytes(), 0, kResult, t);
     stats.idle_s += std::chrono::duration<double>(Clock::now() - waiting).count();
     stats.elements += args.count;

@@ -29,6 +29,10 @@ class Machine {
   }
 
  private:
+  // The element's place in the whole stream, which a run over a part of it
+  // (an mpi chunk, a strip) starts at domain.first.
+  std::size_t element_number() const { return a_.domain.first + element_; }
+
   Reg held(ir::VarId id, Reg r) const {
     ir::Scalar s = p_.type_of(id).scalar;
     for (double& x : r) x = ir::hold(s, o_.precision, x);
@@ -96,7 +100,7 @@ class Machine {
     };
     for (std::uint64_t n = 0;; ++n) {
       if (n >= o_.max_loop_iterations)
-        throw runaway_loop(p_, s, a_.domain.first + element_, o_.max_loop_iterations);
+        throw runaway_loop(p_, s, element_number(), o_.max_loop_iterations);
       if (l.test_at_top && !keep_going()) break;
       if (block(l.body) == Flow::Break) break;
       block(l.update);
@@ -144,7 +148,7 @@ class Machine {
     for (int d = 0; d < t.rank; ++d) {
       double i = arg(coords, d);
       if (!(i >= 0 && i < t.dims[d]))
-        throw Error("program '" + p_.name + "': element " + std::to_string(element_) + " reads outside a table in `" +
+        throw Error("program '" + p_.name + "': element " + std::to_string(element_number()) + " reads outside a table in `" +
                     ir::print(p_, s) + "` (the IR is not legal)");
       flat += static_cast<std::size_t>(i) * stride;
       stride *= static_cast<std::size_t>(t.dims[d]);
@@ -156,7 +160,7 @@ class Machine {
   std::size_t array_index(ir::VarId array, const ir::Operand& index, const ir::Stmt& s) const {
     double i = arg(index, 0);
     if (!(i >= 0 && i < p_.var(array).length))
-      throw Error("program '" + p_.name + "': element " + std::to_string(element_) + " indexes outside an array in `" +
+      throw Error("program '" + p_.name + "': element " + std::to_string(element_number()) + " indexes outside an array in `" +
                   ir::print(p_, s) + "` (the IR is not legal)");
     return static_cast<std::size_t>(i);
   }
@@ -207,7 +211,7 @@ class Machine {
   void note(const std::string& what, const ir::Stmt& s) {
     for (const std::string& d : stats_.diagnostics)
       if (d.rfind(what + ":", 0) == 0) return;
-    stats_.diagnostics.push_back(what + ": element " + std::to_string(element_) + ", `" + ir::print(p_, s) + "`");
+    stats_.diagnostics.push_back(what + ": element " + std::to_string(element_number()) + ", `" + ir::print(p_, s) + "`");
   }
 
   const ir::Program& p_;
