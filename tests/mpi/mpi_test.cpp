@@ -108,6 +108,24 @@ TEST(Mpi, ARankThatFailsIsNamedAndTheJobGoesOn) {
   EXPECT_EQ(out[3999], -2.f);
 }
 
+// Chunks of ten floats: each result is 16 bytes of place, 40 of floats and
+// 8 of findings, 64 bytes, which the suite's run with SH_MPI_MESSAGE_BYTES=64
+// sends as one whole piece and an empty one.
+TEST(Mpi, ResultsOfAWholeNumberOfMessagePiecesLand) {
+  Program p = SH_BEGIN_PROGRAM("pieces") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x * 2.0f + 1.0f;
+  } SH_END;
+  std::vector<float> xs(1000);
+  for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = static_cast<float>(i);
+  Channel<Attrib1f> in(xs), out;
+  Options o;
+  o.set(mpi::Options{.chunk = 10});
+  run(p, {in}, {out}, backend("mpi", o));
+  for (std::size_t i = 0; i < xs.size(); ++i) ASSERT_EQ(out[i], 2.0f * xs[i] + 1.0f) << "element " << i;
+}
+
 // Checked mode on the ranks (interp as the local backend): each kind of
 // finding comes back from whichever rank computed it, from the element
 // first in the stream, numbered in the whole stream.

@@ -1,6 +1,9 @@
 #include "wire.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <climits>
+#include <cstdlib>
 
 #include "sh/error.hpp"
 
@@ -38,28 +41,47 @@ sh::Options unpack_options(Unpacker& u) {
   return o;
 }
 
-namespace {
-int as_count(std::size_t n) {
-  if (n > static_cast<std::size_t>(INT_MAX)) throw Error("mpi backend: a message of " + std::to_string(n) + " bytes is too large; use smaller chunks");
-  return static_cast<int>(n);
+std::size_t message_bytes() {
+  static const std::size_t bytes = [] {
+    const char* set = std::getenv("SH_MPI_MESSAGE_BYTES");
+    if (!set) return std::size_t{1} << 30;
+    char* end = nullptr;
+    errno = 0;
+    unsigned long long n = std::strtoull(set, &end, 10);
+    if (errno || end == set || *end || *set == '-' || n < 1 || n > static_cast<unsigned long long>(INT_MAX))
+      throw Error(std::string("mpi backend: SH_MPI_MESSAGE_BYTES must be a number of bytes from 1 to 2147483647, not '") +
+                  set + "'");
+    return static_cast<std::size_t>(n);
+  }();
+  return bytes;
 }
-}  // namespace
 
 void send(const std::string& bytes, int to, int tag, Traffic& t) {
-  MPI_Send(bytes.data(), as_count(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+  std::size_t piece = message_bytes(), at = 0;
+  for (std::size_t n = piece; n == piece; at += n) {
+    n = std::min(piece, bytes.size() - at);
+    MPI_Send(bytes.data() + at, static_cast<int>(n), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+  }
   t.sent += bytes.size();
 }
 
 std::string receive(int from, int tag, Traffic& t, int* source, int* tag_out) {
-  MPI_Status status;
-  MPI_Probe(from, tag, MPI_COMM_WORLD, &status);
-  int count = 0;
-  MPI_Get_count(&status, MPI_BYTE, &count);
-  std::string bytes(static_cast<std::size_t>(count), '\0');
-  MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::string bytes;
+  std::size_t piece = message_bytes();
+  for (int count = static_cast<int>(piece); static_cast<std::size_t>(count) == piece;) {
+    MPI_Status status;
+    MPI_Probe(from, tag, MPI_COMM_WORLD, &status);
+    MPI_Get_count(&status, MPI_BYTE, &count);
+    // The pieces after the first come from the first's rank, with its tag.
+    from = status.MPI_SOURCE;
+    tag = status.MPI_TAG;
+    std::size_t at = bytes.size();
+    bytes.resize(at + static_cast<std::size_t>(count));
+    MPI_Recv(bytes.data() + at, count, MPI_BYTE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  }
   t.received += bytes.size();
-  if (source) *source = status.MPI_SOURCE;
-  if (tag_out) *tag_out = status.MPI_TAG;
+  if (source) *source = from;
+  if (tag_out) *tag_out = tag;
   return bytes;
 }
 
@@ -69,7 +91,8 @@ std::string broadcast(const std::string& bytes, Traffic& t) {
   auto size = static_cast<std::uint64_t>(bytes.size());
   MPI_Bcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
   std::string out = rank == 0 ? bytes : std::string(size, '\0');
-  MPI_Bcast(out.data(), as_count(size), MPI_BYTE, 0, MPI_COMM_WORLD);
+  for (std::size_t at = 0, piece = message_bytes(); at < size; at += piece)
+    MPI_Bcast(out.data() + at, static_cast<int>(std::min<std::size_t>(piece, size - at)), MPI_BYTE, 0, MPI_COMM_WORLD);
   if (rank == 0) t.sent += size;
   else t.received += size;
   return out;

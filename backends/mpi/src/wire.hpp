@@ -68,6 +68,11 @@ void pack(Packer& p, const sh::Options& o);
 sh::Options unpack_options(Unpacker& u);
 
 // Counted, checked transfers (MPI errors end the job, as MPI's default).
+// MPI counts a message's bytes in an int: a message of more than
+// message_bytes() goes as pieces of that many bytes from one rank with one
+// tag, which arrive in order, and a last piece shorter than the others
+// (empty where the message is a whole number of pieces) ends it.
+std::size_t message_bytes();  // SH_MPI_MESSAGE_BYTES (1 to 2^31 - 1), else 1 GiB; the same on every rank
 struct Traffic {
   std::size_t sent = 0, received = 0;
 };

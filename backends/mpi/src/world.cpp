@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <mutex>
 
+#include "sh/error.hpp"
 #include "sh/mpi.hpp"
 #include "split_table.hpp"
 #include "wire.hpp"
@@ -29,6 +30,13 @@ int ensure_started() {
     }
     MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &world_size);
+    // Every rank must cut messages alike, or they would wait for ever.
+    try {
+      message_bytes();
+    } catch (const Error& e) {
+      if (world_rank == 0) std::fprintf(stderr, "sh: %s\n", e.what());
+      MPI_Abort(MPI_COMM_WORLD, 2);
+    }
     if (world_rank == 0) {
       std::atexit(shutdown_workers);
       if (world_size == 1)
