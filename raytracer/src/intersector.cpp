@@ -19,13 +19,25 @@ Attrib3f to_ray_space(const Ray& r, const Attrib3f& vertex) {
   return join(p(0, 1) + r.shear(0, 1) * p(2), r.shear(2) * p(2));
 }
 
+// The same in double, for hits the float bound cannot place (below): the
+// turn is a permutation, exact in float; the difference and the shear are
+// taken in double.
+Attrib3d to_ray_space_in_double(const Ray& r, const Attrib3f& vertex) {
+  Attrib3d p = r.turn(vertex).cast<double>() - r.turn(r.o).cast<double>();
+  Attrib3d shear = r.shear.cast<double>();
+  return join(p(0, 1) + shear(0, 1) * p(2), shear(2) * p(2));
+}
+
 // Twice the signed area of (origin, p, q) in the ray's xy plane: two
 // products and a difference in float.  Its sign is right wherever |e|
 // exceeds the rounding of those operations, which edge_rounding() bounds
 // whether or not fast math contracted them into an FMA (one product exact,
 // the other rounded: then the edge's other triangle does not get exactly
 // the negation, and a ray along the edge could slip between them).
-Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) { return p(0) * q(1) - p(1) * q(0); }
+template <class T>
+Attrib<1, T> edge_function(const Attrib<3, T>& p, const Attrib<3, T>& q) {
+  return p(0) * q(1) - p(1) * q(0);
+}
 
 // At most two roundings of 2^-24 relative to the products and one of the
 // difference, with room for the rounding of this bound itself: 2^-21.
@@ -41,18 +53,43 @@ Attrib1f exact_edge_function(const Attrib3f& p, const Attrib3f& q) {
   return (a(0) * b(1) - a(1) * b(0)).cast<float>();
 }
 
-// How far t = (u za + v zb + w zc) / det may be from the exact distance,
-// given the errors of the ray-space coordinates and edge functions: a hit
-// nearer than this may lie behind the origin (a ray leaving a surface, or
-// starting on one, must not meet it there).
-Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c, const Attrib3f& edges,
-                        const Attrib1f& inv_det) {
-  Attrib3f largest = max(max(abs(a), abs(b)), abs(c));
-  Attrib1f x = largest(0), y = largest(1), z = largest(2);
-  Attrib1f dz = gamma(3) * z, dx = gamma(5) * (x + z), dy = gamma(5) * (y + z);
-  Attrib1f de = 2.0f * (gamma(2) * x * y + dy * x + dx * y);
-  Attrib1f e = max_component(abs(edges));
-  return 3.0f * (gamma(3) * e * z + de * z + dz * e) * abs(inv_det);
+// The distance t = (u / det) za + (v / det) zb + (w / det) zc: each
+// barycentric before its product with a coordinate, so that nothing
+// overflows where an edge function times a coordinate would (coordinates
+// near 1e13 and beyond).
+template <class T>
+Attrib<1, T> distance(const Attrib<3, T>& a, const Attrib<3, T>& b, const Attrib<3, T>& c, const Attrib<3, T>& edges,
+                      const Attrib<1, T>& inv_det) {
+  return (edges(0) * inv_det) * a(2) + (edges(1) * inv_det) * b(2) + (edges(2) * inv_det) * c(2);
+}
+
+// How far distance() may be from the exact distance, given the errors of
+// the ray-space coordinates and edge functions: a hit nearer than this may
+// lie behind the origin (a ray leaving a surface, or starting on one, must
+// not meet it there).  Four roundings deep in each term (the barycentric,
+// its product, two sums); the edge functions' sizes are taken over det
+// first, for the same reason as in distance().
+template <class T>
+Attrib<1, T> distance_error(const Attrib<3, T>& a, const Attrib<3, T>& b, const Attrib<3, T>& c,
+                            const Attrib<3, T>& edges, const Attrib<1, T>& inv_det) {
+  Attrib<3, T> largest = max(max(abs(a), abs(b)), abs(c));
+  Attrib<1, T> x = largest(0), y = largest(1), z = largest(2);
+  Attrib<1, T> dz = gamma<T>(3) * z, dx = gamma<T>(5) * (x + z), dy = gamma<T>(5) * (y + z);
+  Attrib<1, T> de = T(2) * (gamma<T>(2) * x * y + dy * x + dx * y);
+  Attrib<1, T> e = max_component(abs(edges)) * abs(inv_det);
+  return T(3) * (gamma<T>(4) * e * z + de * abs(inv_det) * z + dz * e);
+}
+
+// Whether a hit the float bound could not place in front of the origin
+// lies in front: the distance and its bound again in double, whose
+// rounding is 2^29 times finer.  The float bound grows as the square of
+// the distance along the ray over the triangle's size, so it turns away
+// small triangles far along the ray and large ones near its origin.
+Attrib1f in_front_in_double(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2) {
+  Attrib3d a = to_ray_space_in_double(r, v0), b = to_ray_space_in_double(r, v1), c = to_ray_space_in_double(r, v2);
+  Attrib3d edges = join(join(edge_function(b, c), edge_function(c, a)), edge_function(a, b));
+  Attrib1d inv = 1.0 / (edges(0) + edges(1) + edges(2));
+  return (distance(a, b, c, edges, inv) > distance_error(a, b, c, edges, inv)).cast<float>();
 }
 
 }  // namespace
@@ -105,7 +142,8 @@ void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& 
 // them: the test is exact in the ray's space.
 void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
                    Attrib2f& best_uv) {
-  Attrib3f a = to_ray_space(r, s.v0[tri]), b = to_ray_space(r, s.v1[tri]), c = to_ray_space(r, s.v2[tri]);
+  Attrib3f v0 = s.v0[tri], v1 = s.v1[tri], v2 = s.v2[tri];
+  Attrib3f a = to_ray_space(r, v0), b = to_ray_space(r, v1), c = to_ray_space(r, v2);
   Attrib1f u = edge_function(b, c), v = edge_function(c, a), w = edge_function(a, b);
   // Near an edge (rare) the float sign may be wrong: all three again in double.
   SH_IF(abs(u) <= edge_rounding(b, c) || abs(v) <= edge_rounding(c, a) || abs(w) <= edge_rounding(a, b)) {
@@ -119,8 +157,10 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
   // are for rays that pass through the triangle.
   SH_IF(det != 0.0f && !outside) {
     Attrib1f inv = 1.0f / det;
-    Attrib1f t = (u * a(2) + v * b(2) + w * c(2)) * inv;
-    Attrib1f in_front = t > distance_error(a, b, c, join(join(u, v), w), inv);
+    Attrib3f edges = join(join(u, v), w);
+    Attrib1f t = distance(a, b, c, edges, inv);
+    Attrib1f in_front = t > distance_error(a, b, c, edges, inv);
+    SH_IF(t > 0.0f && !in_front) { in_front = in_front_in_double(r, v0, v1, v2); } SH_ENDIF;
     // Of triangles at the same distance (to rounding: backends may differ
     // in the last bits) the lowest numbered wins, whatever order the
     // accelerator tests them in: every accelerator and backend gives the

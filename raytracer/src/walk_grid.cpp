@@ -21,10 +21,13 @@ void grid(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attrib1f&
       Attrib1f t_exit = min_component(t_max);
       SH_BREAK(best <= t_exit || t_exit >= t_leave);
       if (any_hit) SH_BREAK(best < t_limit);
-      // Step into the neighbour across the nearest cell face.
+      // Step into the neighbour across the nearest cell face.  A cell many
+      // times wider than the ray's direction is long makes t_delta
+      // infinite along that axis: a choice, where a product with the
+      // other axes' zeros would make them NaN.
       Attrib3f axis = nearest_axis(t_max);
       voxel += r.step * axis;
-      t_max += t_delta * axis;
+      t_max = cond(axis > 0.0f, t_max + t_delta, t_max);
     } SH_UNTIL(any(voxel < 0.0f) || any(voxel >= g.dims));
   } SH_ENDIF;
 }

@@ -141,6 +141,144 @@ TEST(Extremes, ScenesFarAwaySmallAndLarge) {
   }
 }
 
+// Every accelerator hits what Embree hits, ray for ray (where check()'s
+// allowance for rays starting on a surface would excuse a near miss).
+void expect_embree_hits(const sh::rt::Scene& s, const rt_test::Rays& rays) {
+  oracle::Embree embree(s);
+  std::size_t theirs = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) theirs += embree.intersect(rays.origin(i), rays.direction(i)).t >= 0;
+  ASSERT_GT(theirs, rays.size() / 4) << s.name;
+  for (const rt_test::Walked& accel : rt_test::every_accelerator()) {
+    rt_test::Hits hits = rt_test::trace(s, rays, "cpu", accel);
+    std::size_t ours = 0;
+    for (float t : hits.t) ours += t >= 0;
+    EXPECT_EQ(ours, theirs) << s.name << ", " << accel.name();
+  }
+  check(s, rays);
+}
+
+// Rays aimed at a unit sphere from far along them (a narrow field of view):
+// the float bound on the distance's error grows as the square of the
+// distance over the triangle's size and once turned every such hit away.
+TEST(Extremes, SmallObjectsFarAlongTheRay) {
+  for (float far : {1e4f, 1e5f}) {
+    sh::rt::Scene s;
+    s.name = "unit sphere from " + std::to_string(far);
+    s.materials.push_back({});
+    sh::rt::add_sphere(s, {0, 0, 0}, 1, 0, 64);
+    rt_test::Rays rays;
+    for (float x = -0.95f; x <= 0.95f; x += 0.1f)
+      for (float y = -0.95f; y <= 0.95f; y += 0.1f) rays.add({0.3f, 0.2f, far}, sh::rt::normalize(Vec3{x - 0.3f, y - 0.2f, -far}));
+    expect_embree_hits(s, rays);
+  }
+}
+
+// A ground of four quads a million wide meeting under the camera: rays
+// hit them a few units away, where their corners lie a million away.
+TEST(Extremes, LargeTrianglesNearTheOrigin) {
+  sh::rt::Scene s;
+  s.name = "ground 1e6 wide";
+  s.materials.push_back({});
+  for (Vec3 corner : {Vec3{-1e6f, 0, -1e6f}, Vec3{0, 0, 0}, Vec3{-1e6f, 0, 0}, Vec3{0, 0, -1e6f}})
+    sh::rt::add_quad(s, corner, {0, 0, 1e6f}, {1e6f, 0, 0}, 0);
+  rt_test::Rays rays;
+  for (float x = -2; x <= 2; x += 0.25f)
+    for (float z = -2; z <= 2; z += 0.25f) rays.add({0, 1, 5}, sh::rt::normalize(Vec3{x, -1, z - 5}));
+  expect_embree_hits(s, rays);
+}
+
+// The nearest hit along o + t d by every triangle in double (Moller and
+// Trumbore): t, or -1 where none, or NaN where the ray passes within
+// `margin` (barycentric) of an edge of the triangle it hits or misses
+// first, where float tracers may differ.
+double nearest_in_double(const sh::rt::Scene& s, Vec3 o, Vec3 d, double margin) {
+  using D3 = std::array<double, 3>;
+  auto of = [](Vec3 v) { return D3{v.x, v.y, v.z}; };
+  auto sub = [](D3 a, D3 b) { return D3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  auto cross = [](D3 a, D3 b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; };
+  auto dot = [](D3 a, D3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  double best = -1;
+  bool near_edge = false;
+  for (std::size_t t = 0; t < s.mesh.triangles(); ++t) {
+    D3 v0 = of(s.mesh.positions[3 * t]), e1 = sub(of(s.mesh.positions[3 * t + 1]), v0),
+       e2 = sub(of(s.mesh.positions[3 * t + 2]), v0);
+    D3 p = cross(of(d), e2), q = cross(sub(of(o), v0), e1);
+    double det = dot(e1, p);
+    if (det == 0) continue;
+    double u = dot(sub(of(o), v0), p) / det, v = dot(of(d), q) / det, at = dot(e2, q) / det;
+    double inside = std::min({u, v, 1 - u - v});
+    if (at <= 0 || inside < -margin || (best >= 0 && at > best)) continue;
+    near_edge = inside < margin;
+    best = at;
+  }
+  return near_edge ? std::nan("") : best;
+}
+
+// Spheres 1e13 across: an edge function times a coordinate passes the
+// float range, so the distance takes the barycentrics first.  Embree
+// itself misses some near triangles at this size (a ray that meets one
+// well inside its edges, by exact arithmetic, it reports on a farther
+// one), so the answer here is the double-precision one.
+TEST(Extremes, CoordinatesNearTheLoadersLimit) {
+  sh::rt::Scene s;
+  s.name = "spheres 1e13 across";
+  s.materials.push_back({});
+  sh::rt::add_sphere(s, {0, 0, 0}, 1e13f, 0, 8);
+  sh::rt::add_sphere(s, {0, -3e13f, 0}, 1.5e13f, 0, 8);
+  rt_test::Rays rays;
+  for (float x = -0.9f; x <= 0.9f; x += 0.1f)
+    for (float y = -0.9f; y <= 0.9f; y += 0.1f) rays.add({0, 0, 4e13f}, sh::rt::normalize(Vec3{x, y, -3}));
+  for (const rt_test::Walked& accel : rt_test::every_accelerator()) {
+    rt_test::Hits hits = rt_test::trace(s, rays, "cpu", accel);
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      double want = nearest_in_double(s, rays.origin(i), rays.direction(i), 1e-4);
+      if (std::isnan(want)) continue;
+      ++compared;
+      if (want < 0)
+        EXPECT_LT(hits.t[i], 0.0f) << accel.name() << ", ray " << i;
+      else
+        EXPECT_NEAR(hits.t[i], want, 1e-5 * want) << accel.name() << ", ray " << i;
+    }
+    EXPECT_GT(compared, rays.size() / 2);
+  }
+}
+
+// Grid cells 1e11 wide and a ray whose y component is 1e-28: the step
+// along y is infinite, and stepping along x once made it NaN, after which
+// the walk never left its cell (the backend's loop cap ended the render).
+TEST(Extremes, GridCellsFarWiderThanADirectionComponent) {
+  sh::rt::Scene s;
+  s.name = "boxes 1e11 wide";
+  s.materials.push_back({});
+  sh::rt::add_box(s, {0, 5e11f, 5e11f}, {1e11f, 6e11f, 6e11f}, 0);
+  sh::rt::add_box(s, {9e11f, -1e11f, -1e11f}, {1e12f, 1e11f, 1e11f}, 0);
+  sh::rt::add_box(s, {9e11f, -6e11f, -6e11f}, {1e12f, -5e11f, -5e11f}, 0);
+  rt_test::Rays rays;
+  for (float z : {0.0f, 1e-3f, -1e-3f, 1e-2f}) rays.add({-1e11f, 0, 0}, sh::rt::normalize(Vec3{1, 1e-28f, z}));
+  rt_test::Hits hits = rt_test::trace(s, rays, "cpu", sh::rt::Accel::Grid);
+  for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_GT(hits.t[i], 0.0f) << "ray " << i << " meets the box at x 9e11";
+  check(s, rays);
+}
+
+// The scene's own vectors at the ends of the float range: a quad 1e10
+// wide got zero normals (the squared length overflowed) and rendered
+// unlit; one 1e-12 wide was refused as spanning no area.
+TEST(Extremes, SceneNormalsOfHugeAndTinyQuads) {
+  for (float size : {2e10f, 1e18f, 2e-12f}) {
+    sh::rt::Scene s;
+    s.materials.push_back({});
+    sh::rt::add_quad(s, {-size / 2, 0, -size / 2}, {0, 0, size}, {size, 0, 0}, 0);
+    ASSERT_EQ(s.mesh.triangles(), 2u) << size;
+    for (Vec3 n : s.mesh.normals) {
+      EXPECT_NEAR(n.y, 1.0f, 1e-6f) << "quad " << size << " wide";
+      EXPECT_NEAR(sh::rt::length(n), 1.0f, 1e-6f);
+    }
+  }
+  EXPECT_NEAR(sh::rt::normalize(Vec3{3e-30f, 4e-30f, 0}).y, 0.8f, 1e-6f);
+  EXPECT_NEAR(sh::rt::length(Vec3{3e30f, 4e30f, 0}), 5e30f, 1e24f);
+}
+
 TEST(Extremes, RaysLeavingASurfaceDoNotShadowThemselves) {
   // A lit floor with nothing above it: every floor pixel must be lit the
   // same, far from the origin too (no acne).

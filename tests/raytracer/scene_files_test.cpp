@@ -111,9 +111,14 @@ TEST_F(SceneFiles, WrongTypesAndValuesAreNamed) {
   expect_error(write("t4.json", R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "gold"}]})"),
                {"objects[0].material", "no material named 'gold'"});
   expect_error(write("t5.json", R"({"lights": [{"type": 5}], "objects": []})"), {"t5.json", "lights[0].type", "expected a string"});
-  expect_error(write("t6.json", R"({"camera": {"eye": [0,0,10], "look_at": [0,0,0], "up": [0,1e-23,0]},
+  expect_error(write("t6.json", R"({"camera": {"eye": [0,0,10], "look_at": [0,0,0], "up": [0,0,1e-23]},
                                      "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})"),
                {"t6.json", "camera: up is parallel to the view direction, or too short"});
+  // A short up that is not parallel makes a frame (the camera's vectors
+  // are normalised in double).
+  sh::rt::Scene short_up = sh::rt::load_scene(write("t7.json", R"({"camera": {"eye": [0,0,10], "look_at": [0,0,0], "up": [0,1e-23,0]},
+                                     "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})"));
+  EXPECT_EQ(short_up.camera.up.y, 1e-23f);
 }
 
 TEST_F(SceneFiles, MeshThatFailsToLoad) {
