@@ -191,6 +191,29 @@ TEST_P(Conformance, LoopIterationCapTurnsEndlessLoopIntoError) {
   }
 }
 
+// A loop whose every element leaves by a break in its last allowed pass
+// ran no more than the cap: no error, however many elements share a
+// batch (a masked loop once counted one more pass with no lane left).
+TEST_P(Conformance, LoopLeftByABreakInItsLastAllowedPassIsNoRunaway) {
+  sh::Program p = SH_BEGIN_PROGRAM("break_at_cap") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1f> r;
+    Attrib1f i = 0.0f;
+    SH_WHILE(i < 100.0f) {
+      i += 1.0f;
+      SH_BREAK(i >= x);
+    } SH_ENDWHILE;
+    r = i;
+  } SH_END;
+  sh::Options o;
+  o.max_loop_iterations = 4;
+  for (std::size_t n : {1u, 5u, 17u}) {
+    sh::Channel<Attrib1f> in(std::vector<float>(n, 4.0f)), out;
+    sh::run(p, {in}, {out}, choice(o));
+    for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(out[k], 4.0f) << n << " elements, element " << k;
+  }
+}
+
 // A variable read before anything is written to it reads zero, in every
 // element: on a loop's first trip, after a loop that did not run, after an
 // if whose other side wrote it, in a do/until body before its test, and in

@@ -194,6 +194,13 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
 
   b_.SetInsertPoint(top);
   Value* looping = masked ? load_mask(active) : inside_masks ? exec() : nullptr;
+  if (masked) {
+    // Every lane may have left by a break in the last pass: the loop is
+    // over then, before another is counted (as each element's own loop).
+    BasicBlock* counted = BasicBlock::Create(ctx_, "loop.count", fn_);
+    b_.CreateCondBr(any(looping), counted, exit);
+    b_.SetInsertPoint(counted);
+  }
   check_iterations(number, count, looping, l.test_at_top ? test : body);
 
   b_.SetInsertPoint(test);

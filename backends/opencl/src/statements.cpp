@@ -163,6 +163,9 @@ void Generator::masked_loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
   line(depth + 1, "long " + counter + " = 0;");
   line(depth + 1, "for (;;) {");
   enter_masked(facts_.live_at_rejoin.at(&s));
+  // Every lane may have left by a break in the last pass: the loop is over
+  // then, before another is counted (as each element's own loop).
+  line(depth + 2, "if (!" + any(active) + ") break;");
   count_iteration(number, counter, "e + " + first_lane() + "(" + active + ")", depth + 2);
   auto test = [&] {
     line(depth + 2, "exec = " + active + ";");
