@@ -50,8 +50,11 @@ class CpuKernel : public Kernel {
     // Threads take whole sets of lanes, so only the stream's last set is
     // partly masked.
     std::int64_t lanes = jitted_.lanes(), sets = (n + lanes - 1) / lanes;
-    // Sets [begin, end) of lanes, on this thread.
+    // Sets [begin, end) of lanes, on this thread; none once an element ran
+    // a loop past its cap (the run fails: the rest need not wait for every
+    // other set to reach the cap too).
     auto sets_of = [&](std::int64_t begin, std::int64_t end) {
+      if (std::atomic_ref<std::int64_t>(status[0]).load(std::memory_order_relaxed) != 0) return;
       auto call = [&](const void* const* its_tables) {
         fn(begin * lanes, std::min(end * lanes, n), inputs.data(), outputs.data(), uniforms.data(), its_tables, dims.data(),
            domain.data(), status, streamed);

@@ -137,22 +137,31 @@ void Lowering::masked_branch(const ir::If& i, const ir::Stmt& s) {
 }
 
 // Each loop counts its iterations: past the cap, the kernel stops and
-// reports the loop and the element (the first lane still looping).
+// reports the loop and the element (the first lane still looping).  The
+// first thread there claims the report by setting the loop's number, so
+// that two never mix one's loop with the other's element; the caller
+// reads both once every thread is done.
 void Lowering::check_iterations(std::int64_t number, Value* count, Value* active, BasicBlock* next) {
   auto* i64 = b_.getInt64Ty();
   BasicBlock* runaway = BasicBlock::Create(ctx_, "loop.runaway", fn_);
+  BasicBlock* claimed = BasicBlock::Create(ctx_, "loop.claimed", fn_);
+  BasicBlock* stop = BasicBlock::Create(ctx_, "loop.stop", fn_);
   Value* n = b_.CreateLoad(i64, count);
   b_.CreateStore(b_.CreateAdd(n, b_.getInt64(1)), count);
   b_.CreateCondBr(b_.CreateICmpUGE(n, b_.getInt64(o_.max_loop_iterations)), runaway, next);
 
   b_.SetInsertPoint(runaway);
+  auto* claim = b_.CreateAtomicCmpXchg(status_, b_.getInt64(0), b_.getInt64(number + 1), llvm::MaybeAlign(8),
+                                       llvm::AtomicOrdering::Monotonic, llvm::AtomicOrdering::Monotonic);
+  b_.CreateCondBr(b_.CreateExtractValue(claim, 1), claimed, stop);
+
+  b_.SetInsertPoint(claimed);
   Value* element = b_.CreateLoad(i64, element_);
   if (active) element = b_.CreateAdd(element, b_.CreateZExt(first_lane(active), i64));
-  for (auto [slot, x] : {std::pair{0, static_cast<Value*>(b_.getInt64(number + 1))}, std::pair{1, element}}) {
-    auto* store = b_.CreateStore(x, b_.CreateConstInBoundsGEP1_64(i64, status_, slot));
-    store->setAtomic(llvm::AtomicOrdering::Monotonic);
-    store->setAlignment(llvm::Align(8));
-  }
+  b_.CreateStore(element, b_.CreateConstInBoundsGEP1_64(i64, status_, 1));
+  b_.CreateBr(stop);
+
+  b_.SetInsertPoint(stop);
   b_.CreateRetVoid();
 }
 
