@@ -118,5 +118,20 @@ TEST_P(Conformance, ScatterFloatSumsAgreeToRounding) {
   EXPECT_NEAR(got[1], squares, squares * n * 6e-8 * 2);
 }
 
+// A float accumulator takes each value as a float, then adds in float,
+// at every precision: 2^-24 + 2^-50 (exact in double) is 2^-24 there, and
+// 1 + 2^-24 ties to 1, in either order.  One rounding in double would
+// give 1 + 2^-23.
+TEST_P(Conformance, ScatterRoundsTheValueToTheAccumulatorsTypeFirst) {
+  sh::Accumulator<Attrib1f> total(1, "total");
+  sh::Program p = SH_BEGIN_PROGRAM("scatter_rounding") {
+    sh::Input<sh::Attrib2f> x;
+    total.add(0, x(0) + x(1));
+  } SH_END;
+  sh::Channel<sh::Attrib2f> cx(std::vector<float>{1.0f, 0.0f, 0x1p-24f, 0x1p-50f});
+  run(p, {cx}, {});
+  EXPECT_EQ(total.values()[0], 1.0f);
+}
+
 }  // namespace
 }  // namespace conformance

@@ -186,15 +186,18 @@ class Machine {
     return r;
   }
 
-  // In stream order, one addition at a time, rounded to the accumulator's
-  // storage as every backend's atomic addition is.
+  // In stream order, one addition at a time in the accumulator's type, as
+  // every backend's atomic addition is: a float accumulator takes the value
+  // as a float first, at every precision.
   void scatter(const ir::Scatter& sc, const ir::Stmt& s) {
     const TableView& t = a_.tables[sc.table];
     std::size_t element = element_at(t, sc.index, s);
     for (int k = 0; k < t.element.width; ++k) {
       std::size_t at = element * t.element.width + k;
-      double sum = ir::eval(ir::Op::Add, t.element.scalar, t.element.scalar, o_.precision,
-                            read_component(t.element.scalar, t.sums, at), arg(sc.value, k));  // i32 wraps
+      double stored = read_component(t.element.scalar, t.sums, at), value = arg(sc.value, k);
+      double sum = t.element.scalar == ir::Scalar::F32
+                       ? static_cast<double>(static_cast<float>(stored) + static_cast<float>(value))
+                       : ir::eval(ir::Op::Add, t.element.scalar, t.element.scalar, o_.precision, stored, value);  // i32 wraps
       write_component(t.element.scalar, t.sums, at, sum);
     }
   }
