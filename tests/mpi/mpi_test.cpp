@@ -108,6 +108,52 @@ TEST(Mpi, ARankThatFailsIsNamedAndTheJobGoesOn) {
   EXPECT_EQ(out[3999], -2.f);
 }
 
+// One kernel run over a new table each time (a new scene for the same
+// tracer): the serving ranks keep one copy, not one per table ever sent.
+TEST(Mpi, ServingRanksKeepOneCopyOfEachTableAKernelReads) {
+  constexpr std::size_t kTableBytes = 4096 * sizeof(float);
+  auto adding = [](const Table1D<Attrib1f>& t) {
+    return SH_BEGIN_PROGRAM("held") {
+      InputAttrib1f x;
+      OutputAttrib1f r;
+      r = x + t[x.cast<int>()];
+    } SH_END;
+  };
+  Channel<Attrib1f> x(std::vector<float>(3000, 7.0f)), r;
+  auto held_by_serving_ranks = [](const RunStats& s) {
+    std::size_t most = 0;
+    for (const mpi::PartStats& part : details(s).parts)
+      if (part.part != 0) most = std::max(most, part.held_bytes);
+    return most;
+  };
+  // What the ranks hold besides (earlier tests' kernels' tables), and
+  // this kernel's one table.
+  std::size_t held = 0;
+  for (int scene = 0; scene < 4; ++scene) {
+    Table1D<Attrib1f> t(4096);
+    t.assign(std::vector<float>(4096, static_cast<float>(scene)));
+    RunStats s = run(adding(t), {x}, {r}, backend("mpi"));
+    EXPECT_EQ(r[2999], 7.0f + static_cast<float>(scene));
+    if (scene == 0) held = held_by_serving_ranks(s);
+    EXPECT_EQ(held_by_serving_ranks(s), held) << "scene " << scene;
+  }
+  if (mpi::size() > 1) {
+    EXPECT_GE(held, kTableBytes);
+  }
+  // A second kernel reading the same table: one copy still.
+  Table1D<Attrib1f> t(4096);
+  t.assign(std::vector<float>(4096, 1.0f));
+  run(adding(t), {x}, {r}, backend("mpi"));
+  Program twice = SH_BEGIN_PROGRAM("held_twice") {
+    InputAttrib1f y;
+    OutputAttrib1f q;
+    q = y * t[y.cast<int>()];
+  } SH_END;
+  RunStats s = run(twice, {x}, {r}, backend("mpi"));
+  EXPECT_EQ(r[0], 7.0f);
+  EXPECT_EQ(held_by_serving_ranks(s), held);
+}
+
 // Chunks of ten floats: each result is 16 bytes of place, 40 of floats and
 // 8 of findings, 64 bytes, which the suite's run with SH_MPI_MESSAGE_BYTES=64
 // sends as one whole piece and an empty one.

@@ -11,6 +11,7 @@
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
 #include "sh/waves.hpp"
+#include "held_tables.hpp"
 #include "split_table.hpp"
 #include "wire.hpp"
 
@@ -21,9 +22,13 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Tables the serving ranks hold, by identity, at the version they hold.
-std::map<std::uint64_t, std::uint64_t>& tables_sent() {
-  static std::map<std::uint64_t, std::uint64_t> sent;
+// Whole tables the serving ranks hold, at the version they hold.
+struct Sent {
+  std::uint64_t version = 0;
+  bool sent = false;
+};
+HeldTables<Sent>& tables_sent() {
+  static HeldTables<Sent> sent;
   return sent;
 }
 
@@ -273,22 +278,24 @@ class Coordinator : public Kernel {
       const TableView& table = args.tables[i];
       p.put(table.id);
       if (table.sums) {  // each rank adds into zeros of its own; rank 0 sums them
+        tables_sent().clear(slots_, i);
         p.put(table);
         continue;
       }
       p.put(static_cast<bool>(split[i]));
       if (split[i]) {  // its blocks follow, one share per rank
+        tables_sent().clear(slots_, i);
         bool fresh = !holds_split(table, split_) && splitting.insert(table.id).second;
         p.put(fresh);
         if (fresh) p.put(table).put(split_);
         continue;
       }
-      auto it = tables_sent().find(table.id);
-      bool fresh = it == tables_sent().end() || it->second != table.version;
+      Sent& sent = tables_sent().hold(slots_, i, table.id);
+      bool fresh = !sent.sent || sent.version != table.version;
       p.put(fresh);
       if (!fresh) continue;
       p.put(table.version).put(table).put(static_cast<std::uint64_t>(table.bytes())).raw(table.data, table.bytes());
-      tables_sent()[table.id] = table.version;
+      sent = {table.version, true};
     }
     bool changed = args.uniforms != uniforms_sent_;
     p.put(changed);
@@ -385,6 +392,7 @@ class Coordinator : public Kernel {
   int ranks_ = 1;
   std::unique_ptr<Kernel> local_;
   std::vector<std::array<double, 4>> uniforms_sent_;
+  TableSlots slots_ = no_tables(program_.tables.size());  // what the serving ranks hold for this kernel
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 // sh::mpi::RunDetails: what each rank and each split table's caches did.
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 #include "sh/mpi.hpp"
 
@@ -21,6 +22,7 @@ void add_part(std::vector<PartStats>& total, const PartStats& p) {
   it->bytes_received += p.bytes_received;
   it->waves += p.waves;
   it->resumed += p.resumed;
+  it->held_bytes = p.held_bytes;  // a state, not a sum: the later run's
 }
 
 void add_cache(std::vector<TableCacheStats>& total, const TableCacheStats& c) {
@@ -48,6 +50,8 @@ std::vector<std::string> RunDetails::describe() const {
   for (const PartStats& p : parts) {
     std::snprintf(line, sizeof line, "rank %d computed %zu elements in %zu chunks: busy %.1f ms, idle %.1f ms, %zu bytes sent, %zu received",
                   p.part, p.elements, p.chunks, 1e3 * p.busy_s, 1e3 * p.idle_s, p.bytes_sent, p.bytes_received);
+    if (p.held_bytes > 0)
+      std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line), ", %zu bytes of tables kept", p.held_bytes);
     lines.push_back(line);
   }
   // A table split but never read through a cache (a lazy octree's, each

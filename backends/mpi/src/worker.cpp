@@ -11,6 +11,7 @@
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
 #include "sh/waves.hpp"
+#include "held_tables.hpp"
 #include "split_table.hpp"
 #include "wire.hpp"
 #include "world.hpp"
@@ -24,6 +25,7 @@ struct LocalKernel {
   ir::Program program;
   std::unique_ptr<Kernel> kernel;
   std::vector<std::array<double, 4>> uniforms;
+  TableSlots slots;  // the tables its last run read (held_tables.hpp)
 };
 
 struct Table {
@@ -63,6 +65,7 @@ class Worker {
       LocalKernel k;
       k.program = ir::deserialize(ir);
       k.kernel = find_backend(local).compile(k.program, o);
+      k.slots = no_tables(k.program.tables.size());
       kernels_[id] = std::move(k);
       send({}, 0, kDone, t);
     } catch (const std::exception& e) {
@@ -101,6 +104,7 @@ class Worker {
     }
     stats.bytes_sent = t.sent;
     stats.bytes_received = t.received;
+    tables_.for_each([&](const Table& table) { stats.held_bytes += table.bytes.size(); });
     Packer p;
     bool refined = waves && refusal.empty() && waves->refiner;
     p.put(stats).put(refined);
@@ -137,11 +141,11 @@ class Worker {
     return w;
   }
 
-  void receive_tables(Unpacker& u, const LocalKernel& k, RunArgs& args, std::vector<SplitTable*>& split, Traffic& t) {
+  void receive_tables(Unpacker& u, LocalKernel& k, RunArgs& args, std::vector<SplitTable*>& split, Traffic& t) {
     for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
       auto id = u.get<std::uint64_t>();
       if (k.program.tables[i].accumulator) {
-        Table& table = tables_[id];
+        Table& table = tables_.hold(k.slots, i, id);
         table.view = u.get<TableView>();
         table.bytes.assign(table.view.bytes(), '\0');
         table.view.data = table.view.sums = table.bytes.data();
@@ -149,13 +153,14 @@ class Worker {
         continue;
       }
       if (u.get<bool>()) {
+        tables_.clear(k.slots, i);
         split.push_back(&receive_split(u, id, t));
         TableView view = split_views_[id];
         view.source = split.back();
         args.tables.push_back(view);
         continue;
       }
-      Table& table = tables_[id];
+      Table& table = tables_.hold(k.slots, i, id);
       if (u.get<bool>()) {
         table.version = u.get<std::uint64_t>();
         table.view = u.get<TableView>();
@@ -227,7 +232,7 @@ class Worker {
 
   int rank_ = 0;
   std::map<std::uint64_t, LocalKernel> kernels_;
-  std::map<std::uint64_t, Table> tables_;
+  HeldTables<Table> tables_;
   std::map<std::uint64_t, TableView> split_views_;
   std::map<std::uint64_t, std::unique_ptr<Refiner>> refiners_;
 };
