@@ -116,7 +116,10 @@ void all_functions(const Conformance& t, bool fast) {
   U("floor", [](const auto& x) { return floor(x); }, [](double x) { return std::floor(x); });
   U("ceil", [](const auto& x) { return ceil(x); }, [](double x) { return std::ceil(x); });
   U("round", [](const auto& x) { return round(x); }, round_ref);
-  U("frac", [](const auto& x) { return frac(x); }, [](double x) { return x - std::floor(x); });
+  U("frac", [](const auto& x) { return frac(x); }, [](double x) {
+    double f = x - std::floor(x);  // at most the T just below 1
+    return static_cast<T>(f) >= T(1) ? static_cast<double>(T(1) - std::numeric_limits<T>::epsilon() / 2) : f;
+  });
   U("sqrt", [](const auto& x) { return sqrt(x); }, [](double x) { return std::sqrt(x); });
   U("rsqrt", [](const auto& x) { return rsqrt(x); }, [](double x) { return 1.0 / std::sqrt(x); });
   U("rcp", [](const auto& x) { return rcp(x); }, [](double x) { return 1.0 / x; });

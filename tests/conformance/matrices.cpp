@@ -183,6 +183,37 @@ TEST_P(Conformance, MatrixDeterminantTraceAdjointInverseTranspose) {
   }
 }
 
+// Scaled identities far from 1: the determinant of 1e-12 I (1e-48) and of
+// 1e12 I (1e48) leaves float's range, the inverse does not.
+TEST_P(Conformance, InverseOfTinyAndHugeWellConditionedMatrices) {
+  sh::Program p = SH_BEGIN_PROGRAM("inverse_scaled") {
+    sh::Input<sh::Attrib1f> scale;
+    sh::Output<sh::Attrib4f> diagonal;
+    sh::Output<sh::Attrib3f> off;
+    sh::Matrix<4, 4> m;
+    for (int r = 0; r < 4; ++r) {
+      m[r] = sh::Attrib4f(0.0f, 0.0f, 0.0f, 0.0f);
+      m[r](r) = scale;
+    }
+    m[0](1) = scale * 0.5f;
+    sh::Matrix<4, 4> inv = sh::inverse(m);
+    diagonal = sh::join(sh::join(inv[0](0), inv[1](1)), sh::join(inv[2](2), inv[3](3)));
+    off = sh::join(inv[0](1), sh::join(inv[1](0), inv[2](3)));
+  } SH_END;
+  const std::vector<float> scales{1e-12f, 1e12f, 1e-20f, 3e9f, 1.0f};
+  sh::Channel<sh::Attrib1f> in(scales);
+  sh::Channel<sh::Attrib4f> diagonal;
+  sh::Channel<sh::Attrib3f> off;
+  run(p, {in}, {diagonal, off});
+  for (std::size_t e = 0; e < scales.size(); ++e) {
+    double want = 1.0 / scales[e];
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(diagonal[4 * e + k], want, 1e-5 * want) << "scale " << scales[e];
+    EXPECT_NEAR(off[3 * e], -0.5 * want, 1e-5 * want) << "scale " << scales[e];  // (1, 0.5; 0, 1)^-1 = (1, -0.5; 0, 1)
+    EXPECT_EQ(off[3 * e + 1], 0.0f);
+    EXPECT_EQ(off[3 * e + 2], 0.0f);
+  }
+}
+
 // ---- component-wise arithmetic, the product, compound assignment ----
 
 struct Operand3x3 {

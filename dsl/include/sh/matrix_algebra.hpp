@@ -11,7 +11,10 @@
 //   -m, and a op= b for each of the above: always a = a op b
 //   transpose(m), trace(m), det(m) (Laplace expansion along the first
 //   row), adjoint(m) (the transposed matrix of cofactors), inverse(m) =
-//   adjoint(m) / det(m)
+//   adjoint(m) / det(m), of m scaled by a power of two near its largest
+//   entry and scaled back (exact), so that a well-conditioned matrix of
+//   tiny or huge entries has a determinant in range (1e-12 I in float:
+//   1e-48 unscaled)
 // Two departures from Sh, both where Sh contradicted itself: its
 // ShMatrix::operator*= multiplied component by component while its
 // operator* was the product (here a *= b is a = a * b, so b is square),
@@ -20,6 +23,7 @@
 // by a zero determinant: infinities and NaNs, as IEEE division gives.
 #include <array>
 #include <concepts>
+#include <limits>
 
 #include "sh/matrix.hpp"
 
@@ -157,7 +161,12 @@ Matrix<N, N, T> adjoint(const Matrix<N, N, T>& m) {
 
 template <int N, class T>
 Matrix<N, N, T> inverse(const Matrix<N, N, T>& m) {
-  return adjoint(m) / det(m);
+  Attrib<1, T> largest = max_component(abs(m[0]));
+  for (int r = 1; r < N; ++r) largest = max(largest, max_component(abs(m[r])));
+  Attrib<1, T> s = exp2(-floor(log2(largest)));
+  s = cond(largest > T(0) && largest < std::numeric_limits<T>::infinity(), s, Attrib<1, T>(T(1)));
+  Matrix<N, N, T> scaled = m * s;
+  return adjoint(scaled) / det(scaled) * s;
 }
 
 }  // namespace sh

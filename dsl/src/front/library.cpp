@@ -26,7 +26,14 @@ Value cross(const Value& a, const Value& b) {
   return apply(ir::Op::Sub, {l, r});
 }
 
-Value frac(const Value& v) { return apply(ir::Op::Sub, {v, apply(ir::Op::Floor, {v})}); }
+// Below 1 always: a tiny negative a gives a - floor(a) = 1 once rounded
+// (frac(-1e-8) would read past a repeating table's last element).  A NaN
+// stays NaN.
+Value frac(const Value& v) {
+  double below_one = v.scalar() == ir::Scalar::F64 ? 1 - 0x1p-53 : 1 - 0x1p-24;
+  Value f = apply(ir::Op::Sub, {v, apply(ir::Op::Floor, {v})});
+  return cond(apply(ir::Op::Ge, {f, k(f, 1)}), k(f, below_one), f);
+}
 
 Value lerp(const Value& f, const Value& a, const Value& b) {
   Value one_minus_f = apply(ir::Op::Sub, {k(f, 1), f});
@@ -37,23 +44,30 @@ Value cond(const Value& c, const Value& a, const Value& b) {
   return apply(ir::Op::Cond, {as_scalar(c, a.scalar()), a, b});
 }
 
-// The largest magnitude m, and v / m, keep the squares in range.
-static std::pair<Value, Value> scaled(const Value& v) {
+// The largest magnitude m, a divisor d near it, and v / d, which keeps the
+// squares in range.  d is at most 2^125 (2^1021 in double), whose
+// reciprocal stays clear of the denormals even approximated: fast math may
+// divide through an approximate reciprocal and flush it to 0.
+struct Scaled {
+  Value m, d, s;
+};
+static Scaled scaled(const Value& v) {
   Value m = fold(ir::Op::Max, apply(ir::Op::Abs, {v}));
-  Value safe_m = cond(apply(ir::Op::Gt, {m, k(m, 0)}), m, k(m, 1));
-  return {m, apply(ir::Op::Div, {v, safe_m})};
+  double most = v.scalar() == ir::Scalar::F64 ? 0x1p1021 : 0x1p125;
+  Value d = apply(ir::Op::Min, {cond(apply(ir::Op::Gt, {m, k(m, 0)}), m, k(m, 1)), k(m, most)});
+  return {m, d, apply(ir::Op::Div, {v, d})};
 }
 
 Value length(const Value& v) {
   if (v.width() == 1) return apply(ir::Op::Abs, {v});
-  auto [m, s] = scaled(v);
-  Value len = apply(ir::Op::Mul, {m, apply(ir::Op::Sqrt, {dot(s, s)})});
+  auto [m, d, s] = scaled(v);
+  Value len = apply(ir::Op::Mul, {d, apply(ir::Op::Sqrt, {dot(s, s)})});
   double inf = std::numeric_limits<double>::infinity();
   return cond(apply(ir::Op::Lt, {m, k(m, inf)}), len, m);
 }
 
 Value normalize(const Value& v) {
-  auto [m, s] = scaled(v);
+  auto [m, d, s] = scaled(v);
   Value unit = apply(ir::Op::Mul, {s, apply(ir::Op::Rsqrt, {dot(s, s)})});
   return cond(apply(ir::Op::Gt, {m, k(m, 0)}), unit, k(v, 0));
 }
@@ -68,7 +82,8 @@ Value reflect(const Value& a, const Value& n) {
 
 // With c = v̂·n̂ and r = 1 / eta the ratio of the index left over the index
 // entered: k = 1 + r²(c² - 1) and the result (r c - sqrt(k)) n̂ - r v̂, or
-// zero where k < 0 (total internal reflection).  Sh clamps k to [0, 1].
+// zero where k < 0 (total internal reflection) or where v or n is zero (no
+// direction to bend).  Sh clamps k to [0, 1].
 Value refract(const Value& v, const Value& n, const Value& eta) {
   Value unit_v = normalize(v), unit_n = normalize(n);
   Value c = dot(unit_v, unit_n);
@@ -79,7 +94,9 @@ Value refract(const Value& v, const Value& n, const Value& eta) {
   Value root = apply(ir::Op::Sqrt, {apply(ir::Op::Min, {apply(ir::Op::Max, {kk, k(kk, 0)}), one})});
   Value along_n = apply(ir::Op::Sub, {apply(ir::Op::Mul, {r, c}), root});
   Value t = apply(ir::Op::Sub, {apply(ir::Op::Mul, {along_n, unit_n}), apply(ir::Op::Mul, {r, unit_v})});
-  return cond(apply(ir::Op::Lt, {kk, k(kk, 0)}), k(v, 0), t);
+  auto zero = [](const Value& x) { return apply(ir::Op::Eq, {fold(ir::Op::Max, apply(ir::Op::Abs, {x})), k(x, 0)}); };
+  Value none = apply(ir::Op::Or, {apply(ir::Op::Lt, {kk, k(kk, 0)}), apply(ir::Op::Or, {zero(v), zero(n)})});
+  return cond(none, k(v, 0), t);
 }
 
 Value faceforward(const Value& a, const Value& b) {
