@@ -19,25 +19,13 @@ Attrib3f to_ray_space(const Ray& r, const Attrib3f& vertex) {
   return join(p(0, 1) + r.shear(0, 1) * p(2), r.shear(2) * p(2));
 }
 
-// The same in double, for hits the float bound cannot place (below): the
-// turn is a permutation, exact in float; the difference and the shear are
-// taken in double.
-Attrib3d to_ray_space_in_double(const Ray& r, const Attrib3f& vertex) {
-  Attrib3d p = r.turn(vertex).cast<double>() - r.turn(r.o).cast<double>();
-  Attrib3d shear = r.shear.cast<double>();
-  return join(p(0, 1) + shear(0, 1) * p(2), shear(2) * p(2));
-}
-
 // Twice the signed area of (origin, p, q) in the ray's xy plane: two
 // products and a difference in float.  Its sign is right wherever |e|
 // exceeds the rounding of those operations, which edge_rounding() bounds
 // whether or not fast math contracted them into an FMA (one product exact,
 // the other rounded: then the edge's other triangle does not get exactly
 // the negation, and a ray along the edge could slip between them).
-template <class T>
-Attrib<1, T> edge_function(const Attrib<3, T>& p, const Attrib<3, T>& q) {
-  return p(0) * q(1) - p(1) * q(0);
-}
+Attrib1f edge_function(const Attrib3f& p, const Attrib3f& q) { return p(0) * q(1) - p(1) * q(0); }
 
 // At most two roundings of 2^-24 relative to the products and one of the
 // difference, with room for the rounding of this bound itself: 2^-21.
@@ -53,14 +41,11 @@ Attrib1f exact_edge_function(const Attrib3f& p, const Attrib3f& q) {
   return (a(0) * b(1) - a(1) * b(0)).cast<float>();
 }
 
-// The distance t = (u / det) za + (v / det) zb + (w / det) zc: each
-// barycentric before its product with a coordinate, so that nothing
-// overflows where an edge function times a coordinate would (coordinates
-// near 1e13 and beyond).
-template <class T>
-Attrib<1, T> distance(const Attrib<3, T>& a, const Attrib<3, T>& b, const Attrib<3, T>& c, const Attrib<3, T>& edges,
-                      const Attrib<1, T>& inv_det) {
-  return (edges(0) * inv_det) * a(2) + (edges(1) * inv_det) * b(2) + (edges(2) * inv_det) * c(2);
+// The distance t from the barycentrics (u, v, w) / det, each before its
+// product with a coordinate, so that nothing overflows where an edge
+// function times a coordinate would (coordinates near 1e13 and beyond).
+Attrib1f distance(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c, const Attrib3f& barycentrics) {
+  return barycentrics(0) * a(2) + barycentrics(1) * b(2) + barycentrics(2) * c(2);
 }
 
 // How far distance() may be from the exact distance, given the errors of
@@ -68,28 +53,34 @@ Attrib<1, T> distance(const Attrib<3, T>& a, const Attrib<3, T>& b, const Attrib
 // lie behind the origin (a ray leaving a surface, or starting on one, must
 // not meet it there).  Four roundings deep in each term (the barycentric,
 // its product, two sums); the edge functions' sizes are taken over det
-// first, for the same reason as in distance().
-template <class T>
-Attrib<1, T> distance_error(const Attrib<3, T>& a, const Attrib<3, T>& b, const Attrib<3, T>& c,
-                            const Attrib<3, T>& edges, const Attrib<1, T>& inv_det) {
-  Attrib<3, T> largest = max(max(abs(a), abs(b)), abs(c));
-  Attrib<1, T> x = largest(0), y = largest(1), z = largest(2);
-  Attrib<1, T> dz = gamma<T>(3) * z, dx = gamma<T>(5) * (x + z), dy = gamma<T>(5) * (y + z);
-  Attrib<1, T> de = T(2) * (gamma<T>(2) * x * y + dy * x + dx * y);
-  Attrib<1, T> e = max_component(abs(edges)) * abs(inv_det);
-  return T(3) * (gamma<T>(4) * e * z + de * abs(inv_det) * z + dz * e);
+// (as barycentrics) first, for the same reason as in distance().
+Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c, const Attrib3f& barycentrics,
+                        const Attrib1f& inv_det) {
+  Attrib3f largest = max(max(abs(a), abs(b)), abs(c));
+  Attrib1f x = largest(0), y = largest(1), z = largest(2);
+  Attrib1f dz = gamma(3) * z, dx = gamma(5) * (x + z), dy = gamma(5) * (y + z);
+  Attrib1f de = 2.0f * (gamma(2) * x * y + dy * x + dx * y);
+  Attrib1f e = max_component(abs(barycentrics));
+  return 3.0f * (gamma(4) * e * z + de * abs(inv_det) * z + dz * e);
 }
 
-// Whether a hit the float bound could not place in front of the origin
-// lies in front: the distance and its bound again in double, whose
-// rounding is 2^29 times finer.  The float bound grows as the square of
-// the distance along the ray over the triangle's size, so it turns away
-// small triangles far along the ray and large ones near its origin.
-Attrib1f in_front_in_double(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2) {
-  Attrib3d a = to_ray_space_in_double(r, v0), b = to_ray_space_in_double(r, v1), c = to_ray_space_in_double(r, v2);
-  Attrib3d edges = join(join(edge_function(b, c), edge_function(c, a)), edge_function(a, b));
-  Attrib1d inv = 1.0 / (edges(0) + edges(1) + edges(2));
-  return (distance(a, b, c, edges, inv) > distance_error(a, b, c, edges, inv)).cast<float>();
+// Whether a hit the bound above could not place lies in front of the
+// origin, from the triangle's plane: t = n.(v0 - o) / n.d, n = e1 x e2,
+// whose numerator and denominator each have a sign beyond their rounding
+// (at most 12 roundings deep, of the terms' sizes), and agree.  The bound
+// above grows as the square of the distance along the ray over the
+// triangle's size, so it turns away small triangles far along the ray and
+// large ones near its origin; the plane's terms stay the size of the
+// distance to the plane.  A ray leaving a surface is pushed off it to the
+// side it goes, so its own triangle's plane lies behind it: n.(v0 - o)
+// and n.d differ in sign there.
+Attrib1f in_front_of_plane(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2) {
+  Attrib3f e1 = v1 - v0, e2 = v2 - v0, p = v0 - r.o;
+  Attrib3f n = cross(e1, e2);
+  Attrib3f size = abs(e1(1, 2, 0) * e2(2, 0, 1)) + abs(e1(2, 0, 1) * e2(1, 2, 0));  // of each component's terms
+  Attrib1f num = dot(n, p), den = dot(n, r.d);
+  Attrib1f sure_num = abs(num) > gamma(12) * dot(size, abs(p)), sure_den = abs(den) > gamma(12) * dot(size, abs(r.d));
+  return sure_num && sure_den && (num > 0.0f) == (den > 0.0f);
 }
 
 }  // namespace
@@ -157,10 +148,10 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
   // are for rays that pass through the triangle.
   SH_IF(det != 0.0f && !outside) {
     Attrib1f inv = 1.0f / det;
-    Attrib3f edges = join(join(u, v), w);
-    Attrib1f t = distance(a, b, c, edges, inv);
-    Attrib1f in_front = t > distance_error(a, b, c, edges, inv);
-    SH_IF(t > 0.0f && !in_front) { in_front = in_front_in_double(r, v0, v1, v2); } SH_ENDIF;
+    Attrib3f barycentrics = join(join(u, v), w) * inv;
+    Attrib1f t = distance(a, b, c, barycentrics);
+    Attrib1f in_front = t > distance_error(a, b, c, barycentrics, inv);
+    SH_IF(t > 0.0f && !in_front) { in_front = in_front_of_plane(r, v0, v1, v2); } SH_ENDIF;
     // Of triangles at the same distance (to rounding: backends may differ
     // in the last bits) the lowest numbered wins, whatever order the
     // accelerator tests them in: every accelerator and backend gives the
@@ -170,7 +161,7 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
     Attrib1f hit = in_front && nearer;
     best = cond(hit, t, best);
     best_tri = cond(hit, tri, best_tri);
-    best_uv = cond(hit, join(v, w) * inv, best_uv);
+    best_uv = cond(hit, barycentrics(1, 2), best_uv);
   } SH_ENDIF;
 }
 
