@@ -272,6 +272,33 @@ TEST(OpenClBackend, CopiedStreamsInPiecesGiveTheResultsOfStreamsInPlace) {
   }
 }
 
+// A program that adds into an accumulator, with a local array of its
+// own, over a long stream: its work-items run in groups the backend
+// chooses for the array's size.  PoCL, left to choose, made groups of
+// thousands, whose private memory overflowed a thread's stack (a crash).
+TEST(OpenClBackend, AccumulatingProgramsWithLargeLocalArraysRunInGroupsThatFit) {
+  Accumulator<Attrib1f> total(4, "total");
+  Program p = SH_BEGIN_PROGRAM("big_private") {
+    InputAttrib1i x;
+    LocalArray<Attrib1f> scratch(1024, "scratch");
+    SH_FOR(Attrib1i i = 0, i < 1024, i += 1) { scratch.store(i, (x + i).cast<float>()); } SH_ENDFOR;
+    Attrib1i at = x % 1024;
+    total.add(x % 4, 1.0f + scratch[at] - (x + at).cast<float>());  // 1 where the array held what was stored
+  } SH_END;
+  constexpr int kElements = 100003;
+  std::vector<std::int32_t> xs(kElements);
+  for (int k = 0; k < kElements; ++k) xs[k] = k;
+  Channel<Attrib1i> in(xs);
+  for (int lanes : {1, 8}) {
+    Options o;
+    o.set("lanes", std::to_string(lanes));
+    total.clear();
+    run(p, {in}, {}, backend("opencl", o));
+    std::vector<float> got = total.values();
+    EXPECT_EQ(got[0] + got[1] + got[2] + got[3], static_cast<float>(kElements)) << lanes << " lanes";
+  }
+}
+
 // A run reports the bytes it moved: a table goes to the device once and
 // again only when its contents change; streams are used in place on a
 // device that shares host memory and copied both ways elsewhere.

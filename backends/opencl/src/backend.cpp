@@ -61,8 +61,8 @@ class OpenClKernel : public Kernel {
     cl_program_ = build(*device_, p.name, source_, build_options(o));
     tables_.resize(p.tables.size());
     try {
-      one_ = make_kernel(kKernelName);
-      if (lanes_ > 1) many_ = make_kernel(kLanesKernelName);
+      one_ = make_kernel(kKernelName, 1);
+      if (lanes_ > 1) many_ = make_kernel(kLanesKernelName, lanes_);
     } catch (...) {
       release();  // a constructor that throws runs no destructor
       throw;
@@ -169,16 +169,24 @@ class OpenClKernel : public Kernel {
   // A kernel and the work-items of its whole work-groups.
   struct Launcher {
     cl_kernel kernel = nullptr;
-    std::size_t group = 0;  // 0: none chosen, the implementation chooses
+    std::size_t group = 0;  // 0: none chosen, groups of one
   };
 
-  Launcher make_kernel(const char* name) {
+  Launcher make_kernel(const char* name, int lanes) {
     cl_int err = CL_SUCCESS;
     Launcher l;
     l.kernel = clCreateKernel(cl_program_, name, &err);
     check(err, "program '" + program_.name + "': creating the OpenCL kernel " + name);
-    l.group = group_size(l.kernel);
+    l.group = group_size(l.kernel, array_bytes(program_) * static_cast<std::size_t>(lanes));
     return l;
+  }
+
+  // The bytes of a work-item's local arrays, per element it runs.
+  static std::size_t array_bytes(const ir::Program& p) {
+    std::size_t bytes = 0;
+    for (const ir::Var& v : p.vars)
+      if (v.kind == ir::VarKind::Array) bytes += static_cast<std::size_t>(v.length) * ir::element_bytes(v.type);
+    return bytes;
   }
 
   // Outputs of a run whose streams were not copied in pieces: read back an
@@ -276,39 +284,54 @@ class OpenClKernel : public Kernel {
   // (its first elements run twice, giving the same values), which a program
   // that adds into accumulators must not do.  Elements left over (all of a
   // short stream, and an accumulating program's after its whole
-  // work-items) run in the one-element kernel, in one launch of groups the
-  // implementation chooses.
+  // work-items) run in the one-element kernel.  No launch leaves the group
+  // size to the implementation: PoCL lays a group's private memory on one
+  // thread's stack, and the thousands of work-items it chose for a light
+  // pass overflowed it.
   void launch(std::size_t count, bool may_repeat, std::size_t start = 0, const cl_event* wait = nullptr) {
     const Launcher& k = lanes_ > 1 ? many_ : one_;
     std::size_t lanes = static_cast<std::size_t>(lanes_), span = k.group * lanes;
     if (may_repeat && span != 0 && count >= span) {
       std::size_t full = count / span * span;
-      enqueue(k, start, full / lanes, true, wait);
-      if (full != count) enqueue(k, start + count - span, k.group, true, wait);
+      enqueue(k, start, full / lanes, k.group, wait);
+      if (full != count) enqueue(k, start + count - span, k.group, k.group, wait);
       return;
     }
     std::size_t items = lanes > 1 ? count / lanes : 0;
-    if (items != 0) enqueue(many_, start, items, false, wait);
-    if (items * lanes != count) enqueue(one_, start + items * lanes, count - items * lanes, false, wait);
+    if (items != 0) enqueue_in_groups(many_, lanes, start, items, wait);
+    if (items * lanes != count) enqueue_in_groups(one_, 1, start + items * lanes, count - items * lanes, wait);
   }
 
-  void enqueue(const Launcher& k, std::size_t base, std::size_t work_items, bool whole_groups, const cl_event* wait) {
+  // Work-items of `lanes` elements each from `base`: whole groups of the
+  // kernel's size, then the rest in groups of one.
+  void enqueue_in_groups(const Launcher& k, std::size_t lanes, std::size_t base, std::size_t work_items,
+                         const cl_event* wait) {
+    std::size_t group = std::max<std::size_t>(k.group, 1), whole = work_items / group * group;
+    if (whole != 0) enqueue(k, base, whole, group, wait);
+    if (whole != work_items) enqueue(k, base + whole * lanes, work_items - whole, 1, wait);
+  }
+
+  void enqueue(const Launcher& k, std::size_t base, std::size_t work_items, std::size_t group, const cl_event* wait) {
     cl_long first = static_cast<cl_long>(base);
     check(clSetKernelArg(k.kernel, 0, sizeof first, &first), where("setting the first element"));
-    check(clEnqueueNDRangeKernel(device_->queue, k.kernel, 1, nullptr, &work_items, whole_groups ? &k.group : nullptr,
-                                 wait ? 1 : 0, wait, nullptr),
+    check(clEnqueueNDRangeKernel(device_->queue, k.kernel, 1, nullptr, &work_items, &group, wait ? 1 : 0, wait, nullptr),
           where("launching the kernel"));
   }
 
   // The largest multiple of the kernel's preferred group size up to 1024
-  // that the kernel allows (0: none, then the implementation chooses).
-  std::size_t group_size(cl_kernel kernel) const {
+  // that the kernel allows (0: none, then groups of one), and whose
+  // work-items' local arrays (`array_bytes` each) take at most 128 KiB:
+  // PoCL lays a group's private memory on one thread's stack, which
+  // groups of 256 work-items of 4 KiB each overflowed.
+  std::size_t group_size(cl_kernel kernel, std::size_t array_bytes) const {
+    constexpr std::size_t kGroupArrayBytes = 128 << 10;
     std::size_t most = 0, multiple = 0;
     clGetKernelWorkGroupInfo(kernel, device_->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof most, &most, nullptr);
     clGetKernelWorkGroupInfo(kernel, device_->id, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
                              &multiple, nullptr);
     if (multiple == 0) return 0;
-    return std::min<std::size_t>(most, 1024) / multiple * multiple;
+    std::size_t fits = std::min<std::size_t>({most, 1024, kGroupArrayBytes / std::max<std::size_t>(array_bytes, 1)});
+    return fits >= multiple ? fits / multiple * multiple : std::max<std::size_t>(fits, 1);
   }
 
   std::string where(const std::string& what) const {
