@@ -171,7 +171,10 @@ Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk) {
   std::vector<float> lo, hi;
   for (std::size_t i = 0; i < n.nodes.size(); ++i) {
     const Box& b = n.nodes[i]->box;
-    Vec3 hair = overlap_hair(bounds, b.hi - b.lo);
+    // Widened for its own coordinates: a box near the origin of a scene
+    // that reaches far away stays tight (the box test's rounding at any
+    // distance is clip's to cover).
+    Vec3 hair = overlap_hair(b, b.hi - b.lo);
     Vec3 low = b.lo - hair, high = b.hi + hair;
     lo.insert(lo.end(), {low.x, low.y, low.z});
     hi.insert(hi.end(), {high.x, high.y, high.z});

@@ -119,13 +119,17 @@ Attrib<N, float> greater(const Attrib<N, float>& a, const Attrib<N, float>& b) {
 
 }  // namespace
 
+// Each slab's distances are three roundings from exact (the difference,
+// the reciprocal, the product): the leaving distance taken 2 gamma(3)
+// beyond keeps a ray that grazes the box from passing it by, however far
+// the box lies from the ray's origin.
 void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& t_limit, Attrib1f& t_enter,
           Attrib1f& t_leave) {
   Attrib3f ta = (lo - r.o) * r.inv, tb = (hi - r.o) * r.inv;
   Attrib3f near = lesser(ta, tb), far = greater(ta, tb);
   Attrib1f near_x = near(0), near_y = near(1), near_z = near(2), far_x = far(0), far_y = far(1), far_z = far(2);
   t_enter = greater(greater(near_x, near_y), greater(near_z, Attrib1f(ConstAttrib1f(0.0f))));
-  t_leave = lesser(lesser(far_x, far_y), lesser(far_z, t_limit));
+  t_leave = lesser(lesser(lesser(far_x, far_y), far_z) * (1.0f + 2.0f * gamma(3)), t_limit);
 }
 
 // A ray through a shared edge or vertex meets every triangle around it

@@ -334,6 +334,28 @@ TEST(Bvh, ASoupOfLargeAndSmallTriangles) {
   EXPECT_LE(static_cast<std::size_t>(bvh.depth), sh::rt::kBvhSahDepth + ceil_log2(s.mesh.triangles()));
 }
 
+// A unit sphere at the origin and a quad 1e7 away: the boxes of the
+// sphere's nodes are widened for their own coordinates, not the scene's
+// (which widened each by about 5, so that every ray met every leaf).
+TEST(Bvh, BoxesAreWidenedForTheirOwnCoordinates) {
+  sh::rt::Scene s;
+  s.materials.push_back({});
+  sh::rt::add_sphere(s, {0, 0, 0}, 1, 0, 64);
+  sh::rt::add_quad(s, {1e7f, 0, 0}, {0, 0, 16}, {0, 16, 0}, 0);
+  Bvh bvh = sh::rt::build_bvh(s, kThreaded);
+  std::size_t near_origin = 0;
+  for (std::size_t n = 0; n < bvh.nodes(); ++n) {
+    float hi_x = bvh.hi[3 * n];
+    if (hi_x > 100) continue;  // holds the quad
+    ++near_origin;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(bvh.lo[3 * n + a], -1.01f) << "node " << n;
+      EXPECT_LE(bvh.hi[3 * n + a], 1.01f) << "node " << n;
+    }
+  }
+  EXPECT_GT(near_origin, 100u);
+}
+
 TEST(Bvh, TheSameTreeOnOneThreadAndOnTwo) {
   sh::rt::Scene s = sh::rt::builtin_scene("procedural", 30000);
   Bvh one;
