@@ -58,6 +58,10 @@ Program line(const Table2D<Attrib1f>& image, int radius, int step_x, int step_y)
 }
 
 int main(int argc, char** argv) {
+  if (argc > 1 && argv[1][0] == '-') {  // --help, or an option this example does not have
+    std::printf("usage: blur [OUT.png [SIZE [RADIUS]]]  (defaults: blur.png, 512, 4; backend: SH_BACKEND)\n");
+    return argv[1] == std::string("--help") || argv[1] == std::string("-h") ? 0 : 2;
+  }
   std::string out = argc > 1 ? argv[1] : "blur.png";
   int size = argc > 2 ? std::atoi(argv[2]) : 512;
   int radius = argc > 3 ? std::atoi(argv[3]) : 4;

@@ -30,6 +30,10 @@ bool write_png(const std::string& path, int w, int h, const std::vector<unsigned
 }
 
 int main(int argc, char** argv) {
+  if (argc > 1 && argv[1][0] == '-') {  // --help, or an option this example does not have
+    std::printf("usage: mandelbrot [OUT.png [SIZE]]  (defaults: mandelbrot.png, 512; backend: SH_BACKEND)\n");
+    return argv[1] == std::string("--help") || argv[1] == std::string("-h") ? 0 : 2;
+  }
   std::string out = argc > 1 ? argv[1] : "mandelbrot.png";
   int size = argc > 2 ? std::atoi(argv[2]) : 512;
   if (size < 1 || size > 16384) {

@@ -306,7 +306,10 @@ int bench_command(const Common& c, std::vector<std::string> backends, bool phase
   // Each backend in each of its variants (cpu: scalar and every SPMD width).
   double default_cpu = 0;
   for (const std::string& b : backends) {
-    if (b == "mpi") continue;
+    if (b == "mpi") {
+      std::printf("mpi: left out (bench runs in one process; mpirun -np N shtrace render --backend mpi renders on ranks)\n");
+      continue;
+    }
     for (const Backend::Variant& v : find_backend(b).variants()) {
       RenderSettings s = settings_for(c, b);
       s.options.set(v.options);
@@ -367,7 +370,9 @@ int main(int argc, char** argv) {
 
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG");
   add_common(render, common);
-  render->add_option("--backend", backend_name, "interp, cpu, opencl (default: SH_BACKEND, else cpu)");
+  std::string built;
+  for (const std::string& b : backend_names()) built += (built.empty() ? "" : ", ") + b;
+  render->add_option("--backend", backend_name, built + " (default: SH_BACKEND, else cpu)");
   render->add_option("--output,-o", output,
                      "PNG to write; if it exists it is replaced, and the output says \"replacing FILE\" (default: "
                      "out/SCENE.png, SCENE the built-in scene's name or the scene or model file's name without its "
@@ -402,6 +407,7 @@ int main(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "one kernel of the scene on every backend, variant and math mode: "
                                          "compile and run time, largest difference from interp in f64 (sh::compare)");
   add_common(compare, common);
+  compare->get_option("--size")->default_str("160x120");  // the interpreter runs every pixel, thrice
   compare->add_option("--backends", compare_backend_names, "backends to run, comma-separated (default: all built)")->delimiter(',');
   compare->add_option("--kernel", compare_request.kernel, "render (the whole kernel over every pixel) or intersect "
                       "(the intersector on the primary rays)")->check(CLI::IsMember({"render", "intersect"}))->capture_default_str();
@@ -458,7 +464,7 @@ int main(int argc, char** argv) {
     if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
     if (bench->parsed()) return bench_command(common, bench_backends, bench_phases);
     if (compare->parsed()) {
-      if (compare->get_option("--size")->count() == 0) common.size = "160x120";  // the interpreter runs every pixel, thrice
+      if (compare->get_option("--size")->count() == 0) common.size = "160x120";
       compare_request.scene = scene_for(common);
       compare_request.settings = settings_for(common, "");
       compare_request.backends = compare_backend_names;

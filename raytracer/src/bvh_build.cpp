@@ -212,8 +212,8 @@ namespace sh::rt {
 
 Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   auto t0 = std::chrono::steady_clock::now();
-  Box bounds = accelerator_bounds(scene);  // throws on a scene without triangles
-  Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), bounds, settings.walk);
+  accelerator_bounds(scene);  // throws on a scene without triangles
+  Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), settings.walk);
   bvh.prefetch = bvh.bytes() > settings.prefetch_above;
   bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return bvh;

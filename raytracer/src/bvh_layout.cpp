@@ -161,7 +161,7 @@ class Widener {
 
 }  // namespace
 
-Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk) {
+Bvh lay_out(const Node& root, BvhWalk walk) {
   Numbered n = number(root);
   Bvh bvh;
   bvh.walk = walk;

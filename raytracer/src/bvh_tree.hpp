@@ -35,9 +35,9 @@ struct Node {
 };
 
 std::unique_ptr<Node> build_tree(const Scene& scene, BvhSettings limits);
-// Boxes widened by a hair relative to `bounds`; nodes depth-first with
+// Boxes widened by a hair relative to each box; nodes depth-first with
 // links for every order (threaded), or inner nodes depth-first with their
 // children's boxes (stack).
-Bvh lay_out(const Node& root, const Box& bounds, BvhWalk walk);
+Bvh lay_out(const Node& root, BvhWalk walk);
 
 }  // namespace sh::rt::bvh

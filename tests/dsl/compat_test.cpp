@@ -21,6 +21,19 @@ ShAttrib1f nearest_root(ShAttrib1f a, ShAttrib1f b, ShAttrib1f c, ShAttrib1f& ro
   return hit;
 }
 
+// Integer streams in Sh's spelling, as float ones.
+TEST(Compat, IntegerInputsAndOutputs) {
+  ShProgram p = SH_BEGIN_PROGRAM("twice") {
+    ShInputAttrib1i i;
+    ShOutputAttrib2i out;
+    out = join(i * 2, i + ShConstAttrib1i(1));
+  } SH_END;
+  ShChannel<ShAttrib1i> in(std::vector<std::int32_t>{3, -4});
+  ShChannel<ShAttrib2i> out;
+  sh::run(p, {in}, {out}, sh::backend("interp"));
+  EXPECT_EQ(out.values(), (std::vector<std::int32_t>{6, 4, -8, -3}));
+}
+
 TEST(Compat, SeedStyleCodeRecordsAndRuns) {
   ShArray1D<ShAttrib3f> coefficients(2);
   coefficients.assign({1, -3, 2, 1, 2, 5});

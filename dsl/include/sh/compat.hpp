@@ -3,31 +3,21 @@
 // tracer and intersector among it) compiles with cosmetic edits only.
 #include "sh/dsl.hpp"
 
-#define SH_COMPAT_FAMILY(Name)                         \
-  using Sh##Name##1f = sh::Name##1f;                   \
-  using Sh##Name##2f = sh::Name##2f;                   \
-  using Sh##Name##3f = sh::Name##3f;                   \
-  using Sh##Name##4f = sh::Name##4f;                   \
-  using Sh##Name##1i = sh::Name##1i;                   \
-  using Sh##Name##2i = sh::Name##2i;                   \
-  using Sh##Name##3i = sh::Name##3i;                   \
-  using Sh##Name##4i = sh::Name##4i;                   \
-  using ShConst##Name##1f = sh::Const##Name##1f;       \
-  using ShConst##Name##2f = sh::Const##Name##2f;       \
-  using ShConst##Name##3f = sh::Const##Name##3f;       \
-  using ShConst##Name##4f = sh::Const##Name##4f;       \
-  using ShInput##Name##1f = sh::Input<sh::Name##1f>;   \
-  using ShInput##Name##2f = sh::Input<sh::Name##2f>;   \
-  using ShInput##Name##3f = sh::Input<sh::Name##3f>;   \
-  using ShInput##Name##4f = sh::Input<sh::Name##4f>;   \
-  using ShOutput##Name##1f = sh::Output<sh::Name##1f>; \
-  using ShOutput##Name##2f = sh::Output<sh::Name##2f>; \
-  using ShOutput##Name##3f = sh::Output<sh::Name##3f>; \
-  using ShOutput##Name##4f = sh::Output<sh::Name##4f>; \
-  using ShInOut##Name##1f = sh::InOut<sh::Name##1f>;   \
-  using ShInOut##Name##2f = sh::InOut<sh::Name##2f>;   \
-  using ShInOut##Name##3f = sh::InOut<sh::Name##3f>;   \
-  using ShInOut##Name##4f = sh::InOut<sh::Name##4f>;
+#define SH_COMPAT_TYPE(Name)                 \
+  using Sh##Name = sh::Name;                 \
+  using ShConst##Name = sh::Const##Name;     \
+  using ShInput##Name = sh::Input<sh::Name>; \
+  using ShOutput##Name = sh::Output<sh::Name>; \
+  using ShInOut##Name = sh::InOut<sh::Name>;
+#define SH_COMPAT_FAMILY(Name) \
+  SH_COMPAT_TYPE(Name##1f)     \
+  SH_COMPAT_TYPE(Name##2f)     \
+  SH_COMPAT_TYPE(Name##3f)     \
+  SH_COMPAT_TYPE(Name##4f)     \
+  SH_COMPAT_TYPE(Name##1i)     \
+  SH_COMPAT_TYPE(Name##2i)     \
+  SH_COMPAT_TYPE(Name##3i)     \
+  SH_COMPAT_TYPE(Name##4i)
 
 SH_COMPAT_FAMILY(Attrib)
 SH_COMPAT_FAMILY(Point)
@@ -37,6 +27,7 @@ SH_COMPAT_FAMILY(Color)
 SH_COMPAT_FAMILY(TexCoord)
 SH_COMPAT_FAMILY(Position)
 #undef SH_COMPAT_FAMILY
+#undef SH_COMPAT_TYPE
 
 using ShProgram = sh::Program;
 using ShStream = sh::Stream;

@@ -155,6 +155,12 @@ std::vector<std::string> builtin_scene_names() {
   return {"cornell", "spheres", "procedural", "soft", "soft2", "magg-mirror", "magg-glass"};
 }
 
+std::string builtin_scene_list() {
+  std::string list;
+  for (const std::string& name : builtin_scene_names()) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
 Scene builtin_scene(const std::string& name, std::size_t triangles) {
   if (name == "cornell") return cornell();
   if (name == "spheres") return spheres();
@@ -163,7 +169,7 @@ Scene builtin_scene(const std::string& name, std::size_t triangles) {
   if (name == "soft2") return soft(2);
   if (name == "magg-mirror") return magg_mirror();
   if (name == "magg-glass") return magg_glass();
-  throw Error("unknown built-in scene '" + name + "' (built in: cornell, spheres, procedural, soft, soft2, magg-mirror, magg-glass)");
+  throw Error("unknown built-in scene '" + name + "' (built in: " + builtin_scene_list() + ")");
 }
 
 }  // namespace sh::rt

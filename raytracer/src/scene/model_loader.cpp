@@ -218,7 +218,7 @@ Scene load_scene(const std::string& what, const LoadLimits& limits) {
   if (ext == "json") return load_scene_file(what, limits);
   std::error_code missing;
   if (!std::filesystem::exists(what, missing))
-    throw Error(what + ": no such file, and not a built-in scene (built in: cornell, spheres, procedural)");
+    throw Error(what + ": no such file, and not a built-in scene (built in: " + builtin_scene_list() + ")");
   return load_model_as_scene(what, limits);
 }
 

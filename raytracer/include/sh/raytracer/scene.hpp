@@ -128,6 +128,7 @@ std::size_t add_tiled_quad(Scene& s, Vec3 corner, Vec3 edge_u, Vec3 edge_v, int 
 // names throw sh::Error.
 Scene builtin_scene(const std::string& name, std::size_t triangles = 100000);
 std::vector<std::string> builtin_scene_names();
+std::string builtin_scene_list();  // the names, comma-separated, for messages
 
 // How a model file is loaded.  By default in a child process (see
 // isolated_load.cpp) under these limits, so that a crash, hang or runaway
