@@ -114,6 +114,14 @@ TEST_F(SceneFiles, WrongTypesAndValuesAreNamed) {
   expect_error(write("t6.json", R"({"camera": {"eye": [0,0,10], "look_at": [0,0,0], "up": [0,0,1e-23]},
                                      "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})"),
                {"t6.json", "camera: up is parallel to the view direction, or too short"});
+  // A scene too small for single precision to trace is refused by name; one
+  // at the least span it allows loads.
+  expect_error(write("t8.json", R"({"camera": {"eye": [0,0,4e-18], "look_at": [0,0,0]},
+                                     "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1e-18}]})"),
+               {"t8.json", "the scene spans only 2e-18", "scale it up"});
+  sh::rt::Scene small = sh::rt::load_scene(write("t9.json", R"({"camera": {"eye": [0,0,4e-16], "look_at": [0,0,0]},
+                                     "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1e-16}]})"));
+  EXPECT_EQ(small.mesh.triangles() > 0, true);
   // A short up that is not parallel makes a frame (the camera's vectors
   // are normalised in double).
   sh::rt::Scene short_up = sh::rt::load_scene(write("t7.json", R"({"camera": {"eye": [0,0,10], "look_at": [0,0,0], "up": [0,1e-23,0]},

@@ -61,6 +61,13 @@ struct Material {
 // 340 for sums and products of a few such terms.
 inline constexpr float kMaxCoordinate = 1e18f;
 
+// The least a scene may span (its largest extent).  Below it the products
+// of its triangles' coordinates that the intersection tests (edge
+// functions, about the square of a triangle's size) fall into float's
+// denormals, which fast hardware flushes to zero: a sphere 1e-18 across
+// loses a tenth of its hits, one 1e-20 across all of them (Embree's too).
+inline constexpr float kMinSceneExtent = 1e-16f;
+
 // Triangle soup, three vertices per triangle.
 struct Mesh {
   std::vector<Vec3> positions;  // 3 per triangle
