@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 #include <numeric>
 
 #include <tbb/blocked_range.h>
@@ -213,6 +214,8 @@ namespace sh::rt {
 Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   auto t0 = std::chrono::steady_clock::now();
   accelerator_bounds(scene);  // throws on a scene without triangles
+  if (scene.mesh.triangles() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() - 2))
+    throw Error("BVH: " + std::to_string(scene.mesh.triangles()) + " triangles are more than it numbers in 32 bits");
   Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), settings.walk);
   bvh.prefetch = bvh.bytes() > settings.prefetch_above;
   bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

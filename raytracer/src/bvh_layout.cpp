@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "bvh_tree.hpp"
+#include "sh/error.hpp"
 
 namespace sh::rt::bvh {
 namespace {
@@ -159,10 +160,24 @@ class Widener {
   Bvh& bvh_;
 };
 
+// The walks number nodes, their rows of boxes and links, and the lists'
+// entries in 32 bits: a tree past that would wrap (about 90 M triangles in
+// the threaded walk, whose six orders of links take twelve numbers a node).
+void check_numbers(const Numbered& n, BvhWalk walk) {
+  std::size_t per_node = walk == BvhWalk::Threaded ? 2 * kBvhOrders : walk == BvhWalk::Stack ? 6 : 6 * kBvhWidth;
+  std::size_t listed = n.nodes.size();  // each leaf's list ends in -1
+  for (const Node* node : n.nodes) listed += node->triangles.size();
+  constexpr std::size_t most = std::numeric_limits<std::int32_t>::max() - 2;
+  if (n.nodes.size() > most / per_node || listed > most)
+    throw Error("BVH: " + std::to_string(n.nodes.size()) + " nodes and " + std::to_string(listed) +
+                " list entries are more than its walk numbers in 32 bits; use fewer triangles, or --accel grid or octree");
+}
+
 }  // namespace
 
 Bvh lay_out(const Node& root, BvhWalk walk) {
   Numbered n = number(root);
+  check_numbers(n, walk);
   Bvh bvh;
   bvh.walk = walk;
   bvh.depth = n.depth;
