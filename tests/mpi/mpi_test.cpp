@@ -154,6 +154,50 @@ TEST(Mpi, ServingRanksKeepOneCopyOfEachTableAKernelReads) {
   EXPECT_EQ(held_by_serving_ranks(s), held);
 }
 
+// A kernel made by the backend itself and destroyed: the serving ranks let
+// go of it and of the table only it read.
+TEST(Mpi, ADestroyedKernelsTableIsLetGo) {
+  Table1D<Attrib1f> t(4096);
+  t.assign(std::vector<float>(4096, 1.0f));
+  Program p = SH_BEGIN_PROGRAM("let_go") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x + t[x.cast<int>()];
+  } SH_END;
+  Channel<Attrib1f> x(std::vector<float>(3000, 7.0f)), r;
+  auto held = [](const RunStats& s) {
+    std::size_t most = 0;
+    for (const mpi::PartStats& part : details(s).parts)
+      if (part.part != 0) most = std::max(most, part.held_bytes);
+    return most;
+  };
+  std::size_t before = held(run(p, {x}, {r}, backend("mpi")));
+  std::vector<float> table(2 * 4096, 2.0f), in(3000, 7.0f), out(3000);
+  {
+    std::unique_ptr<Kernel> own = find_backend("mpi").compile(passes::legalize(p.ir()), Options{});
+    RunArgs args;
+    args.count = in.size();
+    args.domain.extent = {in.size(), 1, 1};
+    args.inputs.push_back({ir::Type{ir::Scalar::F32, 1}, in.size(), in.data()});
+    args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, out.size(), out.data()});
+    TableView view;
+    view.element = ir::Type{ir::Scalar::F32, 1};
+    view.dims = {2 * 4096, 1, 1};
+    view.data = table.data();
+    view.id = std::uint64_t{1} << 60;  // no table of the runtime's
+    view.version = 1;
+    args.tables.push_back(view);
+    RunStats s;
+    own->run(args, s);
+    EXPECT_EQ(out[2999], 9.0f);
+    if (mpi::size() > 1) {
+      EXPECT_EQ(held(s), before + table.size() * sizeof(float));
+    }
+  }
+  EXPECT_EQ(held(run(p, {x}, {r}, backend("mpi"))), before) << "the destroyed kernel's table let go";
+  EXPECT_EQ(r[0], 8.0f);
+}
+
 // Chunks of ten floats: each result is 16 bytes of place, 40 of floats and
 // 8 of findings, 64 bytes, which the suite's run with SH_MPI_MESSAGE_BYTES=64
 // sends as one whole piece and an empty one.

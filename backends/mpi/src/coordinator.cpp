@@ -14,6 +14,7 @@
 #include "held_tables.hpp"
 #include "split_table.hpp"
 #include "wire.hpp"
+#include "world.hpp"
 
 namespace sh::mpi {
 namespace {
@@ -51,6 +52,17 @@ class Coordinator : public Kernel {
     if (split_.enabled) ask_to_read_split_tables(backend, local);
     local_ = backend.compile(p, local);
     if (ranks_ > 1) compile_everywhere(local);
+  }
+
+  // The serving ranks let go of the kernel and of the tables only it held
+  // (not at exit, when they have stopped).
+  ~Coordinator() override {
+    if (ranks_ <= 1 || !serving()) return;
+    tables_sent().clear_all(slots_);
+    Packer p;
+    p.put(Command::Forget).put(id_);
+    Traffic t;
+    broadcast(p.bytes(), t);
   }
 
   void run(const RunArgs& args, RunStats& stats) override { spread(args, nullptr, stats); }

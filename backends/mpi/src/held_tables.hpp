@@ -3,8 +3,8 @@
 // that read them.  Each kernel names, for each table of its program, the
 // table its last run read there (a slot); a table is kept while a slot
 // names it.  A kernel given another table in a slot (the same kernel over
-// another scene) lets go of the old one, so the ranks do not keep every
-// table they were ever sent.  Rank 0 and every serving rank follow the
+// another scene), or destroyed, lets go of the old one, so the ranks do
+// not keep every table they were ever sent.  Rank 0 and every serving rank follow the
 // same runs and so agree on what is kept: rank 0 sends a table again
 // exactly where the ranks let it go.
 #include <cstdint>
@@ -36,6 +36,9 @@ class HeldTables {
   void clear(TableSlots& slots, std::size_t i) {
     let_go(slots[i]);
     slots[i] = kNoTable;
+  }
+  void clear_all(TableSlots& slots) {
+    for (std::size_t i = 0; i < slots.size(); ++i) clear(slots, i);
   }
   template <class F>
   void for_each(F f) const {

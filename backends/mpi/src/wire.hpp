@@ -17,7 +17,7 @@ namespace sh::mpi {
 enum Tag : int { kReady = 1, kAssign, kDone, kResult, kFailed, kStats, kBlocks };
 
 // Commands rank 0 broadcasts to the serving ranks.
-enum class Command : std::uint32_t { Compile = 1, Run, Shutdown };
+enum class Command : std::uint32_t { Compile = 1, Run, Shutdown, Forget };
 
 class Packer {
  public:

@@ -46,6 +46,7 @@ class Worker {
       switch (u.get<Command>()) {
         case Command::Compile: compile(u); break;
         case Command::Run: run(u, t); break;
+        case Command::Forget: forget(u.get<std::uint64_t>()); break;
         case Command::Shutdown:
           release_split_tables();
           MPI_Finalize();
@@ -71,6 +72,13 @@ class Worker {
     } catch (const std::exception& e) {
       send(e.what(), 0, kFailed, t);
     }
+  }
+
+  void forget(std::uint64_t id) {
+    auto it = kernels_.find(id);
+    if (it == kernels_.end()) return;  // its compile failed here
+    tables_.clear_all(it->second.slots);
+    kernels_.erase(it);
   }
 
   void run(Unpacker& u, Traffic& t) {

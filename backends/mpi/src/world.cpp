@@ -59,6 +59,8 @@ void shutdown_workers() {
   MPI_Finalize();
 }
 
+bool serving() { return world_size > 1 && !finalised; }
+
 void start() {
   if (ensure_started() != 0) serve();
 }

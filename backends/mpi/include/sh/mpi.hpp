@@ -66,7 +66,7 @@ struct PartStats {
   // Bytes of tables the rank keeps between runs after this one: a serving
   // rank's copies of the whole tables and accumulators its kernels' last
   // runs read (one per table a kernel's program names; a kernel given
-  // another table there lets go of the old one).
+  // another table there, or destroyed, lets go of the old one).
   std::size_t held_bytes = 0;
 };
 
