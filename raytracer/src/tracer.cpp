@@ -29,6 +29,11 @@ Color3f vertex_light(const SceneTables& s, const Surface& x, const Vector3f& d, 
          e.weights(2) * l.vertex[base + e.corners(2)];
 }
 
+// Shadow rays stop this share short of their light: a light set into a
+// surface (a disk in a ceiling) lies in that surface's plane, where the
+// surface would stop every ray at the light itself.
+constexpr float kShortOfLight = 1.0f - 1e-4f;
+
 // Direct light from every point light the point sees: Phong, shadowed.
 Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view, bool diffuse) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
@@ -39,7 +44,7 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
     Vector3f dir = to_light / dist;
     Attrib1f facing = dot(x.n, dir);
     SH_IF(facing > 0.0f) {
-      Attrib1f shadowed = intersect.occluded(leave(x, dir), dir, dist);
+      Attrib1f shadowed = intersect.occluded(leave(x, dir), dir, dist * kShortOfLight);
       sum += (1.0f - shadowed) * phong(x, view, dir, facing, diffuse) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;
@@ -47,9 +52,9 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
 }
 
 // Light from every disk light: Phong towards its centre, times the share
-// of shadow rays to its sample points that reach it.  The samples are
-// turned by a per-pixel angle so the pattern does not repeat in the
-// penumbra.
+// of shadow rays to its sample points that reach it (a sample behind the
+// surface's tangent plane does not).  The samples are turned by a
+// per-pixel angle so the pattern does not repeat in the penumbra.
 Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view,
                     const Attrib2f& turn) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
@@ -66,7 +71,9 @@ Color3f soft_direct(const SceneTables& s, Intersector& intersect, const Surface&
         Vector3f to_sample = centre + a * du + b * dv - x.p;
         Attrib1f dist = length(to_sample);
         Vector3f towards = to_sample / dist;
-        reached += 1.0f - intersect.occluded(leave(x, towards), towards, dist);
+        SH_IF(dot(x.n, towards) > 0.0f) {
+          reached += 1.0f - intersect.occluded(leave(x, towards), towards, dist * kShortOfLight);
+        } SH_ENDIF;
       } SH_ENDFOR;
       sum += reached / s.sample_count.cast<float>() * phong(x, view, dir, facing) * color;
     } SH_ENDIF;

@@ -53,6 +53,51 @@ TEST(SoftShadows, ExtremeDisksStayFinite) {
   expect_finite(g, "grazing light");
 }
 
+// A floor under a ceiling with a disk light set into it: the shadow rays
+// end a hair short of the light, not on the ceiling around it.
+TEST(SoftShadows, ADiskSetIntoTheCeilingLightsTheFloor) {
+  Scene s;
+  s.materials.push_back({});
+  s.ambient = 0;
+  add_quad(s, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, 0);  // floor, facing up
+  add_quad(s, {-2, 1, -2}, {4, 0, 0}, {0, 0, 4}, 0);  // ceiling at y = 1
+  s.disk_lights.push_back({{0.3f, 1, 0.2f}, {0, -1, 0}, 0.2f, {1, 1, 1}});
+  s.camera = {{0, 0.5f, 3}, {0, 0, 0}, {0, 1, 0}, 40};
+  Image img = render(s, "cpu", 16);
+  std::size_t floor = 0, lit = 0;
+  for (std::size_t p = 0; p < img.triangle.size(); ++p)
+    if (img.triangle[p] >= 0 && img.triangle[p] < 2) ++floor, lit += img.rgb[3 * p] > 0.05f;
+  ASSERT_GT(floor, 100u);
+  EXPECT_EQ(lit, floor);
+}
+
+// A disk standing on the floor, half of it below: only the samples above
+// the floor's plane reach it, so it lights the floor about half as much as
+// a point light at its centre (nothing stands between them and the floor).
+TEST(SoftShadows, SamplesBehindTheSurfaceDoNotLightIt) {
+  auto floor_light = [](bool disk) {
+    Scene s;
+    s.materials.push_back({});
+    s.ambient = 0;
+    add_quad(s, {-4, 0, -4}, {0, 0, 8}, {8, 0, 0}, 0);
+    Vec3 centre{1.5f, 0.05f, 0};
+    if (disk)
+      s.disk_lights.push_back({centre, {1, 0, 0}, 1.0f, {1, 1, 1}});
+    else
+      s.lights.push_back({centre, {1, 1, 1}});
+    s.camera = {{-1, 3, 3}, {0, 0, 0}, {0, 1, 0}, 40};
+    Image img = render(s, "cpu", 64, SamplePattern::Random, sh::Precision::F32, 32, 24);
+    double sum = 0;
+    for (std::size_t p = 0; p < img.triangle.size(); ++p)
+      if (img.triangle[p] >= 0) sum += img.rgb[3 * p];
+    return sum;
+  };
+  double straddling = floor_light(true), point = floor_light(false);
+  ASSERT_GT(point, 0.0);
+  EXPECT_LT(straddling, 0.7 * point) << "samples under the floor counted as reaching it";
+  EXPECT_GT(straddling, 0.3 * point);
+}
+
 TEST(SoftShadows, OneSampleGivesAHardShadowAndMoreSamplesConverge) {
   Scene s = builtin_scene("soft");
   Image reference = render(s, "cpu", 256);

@@ -74,6 +74,8 @@ std::vector<Case> cases() {
       {"large, seen from close above", {0.1, 0.1, 0.05}, {-1, -1, 0}, {3, -1, 0}, {-1, 3, 0}},
       {"seen from just above (near 2 pi)", {0, 0, 1e-2}, {-10, -10, 0}, {30, -10, 0}, {-10, 30, 0}},
       {"far from the origin", {1000, 2000, 3000}, {1001, 2000, 3000}, {1000, 2001, 3000}, {1000, 2000, 3001}},
+      {"1e13 across (cubes of distances pass float's range)", {0, 0, 0}, {1e13, 0, 2e13}, {0, 1e13, 2e13},
+       {-1e13, -1e13, 2e13}},
   };
 }
 
