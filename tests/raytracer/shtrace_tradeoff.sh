@@ -13,6 +13,19 @@ grep -q "^16 settings; csv: .*tradeoff.csv, plot: .*tradeoff.png$" "$dir/said.tx
 test "$(head -n 1 "$out.csv" | cut -c 1-7)" = backend
 test "$(head -c 4 "$out.png" | tail -c 3)" = PNG
 if grep -q "gnuplot failed" "$dir/progress.txt"; then cat "$dir/progress.txt"; exit 1; fi
+# The front: of settings whose errors lie within 1 % of each other, one at
+# most (the fastest) is on it.
+awk -F, 'NR > 1 && $1 !~ /^#/ { ms[NR] = $8; e[NR] = $9; p[NR] = $12 }
+         END { for (i in e) for (j in e) if (i != j && p[i] && p[j] && e[j] <= e[i] * 1.01 && e[j] >= e[i] * 0.99) {
+                 print "both on the front though their errors differ by under 1 %: rows " i ", " j; exit 1 } }' "$out.csv"
+# An output that cannot be put in place (its name is a directory) is an
+# error that says why, and leaves no temporary file.
+blocked="$dir/blocked/tradeoff"
+mkdir -p "$blocked.csv"
+if "$shtrace" tradeoff --size 32x24 --backends cpu --out "$blocked" > /dev/null 2> "$dir/blocked.txt"; then
+  echo "an --out whose CSV is a directory was accepted"; exit 1
+fi
+grep -q "tradeoff.csv: cannot write: Is a directory" "$dir/blocked.txt" || { cat "$dir/blocked.txt"; exit 1; }
 leftovers=$(find "$dir" -name "*.tmp")
 test -z "$leftovers" || { echo "temporary files left: $leftovers"; exit 1; }
-echo "csv, script and plot under a quoted directory; no temporary files"
+echo "csv, script and plot under a quoted directory; one setting per error on the front; no temporary files"
