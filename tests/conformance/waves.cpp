@@ -163,6 +163,29 @@ TEST_P(Conformance, WavesWithoutARefinerRunTheElementsStillGoingOneStepAWave) {
   EXPECT_TRUE(stats.refined.empty());
 }
 
+// A negative cap on the waves is refused (it once let a run that always
+// asks for more go on for ever); a cap of 0 stops at the first request.
+TEST_P(Conformance, WavesRefuseANegativeCapAndStopAtTheCap) {
+  sh::Program p = SH_BEGIN_PROGRAM("always more") {
+    sh::InputAttrib1i x;
+    sh::OutputAttrib1i request;
+    request = x * 0;  // 0: another wave, always
+  } SH_END;
+  sh::Channel<sh::Attrib1i> x(std::vector<std::int32_t>{1, 2, 3}), request;
+  try {
+    sh::run(p, {x}, {request}, sh::Waves{nullptr, 0, {}, -1}, choice());
+    FAIL() << "a negative cap was accepted";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("max_waves must be 0 or more, not -1"), std::string::npos) << e.what();
+  }
+  try {
+    sh::run(p, {x}, {request}, sh::Waves{nullptr, 0, {}, 2}, choice());
+    FAIL() << "waves went on past the cap";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("after 2 waves"), std::string::npos) << e.what();
+  }
+}
+
 TEST_P(Conformance, WavesRefuseARequestOutputThatIsNotAnInt) {
   sh::Program p = SH_BEGIN_PROGRAM("bad waves") {
     sh::InputAttrib1f x;

@@ -290,6 +290,8 @@ std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& 
 namespace {
 
 void check_waves(const ir::Program& p, const Waves& w) {
+  if (w.max_waves < 0)
+    throw Error("program '" + p.name + "': waves: max_waves must be 0 or more, not " + std::to_string(w.max_waves));
   if (ir::uses(p, ir::Op::Position))
     throw Error("program '" + p.name + "' reads position(), which waves cannot keep: a later wave runs its elements "
                 "gathered out of their places");

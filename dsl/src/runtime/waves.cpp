@@ -145,11 +145,15 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
   Stopped stopped;
   stopped.collect(all, w.request_output, {});
   Scratch scratch;
+  // This run's waves after the first (stats may hold other runs' too),
+  // counted before the refiner builds for one that will not run.
+  int waves = 0;
   while (!stopped.empty()) {
-    if (w.refiner) refine(*w.refiner, stopped);
-    if (++stats.waves > static_cast<std::size_t>(w.max_waves))
+    if (++waves > w.max_waves)
       throw Error("running in waves: still " + std::to_string(stopped.positions().size()) + " elements stopped after " +
                   std::to_string(w.max_waves) + " waves");
+    ++stats.waves;
+    if (w.refiner) refine(*w.refiner, stopped);
     if (w.refiner) w.refiner->bind(all.tables);
     std::vector<std::size_t> at = stopped.positions();
     RunArgs part = gather(all, w, at, scratch);
