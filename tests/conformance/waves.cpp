@@ -186,6 +186,36 @@ TEST_P(Conformance, WavesRefuseANegativeCapAndStopAtTheCap) {
   }
 }
 
+// An error in a later wave names the element by its place in the stream,
+// not in the gathered stopped elements: element 10 alone takes a third
+// wave, and runs a loop past the cap there.
+TEST_P(Conformance, AnErrorInALaterWaveNamesTheElementsOwnPlace) {
+  sh::Program p = SH_BEGIN_PROGRAM("late runaway") {
+    sh::InputAttrib1i id;
+    sh::InputAttrib1i waves_so_far;
+    sh::OutputAttrib1i request;
+    sh::OutputAttrib1i waves_now;
+    sh::Attrib1i w = waves_so_far + 1;
+    sh::Attrib1f x = 1.0f;
+    SH_IF(id == 10 && w == 3) {
+      SH_WHILE(x > 0.0f) { x += 1.0f; } SH_ENDWHILE;
+    } SH_ENDIF;
+    waves_now = w + (x < 0.0f).cast<int>();  // reads the loop's result, so it is not left out
+    request = cond(id == 10 && w < 3, sh::Attrib1i(0), sh::Attrib1i(-1));
+  } SH_END;
+  std::vector<std::int32_t> ids(40), zeros(40, 0);
+  for (int i = 0; i < 40; ++i) ids[i] = i;
+  sh::Channel<sh::Attrib1i> id(ids), so_far(zeros), request, now;
+  sh::Options o;
+  o.max_loop_iterations = 1000;
+  try {
+    sh::run(p, {id, so_far}, {request, now}, sh::Waves{nullptr, 0, {{1, 1}}}, choice(o));
+    FAIL() << "an endless loop must be an error";
+  } catch (const sh::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("element 10 "), std::string::npos) << e.what();
+  }
+}
+
 TEST_P(Conformance, WavesRefuseARequestOutputThatIsNotAnInt) {
   sh::Program p = SH_BEGIN_PROGRAM("bad waves") {
     sh::InputAttrib1f x;

@@ -83,7 +83,7 @@ class CpuKernel : public Kernel {
       if (!args.tables[i].data) args.tables[i].source->count_reads(static_cast<std::size_t>(inline_reads[i].load()));
     if (status[0] != 0) {
       const ir::Stmt* loop = jitted_.loops().at(static_cast<std::size_t>(status[0] - 1));
-      throw runaway_loop(program_, *loop, args.domain.first + static_cast<std::uint64_t>(status[1]),
+      throw runaway_loop(program_, *loop, args.element(static_cast<std::size_t>(status[1])),
                          options_.max_loop_iterations);
     }
     auto details = std::make_shared<RunDetails>();

@@ -153,7 +153,7 @@ class OpenClKernel : public Kernel {
       clFinish(device_->queue);
       throw;
     }
-    if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.domain.first) + status[1]);
+    if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.element(static_cast<std::size_t>(status[1]))));
     stats.details = std::move(moved);
   }
 

@@ -113,6 +113,10 @@ struct RunArgs {
   // Run on the calling thread alone: its caller spreads runs over threads
   // itself (run_fused's strips).  A backend that runs in place honours it.
   bool on_this_thread = false;
+  // Where the run's elements lie in the whole stream, where they are not
+  // domain.first on (a wave's gathered elements): what messages name.
+  const std::vector<std::size_t>* places = nullptr;
+  std::size_t element(std::size_t i) const { return places ? (*places)[i] : domain.first + i; }
 };
 
 // Figures a backend reports beyond RunStats' own (the mpi backend's per

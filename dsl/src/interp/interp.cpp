@@ -29,9 +29,8 @@ class Machine {
   }
 
  private:
-  // The element's place in the whole stream, which a run over a part of it
-  // (an mpi chunk, a strip) starts at domain.first.
-  std::size_t element_number() const { return a_.domain.first + element_; }
+  // The element's place in the whole stream (RunArgs::element).
+  std::size_t element_number() const { return a_.element(element_); }
 
   Reg held(ir::VarId id, Reg r) const {
     ir::Scalar s = p_.type_of(id).scalar;

@@ -67,6 +67,7 @@ class Scratch {
     if (buffers_[slot].size() < bytes) buffers_[slot].resize(bytes);
     return buffers_[slot].data();
   }
+  std::vector<std::size_t> places;  // the gathered elements' places in the whole stream
 
  private:
   std::vector<std::vector<char>> buffers_;
@@ -77,6 +78,9 @@ class Scratch {
 RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_t>& at, Scratch& scratch) {
   RunArgs c = full;
   c.count = at.size();
+  scratch.places.resize(at.size());
+  for (std::size_t k = 0; k < at.size(); ++k) scratch.places[k] = full.element(at[k]);
+  c.places = &scratch.places;
   std::size_t slot = 0;
   auto gathered = [&](const BufferView& from) {
     std::size_t n = ir::element_bytes(from.type);
@@ -92,11 +96,11 @@ RunArgs gather(const RunArgs& full, const Waves& w, const std::vector<std::size_
   return c;
 }
 
-void refine(Refiner& refiner, const Stopped& stopped) {
+void refine(Refiner& refiner, const Stopped& stopped, const RunArgs& all) {
   std::vector<std::int32_t> requests = stopped.requests();
   if (refiner.refine(requests, stopped.width()) == 0)
     throw Error("running in waves: the " + refiner.kind() + " refiner built nothing for request " +
-                std::to_string(requests.front()) + " (element " + std::to_string(stopped.positions().front()) +
+                std::to_string(requests.front()) + " (element " + std::to_string(all.element(stopped.positions().front())) +
                 "), which would stop it forever");
 }
 
@@ -153,7 +157,7 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
       throw Error("running in waves: still " + std::to_string(stopped.positions().size()) + " elements stopped after " +
                   std::to_string(w.max_waves) + " waves");
     ++stats.waves;
-    if (w.refiner) refine(*w.refiner, stopped);
+    if (w.refiner) refine(*w.refiner, stopped, all);
     if (w.refiner) w.refiner->bind(all.tables);
     std::vector<std::size_t> at = stopped.positions();
     RunArgs part = gather(all, w, at, scratch);
