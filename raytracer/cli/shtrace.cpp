@@ -272,7 +272,7 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   shtrace::print_lazy_builds(report);
   if (report.lanes)
     std::printf("wavefront: %zu waves after the first, %zu path runs in them; lanes busy in the bounce loop: %.0f %% as one "
-                "kernel, %.0f %% in waves (batches of %d)\n",
+                "kernel, %.0f %% in waves (modelled: each wave's paths as one stream in batches of %d)\n",
                 report.waves, report.resumed, 100 * report.lanes->whole(), 100 * report.lanes->waves(), report.lanes->lanes);
   return 0;
 }

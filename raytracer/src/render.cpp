@@ -145,7 +145,7 @@ void Renderer::count(const RunStats& s, RenderReport& r) const {
   r.compile_ms += s.compile_ms;
   r.compile_cpu_ms += s.compile_cpu_ms;
   add_phases(r.compile_phases, s.compile_phases);
-  r.waves += s.waves;
+  r.waves = std::max(r.waves, s.waves);  // the deepest band, as one run over the image would count
   r.resumed += s.resumed;
   if (!s.refined.empty()) r.refined = s.refined;
   add_details(r.details, s.details);

@@ -186,7 +186,7 @@ class Coordinator : public Kernel {
         if (!summary.empty()) stats.refined.push_back(std::move(summary));
     }
     for (const PartStats& p : parts) {
-      stats.waves += p.waves;
+      stats.waves = std::max(stats.waves, p.waves);
       stats.resumed += p.resumed;
     }
     details->parts = std::move(parts);
@@ -387,7 +387,7 @@ class Coordinator : public Kernel {
         run_in_waves(*local_, slice, *s.waves, run);
       else
         local_->run(slice, run);
-      mine.waves += run.waves;
+      mine.waves = std::max(mine.waves, run.waves);
       mine.resumed += run.resumed;
       mine.elements += n;
       for (std::string& finding : run.diagnostics) s.findings.emplace_back(begin, std::move(finding));

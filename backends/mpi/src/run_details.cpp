@@ -20,7 +20,7 @@ void add_part(std::vector<PartStats>& total, const PartStats& p) {
   it->idle_s += p.idle_s;
   it->bytes_sent += p.bytes_sent;
   it->bytes_received += p.bytes_received;
-  it->waves += p.waves;
+  it->waves = std::max(it->waves, p.waves);
   it->resumed += p.resumed;
   it->held_bytes = p.held_bytes;  // a state, not a sum: the later run's
 }

@@ -219,7 +219,7 @@ class Worker {
         run_in_waves(*k.kernel, args, *waves, run);
       else
         k.kernel->run(args, run);
-      stats.waves += run.waves;
+      stats.waves = std::max(stats.waves, run.waves);
       stats.resumed += run.resumed;
     } catch (const std::exception& e) {
       send(e.what(), 0, kFailed, t);

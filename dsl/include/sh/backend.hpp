@@ -148,8 +148,10 @@ struct RunStats {
   double run_ms = 0;
   std::size_t elements = 0;
   std::vector<std::string> diagnostics;  // checked mode findings
-  // Runs in waves (waves.hpp): waves after the first, element runs they
-  // took, and per part the refiner's summary of what it has built.
+  // Runs in waves (waves.hpp): waves after the first (the most any part
+  // took, where a run is split into parts: mpi chunks, a render's bands),
+  // element runs they took, and per part the refiner's summary of what it
+  // has built.
   std::size_t waves = 0, resumed = 0;
   // run_fused: the strips of rows its two programs ran in together; 0
   // where they ran one after the other (sh/fused.hpp).
