@@ -108,6 +108,14 @@ TEST(Mpi, ARankThatFailsIsNamedAndTheJobGoesOn) {
   EXPECT_EQ(out[3999], -2.f);
 }
 
+// The most bytes of tables a serving rank keeps after a run.
+std::size_t held_by_serving_ranks(const RunStats& s) {
+  std::size_t most = 0;
+  for (const mpi::PartStats& part : details(s).parts)
+    if (part.part != 0) most = std::max(most, part.held_bytes);
+  return most;
+}
+
 // One kernel run over a new table each time (a new scene for the same
 // tracer): the serving ranks keep one copy, not one per table ever sent.
 TEST(Mpi, ServingRanksKeepOneCopyOfEachTableAKernelReads) {
@@ -120,12 +128,6 @@ TEST(Mpi, ServingRanksKeepOneCopyOfEachTableAKernelReads) {
     } SH_END;
   };
   Channel<Attrib1f> x(std::vector<float>(3000, 7.0f)), r;
-  auto held_by_serving_ranks = [](const RunStats& s) {
-    std::size_t most = 0;
-    for (const mpi::PartStats& part : details(s).parts)
-      if (part.part != 0) most = std::max(most, part.held_bytes);
-    return most;
-  };
   // What the ranks hold besides (earlier tests' kernels' tables), and
   // this kernel's one table.
   std::size_t held = 0;
@@ -165,13 +167,7 @@ TEST(Mpi, ADestroyedKernelsTableIsLetGo) {
     r = x + t[x.cast<int>()];
   } SH_END;
   Channel<Attrib1f> x(std::vector<float>(3000, 7.0f)), r;
-  auto held = [](const RunStats& s) {
-    std::size_t most = 0;
-    for (const mpi::PartStats& part : details(s).parts)
-      if (part.part != 0) most = std::max(most, part.held_bytes);
-    return most;
-  };
-  std::size_t before = held(run(p, {x}, {r}, backend("mpi")));
+  std::size_t before = held_by_serving_ranks(run(p, {x}, {r}, backend("mpi")));
   std::vector<float> table(2 * 4096, 2.0f), in(3000, 7.0f), out(3000);
   {
     std::unique_ptr<Kernel> own = find_backend("mpi").compile(passes::legalize(p.ir()), Options{});
@@ -191,10 +187,10 @@ TEST(Mpi, ADestroyedKernelsTableIsLetGo) {
     own->run(args, s);
     EXPECT_EQ(out[2999], 9.0f);
     if (mpi::size() > 1) {
-      EXPECT_EQ(held(s), before + table.size() * sizeof(float));
+      EXPECT_EQ(held_by_serving_ranks(s), before + table.size() * sizeof(float));
     }
   }
-  EXPECT_EQ(held(run(p, {x}, {r}, backend("mpi"))), before) << "the destroyed kernel's table let go";
+  EXPECT_EQ(held_by_serving_ranks(run(p, {x}, {r}, backend("mpi"))), before) << "the destroyed kernel's table let go";
   EXPECT_EQ(r[0], 8.0f);
 }
 
