@@ -29,9 +29,10 @@ Color3f vertex_light(const SceneTables& s, const Surface& x, const Vector3f& d, 
          e.weights(2) * l.vertex[base + e.corners(2)];
 }
 
-// Shadow rays stop this share short of their light: a light set into a
-// surface (a disk in a ceiling) lies in that surface's plane, where the
-// surface would stop every ray at the light itself.
+// Shadow rays to a disk light's samples stop this share short of them: a
+// disk set into a surface (a ceiling's light) lies in that surface's
+// plane, where the surface would stop every ray at the light itself.  A
+// point light's rays go all the way: an occluder near it still shadows.
 constexpr float kShortOfLight = 1.0f - 1e-4f;
 
 // Direct light from every point light the point sees: Phong, shadowed.
@@ -44,7 +45,7 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
     Vector3f dir = to_light / dist;
     Attrib1f facing = dot(x.n, dir);
     SH_IF(facing > 0.0f) {
-      Attrib1f shadowed = intersect.occluded(leave(x, dir), dir, dist * kShortOfLight);
+      Attrib1f shadowed = intersect.occluded(leave(x, dir), dir, dist);
       sum += (1.0f - shadowed) * phong(x, view, dir, facing, diffuse) * light_color;
     } SH_ENDIF;
   } SH_ENDFOR;

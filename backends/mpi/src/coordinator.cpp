@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <mutex>
 #include <set>
 
 #include "sh/error.hpp"
@@ -14,7 +15,6 @@
 #include "held_tables.hpp"
 #include "split_table.hpp"
 #include "wire.hpp"
-#include "world.hpp"
 
 namespace sh::mpi {
 namespace {
@@ -31,6 +31,35 @@ struct Sent {
 HeldTables<Sent>& tables_sent() {
   static HeldTables<Sent> sent;
   return sent;
+}
+
+// Kernels destroyed since rank 0 last spoke to the serving ranks, with the
+// tables they held there.  A kernel may die on any thread, at any time; the
+// message that the ranks may let go of it waits for rank 0's next command,
+// sent from the thread that runs kernels.
+struct Forgotten {
+  std::mutex mutex;
+  std::vector<std::pair<std::uint64_t, TableSlots>> kernels;
+};
+Forgotten& forgotten() {
+  static Forgotten* f = new Forgotten;  // never destroyed: kernels die in static destructors too
+  return *f;
+}
+
+// Tells the serving ranks of every kernel destroyed since the last call.
+void send_forgotten() {
+  std::vector<std::pair<std::uint64_t, TableSlots>> gone;
+  {
+    std::lock_guard<std::mutex> lock(forgotten().mutex);
+    gone.swap(forgotten().kernels);
+  }
+  for (auto& [id, slots] : gone) {
+    tables_sent().clear_all(slots);
+    Packer p;
+    p.put(Command::Forget).put(id);
+    Traffic t;
+    broadcast(p.bytes(), t);
+  }
 }
 
 // Refiners whose seed the serving ranks have (each rank then builds its own).
@@ -51,18 +80,19 @@ class Coordinator : public Kernel {
     Backend& backend = find_backend(local_name_);
     if (split_.enabled) ask_to_read_split_tables(backend, local);
     local_ = backend.compile(p, local);
-    if (ranks_ > 1) compile_everywhere(local);
+    if (ranks_ <= 1) return;
+    try {
+      compile_everywhere(local);
+    } catch (...) {
+      forget();  // the ranks where it compiled hold it
+      throw;
+    }
   }
 
-  // The serving ranks let go of the kernel and of the tables only it held
-  // (not at exit, when they have stopped).
+  // The serving ranks let go of the kernel and of the tables only it held,
+  // told before rank 0's next command.
   ~Coordinator() override {
-    if (ranks_ <= 1 || !serving()) return;
-    tables_sent().clear_all(slots_);
-    Packer p;
-    p.put(Command::Forget).put(id_);
-    Traffic t;
-    broadcast(p.bytes(), t);
+    if (ranks_ > 1) forget();
   }
 
   void run(const RunArgs& args, RunStats& stats) override { spread(args, nullptr, stats); }
@@ -111,7 +141,13 @@ class Coordinator : public Kernel {
     }
   };
 
+  void forget() {
+    std::lock_guard<std::mutex> lock(forgotten().mutex);
+    forgotten().kernels.emplace_back(id_, std::move(slots_));
+  }
+
   void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
+    if (ranks_ > 1) send_forgotten();
     Traffic t;
     std::vector<bool> split = which_split(whole);
     if (ranks_ > 1) broadcast(run_command(whole, split, waves), t);
@@ -262,6 +298,7 @@ class Coordinator : public Kernel {
   }
 
   void compile_everywhere(const sh::Options& local) {
+    send_forgotten();
     Packer p;
     p.put(Command::Compile).put(id_).put(local_name_);
     pack(p, local);

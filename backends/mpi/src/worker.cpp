@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <deque>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -88,7 +89,8 @@ class Worker {
     LocalKernel& k = kernels_.at(id);
     RunArgs args;
     std::vector<SplitTable*> split;
-    receive_tables(u, k, args, split, t);
+    std::deque<Table> sums;
+    receive_tables(u, k, args, split, sums, t);
     if (u.get<bool>()) {  // new uniform values; otherwise the last ones hold
       k.uniforms.resize(k.program.uniforms.size());
       for (auto& value : k.uniforms) value = u.get<std::array<double, 4>>();
@@ -149,11 +151,15 @@ class Worker {
     return w;
   }
 
-  void receive_tables(Unpacker& u, LocalKernel& k, RunArgs& args, std::vector<SplitTable*>& split, Traffic& t) {
+  // An accumulator's zeros are the run's own (`sums`, kept until its sums
+  // go back to rank 0), not a held table: rank 0 holds none for them.
+  void receive_tables(Unpacker& u, LocalKernel& k, RunArgs& args, std::vector<SplitTable*>& split,
+                      std::deque<Table>& sums, Traffic& t) {
     for (std::size_t i = 0; i < k.program.tables.size(); ++i) {
       auto id = u.get<std::uint64_t>();
       if (k.program.tables[i].accumulator) {
-        Table& table = tables_.hold(k.slots, i, id);
+        tables_.clear(k.slots, i);
+        Table& table = sums.emplace_back();
         table.view = u.get<TableView>();
         table.bytes.assign(table.view.bytes(), '\0');
         table.view.data = table.view.sums = table.bytes.data();

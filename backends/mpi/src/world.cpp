@@ -59,8 +59,6 @@ void shutdown_workers() {
   MPI_Finalize();
 }
 
-bool serving() { return world_size > 1 && !finalised; }
-
 void start() {
   if (ensure_started() != 0) serve();
 }

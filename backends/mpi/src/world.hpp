@@ -6,9 +6,6 @@ namespace sh::mpi {
 int ensure_started();
 // Rank 0: tells the serving ranks to stop (at exit).
 void shutdown_workers();
-// Rank 0: whether serving ranks listen for commands (more than one rank,
-// not yet shut down).
-bool serving();
 // Ranks other than 0: serve rank 0 until told to stop, then exit.
 [[noreturn]] void serve();
 

@@ -116,7 +116,7 @@ struct RunArgs {
   // Where the run's elements lie in the whole stream, where they are not
   // domain.first on (a wave's gathered elements): what messages name.
   const std::vector<std::size_t>* places = nullptr;
-  std::size_t element(std::size_t i) const { return places ? (*places)[i] : domain.first + i; }
+  std::size_t element(std::size_t i) const { return places && i < places->size() ? (*places)[i] : domain.first + i; }
 };
 
 // Figures a backend reports beyond RunStats' own (the mpi backend's per
