@@ -68,8 +68,8 @@ Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c,
 // origin, from the triangle's plane: t = n.(v0 - o) / n.d, n = e1 x e2,
 // whose numerator and denominator each have a sign beyond their rounding
 // (at most 16 roundings deep, of the terms' sizes), and agree.  The edges
-// and v0 - o are scaled to unit size first (signs do not change), so that
-// their products cannot overflow.  The bound
+// are scaled by the first one's size first (signs do not change), so that
+// their products with v0 - o cannot overflow.  The bound
 // above grows as the square of the distance along the ray over the
 // triangle's size, so it turns away small triangles far along the ray and
 // large ones near its origin; the plane's terms stay the size of the
@@ -77,9 +77,9 @@ Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c,
 // side it goes, so its own triangle's plane lies behind it: n.(v0 - o)
 // and n.d differ in sign there.
 Attrib1f in_front_of_plane(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2) {
-  Attrib3f e1_far = v1 - v0, e2_far = v2 - v0, p_far = v0 - r.o;
-  Attrib1f edge_scale = 1.0f / max(max(max_component(abs(e1_far)), max_component(abs(e2_far))), 1e-30f);
-  Attrib3f e1 = e1_far * edge_scale, e2 = e2_far * edge_scale, p = p_far / max(max_component(abs(p_far)), 1e-30f);
+  Attrib3f e1_far = v1 - v0, e2_far = v2 - v0, p = v0 - r.o;
+  Attrib1f edge_scale = 1.0f / max(max_component(abs(e1_far)), 1e-30f);
+  Attrib3f e1 = e1_far * edge_scale, e2 = e2_far * edge_scale;
   Attrib3f n = cross(e1, e2);
   Attrib3f size = abs(e1(1, 2, 0) * e2(2, 0, 1)) + abs(e1(2, 0, 1) * e2(1, 2, 0));  // of each component's terms
   Attrib1f num = dot(n, p), den = dot(n, r.d);
