@@ -67,13 +67,13 @@ Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c,
 // Whether a hit the bound above could not place lies in front of the
 // origin, from the triangle's plane: t = n.(v0 - o) / n.d, n = e1 x e2,
 // whose numerator and denominator each have a sign beyond their rounding
-// (at most 16 roundings deep, of the terms' sizes), and agree.  The edges
-// are scaled by the first one's size first (signs do not change), so that
-// their products with v0 - o cannot overflow.  The bound
+// (at most 16 roundings deep, of the terms' sizes), and agree.  The bound
 // above grows as the square of the distance along the ray over the
 // triangle's size, so it turns away small triangles far along the ray and
 // large ones near its origin; the plane's terms stay the size of the
-// distance to the plane.  A ray leaving a surface is pushed off it to the
+// distance to the plane.  The edges are scaled by the first one's size
+// first (signs do not change), so that their products with v0 - o cannot
+// overflow.  A ray leaving a surface is pushed off it to the
 // side it goes, so its own triangle's plane lies behind it: n.(v0 - o)
 // and n.d differ in sign there.
 Attrib1f in_front_of_plane(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2) {

@@ -29,12 +29,6 @@ Color3f vertex_light(const SceneTables& s, const Surface& x, const Vector3f& d, 
          e.weights(2) * l.vertex[base + e.corners(2)];
 }
 
-// Shadow rays to a disk light's samples stop this share short of them: a
-// disk set into a surface (a ceiling's light) lies in that surface's
-// plane, where the surface would stop every ray at the light itself.  A
-// point light's rays go all the way: an occluder near it still shadows.
-constexpr float kShortOfLight = 1.0f - 1e-4f;
-
 // Direct light from every point light the point sees: Phong, shadowed.
 Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, const Vector3f& view, bool diffuse) {
   Color3f sum = ConstColor3f(0.0f, 0.0f, 0.0f);
@@ -51,6 +45,12 @@ Color3f direct(const SceneTables& s, Intersector& intersect, const Surface& x, c
   } SH_ENDFOR;
   return sum;
 }
+
+// Shadow rays to a disk light's samples stop this share short of them: a
+// disk set into a surface (a ceiling's light) lies in that surface's
+// plane, where the surface would stop every ray at the light itself.  A
+// point light's rays go all the way: an occluder near it still shadows.
+constexpr float kShortOfLight = 1.0f - 1e-4f;
 
 // Light from every disk light: Phong towards its centre, times the share
 // of shadow rays to its sample points that reach it (a sample behind the

@@ -116,17 +116,19 @@ std::size_t held_by_serving_ranks(const RunStats& s) {
   return most;
 }
 
+// x + t[x]: a program that reads one table.
+Program adding(const Table1D<Attrib1f>& t) {
+  return SH_BEGIN_PROGRAM("adding") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x + t[x.cast<int>()];
+  } SH_END;
+}
+
 // One kernel run over a new table each time (a new scene for the same
 // tracer): the serving ranks keep one copy, not one per table ever sent.
 TEST(Mpi, ServingRanksKeepOneCopyOfEachTableAKernelReads) {
   constexpr std::size_t kTableBytes = 4096 * sizeof(float);
-  auto adding = [](const Table1D<Attrib1f>& t) {
-    return SH_BEGIN_PROGRAM("held") {
-      InputAttrib1f x;
-      OutputAttrib1f r;
-      r = x + t[x.cast<int>()];
-    } SH_END;
-  };
   Channel<Attrib1f> x(std::vector<float>(3000, 7.0f)), r;
   // What the ranks hold besides (earlier tests' kernels' tables), and
   // this kernel's one table.
@@ -161,11 +163,7 @@ TEST(Mpi, ServingRanksKeepOneCopyOfEachTableAKernelReads) {
 TEST(Mpi, ADestroyedKernelsTableIsLetGo) {
   Table1D<Attrib1f> t(4096);
   t.assign(std::vector<float>(4096, 1.0f));
-  Program p = SH_BEGIN_PROGRAM("let_go") {
-    InputAttrib1f x;
-    OutputAttrib1f r;
-    r = x + t[x.cast<int>()];
-  } SH_END;
+  Program p = adding(t);
   Channel<Attrib1f> x(std::vector<float>(3000, 7.0f)), r;
   std::size_t before = held_by_serving_ranks(run(p, {x}, {r}, backend("mpi")));
   std::vector<float> table(2 * 4096, 2.0f), in(3000, 7.0f), out(3000);

@@ -4,9 +4,9 @@
 // table its last run read there (a slot); a table is kept while a slot
 // names it.  A kernel given another table in a slot (the same kernel over
 // another scene), or destroyed, lets go of the old one, so the ranks do
-// not keep every table they were ever sent.  Rank 0 and every serving rank follow the
-// same runs and so agree on what is kept: rank 0 sends a table again
-// exactly where the ranks let it go.
+// not keep every table they were ever sent.  Rank 0 and every serving rank
+// follow the same runs and so agree on what is kept: rank 0 sends a table
+// again exactly where the ranks let it go.
 #include <cstdint>
 #include <limits>
 #include <map>

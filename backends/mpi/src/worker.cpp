@@ -3,8 +3,8 @@
 #include <mpi.h>
 
 #include <chrono>
-#include <deque>
 #include <cstdlib>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>

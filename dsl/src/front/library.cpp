@@ -51,8 +51,9 @@ Value cond(const Value& c, const Value& a, const Value& b) {
 struct Scaled {
   Value m, d, s;
 };
+static Value largest_magnitude(const Value& v) { return fold(ir::Op::Max, apply(ir::Op::Abs, {v})); }
 static Scaled scaled(const Value& v) {
-  Value m = fold(ir::Op::Max, apply(ir::Op::Abs, {v}));
+  Value m = largest_magnitude(v);
   double most = v.scalar() == ir::Scalar::F64 ? 0x1p1021 : 0x1p125;
   Value d = apply(ir::Op::Min, {cond(apply(ir::Op::Gt, {m, k(m, 0)}), m, k(m, 1)), k(m, most)});
   return {m, d, apply(ir::Op::Div, {v, d})};
@@ -94,7 +95,7 @@ Value refract(const Value& v, const Value& n, const Value& eta) {
   Value root = apply(ir::Op::Sqrt, {apply(ir::Op::Min, {apply(ir::Op::Max, {kk, k(kk, 0)}), one})});
   Value along_n = apply(ir::Op::Sub, {apply(ir::Op::Mul, {r, c}), root});
   Value t = apply(ir::Op::Sub, {apply(ir::Op::Mul, {along_n, unit_n}), apply(ir::Op::Mul, {r, unit_v})});
-  auto zero = [](const Value& x) { return apply(ir::Op::Eq, {fold(ir::Op::Max, apply(ir::Op::Abs, {x})), k(x, 0)}); };
+  auto zero = [](const Value& x) { return apply(ir::Op::Eq, {largest_magnitude(x), k(x, 0)}); };
   Value none = apply(ir::Op::Or, {apply(ir::Op::Lt, {kk, k(kk, 0)}), apply(ir::Op::Or, {zero(v), zero(n)})});
   return cond(none, k(v, 0), t);
 }

@@ -157,8 +157,10 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
       throw Error("running in waves: still " + std::to_string(stopped.positions().size()) + " elements stopped after " +
                   std::to_string(w.max_waves) + " waves");
     ++stats.waves;
-    if (w.refiner) refine(*w.refiner, stopped, all);
-    if (w.refiner) w.refiner->bind(all.tables);
+    if (w.refiner) {
+      refine(*w.refiner, stopped, all);
+      w.refiner->bind(all.tables);
+    }
     std::vector<std::size_t> at = stopped.positions();
     RunArgs part = gather(all, w, at, scratch);
     kernel.run(part, stats);

@@ -89,10 +89,9 @@ void validate(const Scene& s, const std::string& where) {
       throw Error(where + ": triangle " + std::to_string(i / 3) + ", vertex " + std::to_string(i % 3) + ": " + problem);
   Vec3 extent = s.bounds_max() - s.bounds_min();
   if (float largest = std::max({extent.x, extent.y, extent.z}); !(largest >= kMinSceneExtent)) {
-    char spans[32];
-    std::snprintf(spans, sizeof spans, "%g", largest);
-    throw Error(where + ": the scene spans only " + spans + " (its largest extent), under " +
-                "1e-16, where single precision loses its triangles' hits; scale it up");
+    char spans[96];
+    std::snprintf(spans, sizeof spans, "%g (its largest extent), under %g", largest, kMinSceneExtent);
+    throw Error(where + ": the scene spans only " + spans + ", where single precision loses its triangles' hits; scale it up");
   }
   for (std::int32_t m : s.mesh.material)
     if (m < 0 || m >= static_cast<std::int32_t>(s.materials.size()))

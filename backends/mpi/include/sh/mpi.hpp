@@ -64,9 +64,9 @@ struct PartStats {
   std::size_t bytes_sent = 0, bytes_received = 0;
   std::size_t waves = 0, resumed = 0;  // see RunStats
   // Bytes of tables the rank keeps between runs after this one: a serving
-  // rank's copies of the whole tables and accumulators its kernels' last
-  // runs read (one per table a kernel's program names; a kernel given
-  // another table there, or destroyed, lets go of the old one).
+  // rank's copies of the whole tables its kernels' last runs read (one per
+  // table a kernel's program names; a kernel given another table there, or
+  // destroyed, lets go of the old one).
   std::size_t held_bytes = 0;
 };
 
