@@ -1,6 +1,8 @@
 // Compound library functions (vector geometry, interpolation, reductions,
 // matrices) against references computed here in double.
 #include <array>
+#include <cmath>
+#include <limits>
 
 #include "harness.hpp"
 
@@ -136,6 +138,27 @@ TEST_P(Conformance, NormalizeOfZeroIsZero) {
   sh::Channel<sh::Vector3f> in(std::vector<float>{0, 0, 0, -0.f, 0, -0.f}), out;
   run(p, {in}, {out});
   for (int k = 0; k < 6; ++k) EXPECT_EQ(out[k], 0.f);
+}
+
+// A NaN anywhere is NaN everywhere: the largest magnitude, which scales
+// the vector, may pass over it, so a NaN beside zeros once gave zero.
+TEST_P(Conformance, NormalizeAndLengthOfANaNAreNaN) {
+  if (fast()) GTEST_SKIP() << "fast math does not promise NaNs (documented in ulp_bounds.hpp)";
+  sh::Program p = SH_BEGIN_PROGRAM("normalize_nan") {
+    sh::Input<sh::Vector3f> v;
+    sh::Output<sh::Vector3f> n;
+    sh::Output<sh::Attrib1f> len;
+    n = sh::normalize(v);
+    len = sh::length(v);
+  } SH_END;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  sh::Channel<sh::Vector3f> in(std::vector<float>{nan, 0, 0, 0, 0, nan, 3, nan, 4, nan, 1e30f, 0}), n;
+  sh::Channel<sh::Attrib1f> len;
+  run(p, {in}, {n, len});
+  for (int e = 0; e < 4; ++e) {
+    EXPECT_TRUE(std::isnan(len[e])) << "element " << e;
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isnan(n[3 * e + c])) << "element " << e << " component " << c;
+  }
 }
 
 TEST_P(Conformance, ScalarHelpersAndReductions) {

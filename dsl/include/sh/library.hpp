@@ -10,8 +10,9 @@
 //     n normalised; the zero vector on total internal reflection
 //   faceforward(a, b) = b where a·b > 0, else -b
 //   any(a), all(a): the largest and the smallest component (Sh's || and &&)
-// normalize of a zero vector gives zero; length and normalize scale by the
-// largest component first, so huge and tiny vectors do not over/underflow.
+// normalize of a zero vector gives zero, of one with a NaN NaN; length and
+// normalize scale by the largest component first, so huge and tiny vectors
+// do not over/underflow.
 #include <algorithm>
 
 #include "sh/operators.hpp"

@@ -44,33 +44,48 @@ Value cond(const Value& c, const Value& a, const Value& b) {
   return apply(ir::Op::Cond, {as_scalar(c, a.scalar()), a, b});
 }
 
-// The largest magnitude m, a divisor d near it, and v / d, which keeps the
-// squares in range.  d is at most 2^125 (2^1021 in double), whose
-// reciprocal stays clear of the denormals even approximated: fast math may
-// divide through an approximate reciprocal and flush it to 0.
+// The largest magnitude, by a compare and a choice per component: one
+// machine instruction each, where the language's max (which gives the
+// other operand for a NaN) takes several.  A NaN this passes over is still
+// in v, and reaches the result through v / d below.
+static Value largest_magnitude(const Value& v) {
+  Value magnitude = apply(ir::Op::Abs, {v});
+  Value acc = component(magnitude, 0);
+  for (int i = 1; i < v.width(); ++i) {
+    Value next = component(magnitude, i);
+    acc = cond(apply(ir::Op::Gt, {next, acc}), next, acc);
+  }
+  return acc;
+}
+
+// The largest magnitude m, a divisor d near it, v / d, which keeps the
+// squares in range, and their sum q (0 only for a zero v, NaN with v).  d
+// is at most 2^125 (2^1021 in double), whose reciprocal stays clear of the
+// denormals even approximated: fast math may divide through an
+// approximate reciprocal and flush it to 0.
 struct Scaled {
-  Value m, d, s;
+  Value m, d, s, q;
 };
-static Value largest_magnitude(const Value& v) { return fold(ir::Op::Max, apply(ir::Op::Abs, {v})); }
 static Scaled scaled(const Value& v) {
   Value m = largest_magnitude(v);
   double most = v.scalar() == ir::Scalar::F64 ? 0x1p1021 : 0x1p125;
-  Value d = apply(ir::Op::Min, {cond(apply(ir::Op::Gt, {m, k(m, 0)}), m, k(m, 1)), k(m, most)});
-  return {m, d, apply(ir::Op::Div, {v, d})};
+  Value d = cond(apply(ir::Op::Gt, {m, k(m, most)}), k(m, most), cond(apply(ir::Op::Gt, {m, k(m, 0)}), m, k(m, 1)));
+  Value s = apply(ir::Op::Div, {v, d});
+  return {m, d, s, dot(s, s)};
 }
 
 Value length(const Value& v) {
   if (v.width() == 1) return apply(ir::Op::Abs, {v});
-  auto [m, d, s] = scaled(v);
-  Value len = apply(ir::Op::Mul, {d, apply(ir::Op::Sqrt, {dot(s, s)})});
+  auto [m, d, s, q] = scaled(v);
+  Value len = apply(ir::Op::Mul, {d, apply(ir::Op::Sqrt, {q})});
   double inf = std::numeric_limits<double>::infinity();
   return cond(apply(ir::Op::Lt, {m, k(m, inf)}), len, m);
 }
 
 Value normalize(const Value& v) {
-  auto [m, d, s] = scaled(v);
-  Value unit = apply(ir::Op::Mul, {s, apply(ir::Op::Rsqrt, {dot(s, s)})});
-  return cond(apply(ir::Op::Gt, {m, k(m, 0)}), unit, k(v, 0));
+  auto [m, d, s, q] = scaled(v);
+  Value unit = apply(ir::Op::Mul, {s, apply(ir::Op::Rsqrt, {q})});
+  return cond(apply(ir::Op::Eq, {q, k(q, 0)}), k(v, 0), unit);
 }
 
 // Sh 0.8's definitions (docs/sh-differences.md): reflect normalises the
