@@ -11,6 +11,23 @@ namespace {
 
 constexpr float kTieTolerance = 1e-6f;
 
+// The lesser and the greater as a compare and a choice: the machine's own
+// minimum and maximum (one instruction), where the language's min and max
+// must give the other operand for a NaN (three more each).  What they
+// compare here is never NaN, or decides nothing where it is: a box's
+// distances (its corners and the ray's origin are finite, the reciprocal
+// direction capped: Ray), the sizes of finite coordinates, and the
+// barycentrics of a hit whose distance, NaN with them, fails every test.
+template <int N>
+Attrib<N, float> lesser(const Attrib<N, float>& a, const Attrib<N, float>& b) {
+  return cond(a < b, a, b);
+}
+template <int N>
+Attrib<N, float> greater(const Attrib<N, float>& a, const Attrib<N, float>& b) {
+  return cond(a > b, a, b);
+}
+Attrib1f greatest(const Attrib3f& v) { return greater(greater(v(0), v(1)), v(2)); }
+
 // A vertex in the ray's space: translated to the origin, turned, sheared.
 // Each vertex is carried there on its own, so the triangles that share a
 // vertex or an edge see it at exactly the same place.
@@ -56,11 +73,11 @@ Attrib1f distance(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c, const
 // (as barycentrics) first, for the same reason as in distance().
 Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c, const Attrib3f& barycentrics,
                         const Attrib1f& inv_det) {
-  Attrib3f largest = max(max(abs(a), abs(b)), abs(c));
+  Attrib3f largest = greater(greater(abs(a), abs(b)), abs(c));
   Attrib1f x = largest(0), y = largest(1), z = largest(2);
   Attrib1f dz = gamma(3) * z, dx = gamma(5) * (x + z), dy = gamma(5) * (y + z);
   Attrib1f de = 2.0f * (gamma(2) * x * y + dy * x + dx * y);
-  Attrib1f e = max_component(abs(barycentrics));
+  Attrib1f e = greatest(abs(barycentrics));
   return 3.0f * (gamma(4) * e * z + de * abs(inv_det) * z + dz * e);
 }
 
@@ -78,7 +95,7 @@ Attrib1f distance_error(const Attrib3f& a, const Attrib3f& b, const Attrib3f& c,
 // and n.d differ in sign there.
 Attrib1f in_front_of_plane(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2) {
   Attrib3f e1_far = v1 - v0, e2_far = v2 - v0, p = v0 - r.o;
-  Attrib1f edge_scale = 1.0f / max(max_component(abs(e1_far)), 1e-30f);
+  Attrib1f edge_scale = 1.0f / greater(greatest(abs(e1_far)), Attrib1f(ConstAttrib1f(1e-30f)));
   Attrib3f e1 = e1_far * edge_scale, e2 = e2_far * edge_scale;
   Attrib3f n = cross(e1, e2);
   Attrib3f size = abs(e1(1, 2, 0) * e2(2, 0, 1)) + abs(e1(2, 0, 1) * e2(1, 2, 0));  // of each component's terms
@@ -104,24 +121,6 @@ Ray::Ray(const Point3f& origin, const Vector3f& direction) : o(origin), d(direct
 Attrib3f Ray::turn(const Attrib3f& v) const {
   return cond(last_is_x, v(1, 2, 0), cond(last_is_y, v(2, 0, 1), v));
 }
-
-namespace {
-
-// The lesser and the greater as a compare and a choice: the machine's own
-// minimum and maximum (one instruction), where the language's min and max
-// must give the other operand for a NaN (three more each).  A box's
-// distances are never NaN: its corners and the ray's origin are finite
-// and the reciprocal direction is capped (Ray), so the two agree here.
-template <int N>
-Attrib<N, float> lesser(const Attrib<N, float>& a, const Attrib<N, float>& b) {
-  return cond(a < b, a, b);
-}
-template <int N>
-Attrib<N, float> greater(const Attrib<N, float>& a, const Attrib<N, float>& b) {
-  return cond(a > b, a, b);
-}
-
-}  // namespace
 
 // Each slab's distances are three roundings from exact (the difference,
 // the reciprocal, the product): the leaving distance taken 2 gamma(3)

@@ -46,8 +46,10 @@ Vector3f refract_or_mirror(const Vector3f& d, const Normal3f& n, const Attrib1f&
   return cond(mirrored, reflect(-d, n), normalize(through));
 }
 
+Vector3f mirror(const Vector3f& a, const Normal3f& unit_n) { return 2.0f * dot(a, unit_n) * unit_n - a; }
+
 Continuation go_on(const Surface& x, const Vector3f& d, const Features& f) {
-  Vector3f mirrored_d = reflect(-d, x.n);
+  Vector3f mirrored_d = mirror(-d, x.n);
   Continuation c{leave(x, mirrored_d), mirrored_d, x.reflectivity};
   if (f.refractions) {
     Attrib1f mirrored;

@@ -41,4 +41,9 @@ struct Continuation {
 };
 Continuation go_on(const Surface& x, const Vector3f& d, const Features& f);
 
+// `a` mirrored about a unit normal: the library's reflect less its
+// normalize, which a shading normal (unit already) does not need at every
+// light and bounce.
+Vector3f mirror(const Vector3f& a, const Normal3f& unit_n);
+
 }  // namespace sh::rt

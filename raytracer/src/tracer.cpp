@@ -14,7 +14,7 @@ namespace {
 
 // With `diffuse` false only the highlight: the light pass brings the rest.
 Color3f phong(const Surface& x, const Vector3f& view, const Vector3f& dir, const Attrib1f& facing, bool diffuse = true) {
-  Attrib1f highlight = x.specular * pow(max(dot(reflect(dir, x.n), view), 0.0f), x.shininess);
+  Attrib1f highlight = x.specular * pow(max(dot(mirror(dir, x.n), view), 0.0f), x.shininess);
   if (!diffuse) return fillcast<3>(highlight);
   return x.diffuse * facing + highlight;
 }
