@@ -44,8 +44,15 @@ const char* accel_name(Accel a) {
   return "?";
 }
 
+// The renderer validates its scene first; a caller that builds an
+// accelerator alone gets the same check of what the builds assume (a NaN
+// would bin nowhere and index no cell).
 Box accelerator_bounds(const Scene& scene) {
   if (scene.mesh.triangles() == 0) throw Error("cannot build an accelerator over a scene without triangles");
+  for (std::size_t i = 0; i < scene.mesh.positions.size(); ++i)
+    if (std::string problem = coordinate_problem(scene.mesh.positions[i]); !problem.empty())
+      throw Error("cannot build an accelerator: triangle " + std::to_string(i / 3) + ", vertex " +
+                  std::to_string(i % 3) + ": " + problem);
   Box b{scene.bounds_min(), scene.bounds_max()};
   Vec3 extent = b.hi - b.lo;
   // A flat scene still gets cells of some thickness along its thin axis.

@@ -6,6 +6,8 @@
 // clean scenes are built as before, without a warning.
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <limits>
 #include <random>
 
 #include "helpers.hpp"
@@ -186,6 +188,30 @@ TEST(BoundedBuilds, CleanScenesAreBuiltWithoutAWarning) {
     EXPECT_EQ(tree.warning(), "") << name;
     EXPECT_EQ(tree.over_budget(), 0u) << name;
     EXPECT_EQ(sh::rt::build_grid(s).warning, "") << name;
+  }
+}
+
+// Built alone, without the renderer's check of the scene, every build still
+// refuses a vertex that is not a finite number in the tracer's range, and
+// names it.
+TEST(BoundedBuilds, EveryBuildRefusesAVertexOutOfRangeByName) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (Vec3 bad : {Vec3{nan, 0, 0}, Vec3{0, inf, 0}, Vec3{0, 0, 2e18f}}) {
+    sh::rt::Scene s = coincident(3);
+    add_triangle(s, {0, 0, 0}, {1, 0, 0}, bad);
+    s = with_light(s, "one vertex out of range");
+    auto names_vertex = [](const std::function<void()>& build, const char* what) {
+      try {
+        build();
+        ADD_FAILURE() << what << " built over a vertex out of range";
+      } catch (const sh::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("triangle 3, vertex 2"), std::string::npos) << what << ": " << e.what();
+      }
+    };
+    names_vertex([&] { sh::rt::build_bvh(s); }, "bvh");
+    names_vertex([&] { sh::rt::build_grid(s); }, "grid");
+    names_vertex([&] { sh::rt::Octree::full(s, {}); }, "octree");
+    names_vertex([&] { sh::rt::Octree::lazy(s, {}); }, "lazy octree");
   }
 }
 

@@ -32,7 +32,7 @@ Accel choose_accel(double filled_share, int lanes);  // never Auto
 struct Box {
   Vec3 lo, hi;
 };
-Box accelerator_bounds(const Scene& scene);  // throws sh::Error on a scene without triangles
+Box accelerator_bounds(const Scene& scene);  // throws sh::Error on a scene without triangles or with a vertex out of range
 
 // Does the triangle overlap the axis-aligned box?  (Separating axes: the
 // box's three, the triangle's normal, and the nine edge cross products.)
