@@ -609,13 +609,12 @@ TEST(CpuBackend, CompilesOncePerProgramAndOptions) {
   Channel<Attrib1f> x(std::vector<float>{1, 2}), y;
   Options o;
   o.threads = 1;
-  RunStats first = run(p, {x}, {y}, backend("cpu", o));
+  run(p, {x}, {y}, backend("cpu", o));
   RunStats again = run(polynomial(), {x}, {y}, backend("cpu", o));  // same IR, recorded again
   EXPECT_FALSE(again.compiled);
   o.threads = 2;
   RunStats other = run(p, {x}, {y}, backend("cpu", o));
   EXPECT_TRUE(other.compiled) << "options are part of the key";
-  EXPECT_GE(first.compile_ms, 0.0);
   EXPECT_EQ(y[1], 17.f);
 }
 

@@ -80,12 +80,22 @@ TEST(RunErrors, EmptyProgramHandle) {
   expect_error([&] { run(none, {}, {out}); }, {"empty sh::Program"});
 }
 
+// The environment names the default until use_backend chooses, and a
+// choice of a backend that does not exist is refused and changes nothing.
+// The process's default is put back (use_backend's choice lasts).
 TEST(Registry, DefaultBackendFollowsEnvironmentAndUseBackend) {
   std::vector<std::string> names = backend_names();
   EXPECT_NE(std::find(names.begin(), names.end(), "interp"), names.end());
-  setenv("SH_BACKEND", "interp", 1);
-  EXPECT_EQ(default_backend_name(), "interp");
+  std::string before = default_backend_name();
+  setenv("SH_BACKEND", "elsewhere", 1);
+  EXPECT_EQ(default_backend_name(), "elsewhere");
+  expect_error([] { use_backend("no-such-backend"); }, {"no-such-backend"});
+  EXPECT_EQ(default_backend_name(), "elsewhere");
+  use_backend("interp");
+  EXPECT_EQ(default_backend_name(), "interp") << "use_backend's choice comes before the environment's";
   unsetenv("SH_BACKEND");
+  EXPECT_EQ(default_backend_name(), "interp");
+  use_backend(before);
 }
 
 TEST(Precision, F64ComputesFloatsAsDouble) {

@@ -143,7 +143,6 @@ TEST(Legalize, BackendsRefuseIllegalIr) {
     r = t[i];
   } SH_END;
   for (const std::string& name : backend_names()) {
-    if (name == "mpi") continue;  // delegates to a local backend, which refuses it
     expect_error([&] { find_backend(name).compile(p.ir(), Options{}); }, {"illegal", "fetch", "not legal IR"});
   }
 }

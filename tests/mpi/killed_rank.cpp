@@ -1,6 +1,7 @@
 // Helper for the killed-rank test: every rank writes its PID to
-// DIR/rank<N>.pid, then rank 0 runs a long job on the mpi backend while
-// the test script kills a serving rank.
+// DIR/rank<N>.pid, then rank 0 runs a long job on the mpi backend, and
+// writes DIR/running once its first run has come back (every rank is then
+// serving), while the test script kills a serving rank.
 #include <unistd.h>
 
 #include <cstdio>
@@ -23,7 +24,9 @@ int main(int argc, char** argv) {
     y = acc;
   } SH_END;
   Channel<Attrib1f> in(std::vector<float>(200000, 0.5f)), out;
-  for (int round = 0; round < 600; ++round) run(p, {in}, {out}, backend("mpi"));
+  run(p, {in}, {out}, backend("mpi"));
+  std::ofstream(std::string(argv[1]) + "/running") << "1\n";
+  for (int round = 1; round < 600; ++round) run(p, {in}, {out}, backend("mpi"));
   std::printf("finished without noticing\n");
   return 0;
 }

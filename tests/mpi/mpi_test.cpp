@@ -39,8 +39,9 @@ TEST(Mpi, EveryRankComputesAndResultsLandInOrder) {
   for (const mpi::PartStats& part : parts) {
     elements += part.elements;
     chunks += part.chunks;
+    // Each serving rank gets a chunk before rank 0 computes one.
     if (part.part != 0) {
-      EXPECT_GT(part.bytes_received, 0u) << "rank " << part.part;
+      EXPECT_GT(part.elements, 0u) << "rank " << part.part << " computed nothing";
     }
   }
   EXPECT_EQ(elements, xs.size());
@@ -68,7 +69,7 @@ TEST(Mpi, TablesAndUniformsGoOutOncePerVersion) {
   if (mpi::size() > 1) {
     // The 80 000-byte table went out with the first run only (what else is
     // sent varies by a few hundred bytes with how chunks fall).
-    EXPECT_GE(sent(first) - sent(second), 70000u) << "the unchanged table was sent again";
+    EXPECT_GE(sent(first), sent(second) + 70000u) << "the unchanged table was sent again";
     scale = 3.0f;
     RunStats third = run(p, {in}, {out}, backend("mpi"));
     EXPECT_LT(sent(third), sent(first)) << "a new uniform value sends no table";

@@ -80,13 +80,6 @@ TEST_P(AnyHit, ATieJustBeyondTheLimitLeavesTheRayBlocked) {
   }
 }
 
-std::vector<std::string> backends() {
-  std::vector<std::string> names;
-  for (const std::string& b : sh::backend_names())
-    if (b != "mpi") names.push_back(b);  // mpi: tests/mpi/same_image.sh renders with shadows under mpirun
-  return names;
-}
-
-INSTANTIATE_TEST_SUITE_P(Backends, AnyHit, testing::ValuesIn(backends()), [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Backends, AnyHit, testing::ValuesIn(rt_test::every_backend()), [](const auto& info) { return info.param; });
 
 }  // namespace

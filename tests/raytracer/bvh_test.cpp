@@ -410,7 +410,7 @@ TEST(Bvh, EveryWalkOfATreeThatIsOneLeaf) {
     rt_test::Rays rays;
     rays.add({0, 0, 5}, {0, 0, -1});
     rays.add({3, 0, 5}, {0, 0, -1});
-    for (const std::string& backend : rt_test::in_process_backends()) {
+    for (const std::string& backend : rt_test::every_backend()) {
       sh::rt::Hits hits = rt_test::trace(one, rays, backend, rt_test::Walked(sh::rt::Accel::Bvh, walk));
       EXPECT_FLOAT_EQ(hits.t[0], 5.0f) << backend;
       EXPECT_LT(hits.t[1], 0.0f) << backend;

@@ -129,10 +129,12 @@ Agreement compare_with_embree(const sh::rt::Scene& scene, const Rays& rays, cons
   return a;
 }
 
-std::vector<std::string> in_process_backends() {
+std::vector<std::string> every_backend() { return sh::backend_names(); }
+
+std::vector<std::string> backends_beside_interp() {
   std::vector<std::string> out;
   for (const std::string& b : sh::backend_names())
-    if (b != "mpi") out.push_back(b);
+    if (b != "interp") out.push_back(b);
   return out;
 }
 

@@ -40,9 +40,12 @@ struct Rays {
 
 using sh::rt::Hits;
 
-// The backends that render in this test's process: all but mpi, whose
-// ranks run under mpirun (its own tests).
-std::vector<std::string> in_process_backends();
+// Every backend linked in; mpi renders in this process as one rank (its
+// ranks under mpirun are tests/mpi's).
+std::vector<std::string> every_backend();
+// The same less interp: for tests that hold a backend's image against
+// interp's.
+std::vector<std::string> backends_beside_interp();
 
 // Random rays from around the scene's bounds towards random points inside.
 Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);

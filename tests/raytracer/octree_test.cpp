@@ -49,14 +49,7 @@ TEST_P(AcceleratorsOnEveryBackend, ImagesAreTheGridsOnEveryBuiltinScene) {
   }
 }
 
-std::vector<std::string> backends() {
-  std::vector<std::string> names;
-  for (const std::string& b : sh::backend_names())
-    if (b != "mpi") names.push_back(b);  // mpi: tests/mpi/same_image.sh, under mpirun
-  return names;
-}
-
-INSTANTIATE_TEST_SUITE_P(Backends, AcceleratorsOnEveryBackend, testing::ValuesIn(backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, AcceleratorsOnEveryBackend, testing::ValuesIn(rt_test::every_backend()),
                          [](const auto& info) { return info.param; });
 
 // Does the segment o + t d, t in [0, t_end], meet the box (slightly grown)?

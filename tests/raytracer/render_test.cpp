@@ -43,7 +43,7 @@ TEST_P(EveryBackend, AgreesWithInterpOnEveryBuiltinScene) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend, testing::ValuesIn(rt_test::in_process_backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend, testing::ValuesIn(rt_test::backends_beside_interp()),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 std::size_t statements(const sh::Program& p) {

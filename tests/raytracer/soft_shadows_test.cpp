@@ -8,6 +8,8 @@
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
 
+#include "helpers.hpp"
+
 namespace {
 
 using namespace sh::rt;
@@ -145,14 +147,7 @@ TEST_P(SoftShadowBackends, BothPatternsAgreeWithInterp) {
   }
 }
 
-std::vector<std::string> image_backends() {
-  std::vector<std::string> out;
-  for (const std::string& b : sh::backend_names())
-    if (b != "mpi" && b != "interp") out.push_back(b);
-  return out;
-}
-
-INSTANTIATE_TEST_SUITE_P(Backends, SoftShadowBackends, testing::ValuesIn(image_backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, SoftShadowBackends, testing::ValuesIn(rt_test::backends_beside_interp()),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 }  // namespace

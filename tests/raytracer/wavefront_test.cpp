@@ -47,7 +47,7 @@ TEST_P(Wavefront, GivesTheWholeTracersImageWithLanesAtLeastAsBusy) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, Wavefront, testing::ValuesIn(rt_test::in_process_backends()),
+INSTANTIATE_TEST_SUITE_P(Backends, Wavefront, testing::ValuesIn(rt_test::every_backend()),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 TEST(LaneUse, CountsBatchesAsOneKernelAndWavesOfLivePaths) {
