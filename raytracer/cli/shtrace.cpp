@@ -62,7 +62,7 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--precision", c.precision, "f32 or f64")->check(CLI::IsMember({"f32", "f64"}))->capture_default_str();
   app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
   app->add_option("--threads", c.threads, "CPU threads, for tracing and for building accelerators (0: all)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(CLI::Range(0, sh::kMostThreads));
   app->add_option("--set", c.settings, "a backend's setting KEY=VALUE or BACKEND.KEY=VALUE, repeatable (cpu: "
                   "width=scalar|4|8|16; mpi: chunk=N, schedule=dynamic|static, split_tables=BYTES; `shtrace info` lists all)");
   app->add_option("--samples", c.samples, "shadow rays per disk light and shading point")

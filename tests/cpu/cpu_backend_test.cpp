@@ -879,6 +879,19 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   auto third = cpu.compile(ir, sh::Options{});
   run_with(*third, y1);
   EXPECT_EQ(y1[1], 17.f) << "a corrupt cache entry is compiled afresh";
+  // Bytes changed inside a whole object file (its code, say) are found by
+  // the entry's checksum: compiled afresh, not loaded and run.
+  for (const auto& f : fs::directory_iterator(dir))
+    if (f.path().extension() == ".o") {
+      std::fstream o(f.path(), std::ios::in | std::ios::out | std::ios::binary);
+      o.seekp(static_cast<std::streamoff>(fs::file_size(f.path()) / 2));
+      o.write("\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff", 16);
+    }
+  auto flipped = cpu.compile(ir, sh::Options{});
+  EXPECT_EQ(flipped->listing().find("loaded from the object cache"), std::string::npos);
+  y1[1] = 0;
+  run_with(*flipped, y1);
+  EXPECT_EQ(y1[1], 17.f);
   // An entry that exists but does not open (here a socket in its place;
   // elsewhere another user's file) is compiled afresh too.
   cpu.compile(ir, sh::Options{});  // stores the entry again

@@ -107,6 +107,28 @@ TEST(BackendOptions, OptionsArePartOfTheKernelKey) {
   EXPECT_EQ(out[1], 3.f);
 }
 
+// A thread count no pool should have (millions crashed the thread library)
+// or below zero is refused before anything is compiled, on every backend.
+TEST(BackendOptions, ThreadsOutOfRangeAreRefusedByName) {
+  Program p = SH_BEGIN_PROGRAM("threaded") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x * 2.0f;
+  } SH_END;
+  Channel<Attrib1f> in(std::vector<float>{1, 2}), out;
+  for (int threads : {-1, kMostThreads + 1, 10000000}) {
+    Options o;
+    o.threads = threads;
+    for (const char* name : {"interp", "toy"})
+      expect_error([&] { run(p, {in}, {out}, backend(name, o)); },
+                   {"program 'threaded'", "Options::threads = ", "0 (every core) to 1024"});
+  }
+  Options most;
+  most.threads = kMostThreads;
+  run(p, {in}, {out}, backend("interp", most));
+  EXPECT_EQ(out[1], 4.f);
+}
+
 TEST(BackendOptions, AVariantCarriesItsBackendsOptions) {
   std::vector<BackendInfo> all = backends();
   auto toy = std::find_if(all.begin(), all.end(), [](const BackendInfo& b) { return b.name == "toy"; });

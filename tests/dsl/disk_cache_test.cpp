@@ -60,6 +60,32 @@ TEST(DiskCache, ThePassesResultIsKeptReadBackAndReplacedWhereDamaged) {
   fs::remove_all(dir);
 }
 
+// A file whose bytes changed on disk, or that was cut short, reads as none:
+// a damaged entry is computed afresh, never used (machine code would run).
+TEST(DiskCache, AFileThatNoLongerMatchesItsChecksumReadsAsNone) {
+  fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_checksum";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string path = (dir / "entry").string(), bytes(4096, 'x');
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 7);
+  detail::write_cache_file(path, bytes);
+  EXPECT_EQ(detail::read_cache_file(path), bytes);
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(2000);
+    f.put('\x5a');
+  }
+  EXPECT_FALSE(detail::read_cache_file(path)) << "one byte changed in the middle";
+  detail::write_cache_file(path, bytes);
+  fs::resize_file(path, 3000);
+  EXPECT_FALSE(detail::read_cache_file(path)) << "cut short";
+  fs::resize_file(path, 3);
+  EXPECT_FALSE(detail::read_cache_file(path)) << "shorter than a checksum";
+  detail::write_cache_file(path, "");
+  EXPECT_EQ(detail::read_cache_file(path), "") << "an empty entry is an entry";
+  fs::remove_all(dir);
+}
+
 TEST(DiskCache, OffMeansNoFiles) {
   setenv("SH_CACHE_DIR", "off", 1);
   EXPECT_FALSE(detail::cache_directory());

@@ -82,10 +82,14 @@ class BackendOptions {
   std::shared_ptr<const Concept> held_;
 };
 
+// The most threads a run may ask for: a pool of more is a mistake (each
+// thread's stack is reserved), and the thread library fails on millions.
+inline constexpr int kMostThreads = 1024;
+
 struct Options {
   Precision precision = Precision::F32;
   MathMode math = MathMode::Precise;
-  int threads = 0;                        // 0: every core
+  int threads = 0;                        // 0: every core; at most kMostThreads
   std::uint64_t max_loop_iterations = 1u << 24;  // per loop, per element
   bool checked = false;                   // interp: report first NaN / bad table read
   bool optimize = true;                   // run the passes before compiling

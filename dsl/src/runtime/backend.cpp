@@ -85,6 +85,9 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     auto it = r.kernels.find(key);
     if (it != r.kernels.end()) return it->second;
   }
+  if (options.threads < 0 || options.threads > kMostThreads)
+    throw Error("program '" + program.name() + "': Options::threads = " + std::to_string(options.threads) +
+                ": must be 0 (every core) to " + std::to_string(kMostThreads));
   auto t0 = std::chrono::steady_clock::now();
   double cpu0 = detail::thread_cpu_ms();
   ir::Program ir = legal_program(program, options);

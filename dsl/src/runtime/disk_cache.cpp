@@ -13,6 +13,21 @@
 #include <sstream>
 
 namespace sh::detail {
+namespace {
+
+std::uint64_t fnv1a(const char* bytes, std::size_t size) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= static_cast<unsigned char>(bytes[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+// The checksum that ends every cache file: 8 bytes, this host's order.
+constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
+
+}  // namespace
 
 std::optional<std::string> cache_directory() {
   std::string dir;
@@ -34,13 +49,8 @@ std::optional<std::string> cache_directory() {
 std::optional<std::string> cache_path(const std::string& kind, const std::string& key) {
   std::optional<std::string> dir = cache_directory();
   if (!dir) return std::nullopt;
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : key) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
   std::ostringstream name;
-  name << *dir << "/" << kind << "-" << std::hex << h;
+  name << *dir << "/" << kind << "-" << std::hex << fnv1a(key.data(), key.size());
   return name.str();
 }
 
@@ -51,7 +61,9 @@ void write_cache_file(const std::string& path, const std::string& bytes) {
   std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(writes++);
   std::error_code ignored;
   std::ofstream out(tmp, std::ios::binary);
+  std::uint64_t checksum = fnv1a(bytes.data(), bytes.size());
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(&checksum), kChecksumBytes);
   out.close();
   if (!out) {  // a full disk: nothing left behind
     std::filesystem::remove(tmp, ignored);
@@ -64,9 +76,15 @@ void write_cache_file(const std::string& path, const std::string& bytes) {
 std::optional<std::string> read_cache_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
+  std::stringstream read;
+  read << in.rdbuf();
+  std::string bytes = read.str();
+  if (bytes.size() < kChecksumBytes) return std::nullopt;
+  std::uint64_t checksum = 0;
+  std::memcpy(&checksum, bytes.data() + bytes.size() - kChecksumBytes, kChecksumBytes);
+  bytes.resize(bytes.size() - kChecksumBytes);
+  if (fnv1a(bytes.data(), bytes.size()) != checksum) return std::nullopt;
+  return bytes;
 }
 
 namespace {

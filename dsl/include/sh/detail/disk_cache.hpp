@@ -18,7 +18,9 @@ std::optional<std::string> cache_directory();
 std::optional<std::string> cache_path(const std::string& kind, const std::string& key);
 
 // Writes through a temporary file renamed into place; a failure leaves
-// nothing behind.
+// nothing behind.  The file ends in a checksum of the bytes: a file that
+// does not match it (damaged on disk, cut short) reads as none, and is
+// computed afresh, never loaded (a damaged object file would run).
 void write_cache_file(const std::string& path, const std::string& bytes);
 std::optional<std::string> read_cache_file(const std::string& path);
 
