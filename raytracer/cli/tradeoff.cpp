@@ -141,10 +141,14 @@ void write_through_temp(const std::string& path, const std::string& text) {
   move_into_place(tmp, path);
 }
 
-// A gnuplot string of any text: single-quoted, a quote in it doubled.
+bool control_character(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }
+
+// A gnuplot string of any text: single-quoted, a quote in it doubled, and
+// a control character shown as '?' (a newline would end the string and
+// the command: what follows it would run as gnuplot's own).
 std::string gnuplot_string(const std::string& text) {
   std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+  for (char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, control_character(c) ? '?' : c);
   return quoted + "'";
 }
 
@@ -219,6 +223,10 @@ int tradeoff(const TradeoffOptions& o) {
   if (backends.empty())
     for (const std::string& b : backend_names())
       if (b == "cpu" || b == "opencl") backends.push_back(b);
+  // The plot's file is named in gnuplot's script, where a control
+  // character cannot be written.
+  if (o.out.empty() || std::any_of(o.out.begin(), o.out.end(), control_character))
+    throw Error("tradeoff: --out '" + o.out + "': an empty name, or one with a control character");
   std::filesystem::path out(o.out);
   if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
 
@@ -285,12 +293,13 @@ int tradeoff(const TradeoffOptions& o) {
   write_through_temp(o.out + ".gp", gp);
   if (run_gnuplot(o.out + ".gp")) {
     move_into_place(png, o.out + ".png");
-  } else {
-    std::remove(png.c_str());
-    std::fprintf(stderr, "tradeoff: gnuplot failed or is missing (apt-get install gnuplot-nox); the script is %s.gp\n",
-                 o.out.c_str());
+    std::printf("%zu settings; csv: %s.csv, plot: %s.png\n", results.size(), o.out.c_str(), o.out.c_str());
+    return 0;
   }
-  std::printf("%zu settings; csv: %s.csv, plot: %s.png\n", results.size(), o.out.c_str(), o.out.c_str());
+  std::remove(png.c_str());
+  std::fprintf(stderr, "tradeoff: gnuplot failed or is missing (apt-get install gnuplot-nox); the script is %s.gp%s\n",
+               o.out.c_str(), std::filesystem::exists(o.out + ".png") ? "; the plot there is an earlier run's" : "");
+  std::printf("%zu settings; csv: %s.csv, no plot\n", results.size(), o.out.c_str());
   return 0;
 }
 

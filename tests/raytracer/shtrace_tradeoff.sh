@@ -26,6 +26,20 @@ if "$shtrace" tradeoff --size 32x24 --backends cpu --out "$blocked" > /dev/null 
   echo "an --out whose CSV is a directory was accepted"; exit 1
 fi
 grep -q "tradeoff.csv: cannot write: Is a directory" "$dir/blocked.txt" || { cat "$dir/blocked.txt"; exit 1; }
+# A scene file's name goes into the plot's title: a newline in it, which
+# would end gnuplot's string and run the rest as a command, is shown as '?'.
+data=$(cd "$(dirname "$0")/data" && pwd)
+evil="x
+system \"touch ran\"
+#.json"
+(cd "$dir" && cp "$data/flat_box.json" "$evil" &&
+ "$shtrace" tradeoff --scene "$evil" --size 8x6 --backends cpu --out evil/tradeoff > /dev/null 2>&1)
+test ! -e "$dir/ran" || { echo "a scene file's name ran as gnuplot's command"; exit 1; }
+grep -q "set title 'Error against render time, scene .*x?system" "$dir/evil/tradeoff.gp"
+# An --out that gnuplot's script cannot name is refused before any render.
+if "$shtrace" tradeoff --size 8x6 --backends cpu --out "$dir/new
+line" > /dev/null 2> "$dir/newline.txt"; then echo "an --out with a newline was accepted"; exit 1; fi
+grep -q "an empty name, or one with a control character" "$dir/newline.txt" || { cat "$dir/newline.txt"; exit 1; }
 leftovers=$(find "$dir" -name "*.tmp")
 test -z "$leftovers" || { echo "temporary files left: $leftovers"; exit 1; }
 echo "csv, script and plot under a quoted directory; one setting per error on the front; no temporary files"
