@@ -89,7 +89,7 @@ int compare_backends(const CompareRequest& request) {
   std::size_t failed = 0;
   for (const CompareRow& row : c.rows) failed += row.failed() ? 1 : 0;
   std::printf("%zu rows, %zu failed%s\n", c.rows.size(), failed, c.reference.failed() ? "; the reference failed" : "");
-  return c.reference.failed() ? 1 : 0;
+  return c.reference.failed() || failed > 0 ? 1 : 0;
 }
 
 }  // namespace shtrace

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 
 #include <sh/error.hpp>
@@ -38,7 +39,10 @@ bool move_unless_taken(const std::string& from, const std::string& to) {
 }
 
 void make_parent(const fs::path& path) {
-  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+  std::error_code failed;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), failed);
+  if (failed)
+    throw sh::Error(path.string() + ": cannot make its directory " + path.parent_path().string() + ": " + failed.message());
 }
 
 // Moves `staged` to `first`, or the first of its numbered names not taken.
@@ -65,9 +69,40 @@ void say_if_replacing(const std::string& path) {
   if (fs::exists(path)) std::printf("replacing %s\n", path.c_str());
 }
 
+void check_output_path(const std::string& path) {
+  make_parent(path);
+  std::error_code ignored;
+  fs::file_status status = fs::symlink_status(path, ignored);
+  if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_symlink(status))
+    throw sh::Error(path + ": exists and is not a regular file (a directory, a device or a pipe): name another output");
+}
+
+std::string temp_name(const std::string& path) { return path + "." + std::to_string(::getpid()) + ".tmp"; }
+
+void move_into_place(const std::string& tmp, const std::string& path) {
+  std::error_code failed;
+  fs::rename(tmp, path, failed);
+  if (!failed) return;
+  std::remove(tmp.c_str());
+  throw sh::Error(path + ": cannot write: " + failed.message());
+}
+
+void write_through_temp(const std::string& path, const std::string& bytes) {
+  std::string tmp = temp_name(path);
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << bytes;
+    if (!out.flush()) {
+      std::remove(tmp.c_str());
+      throw sh::Error(path + ": cannot write");
+    }
+  }
+  move_into_place(tmp, path);
+}
+
 std::string write_image(const std::string& chosen, const std::string& scene, const FileWriter& write) {
   if (!chosen.empty()) {
-    make_parent(chosen);
+    check_output_path(chosen);
     say_if_replacing(chosen);
     write(chosen);
     return chosen;

@@ -22,4 +22,17 @@ std::string write_image(const std::string& chosen, const std::string& scene, con
 // Prints "replacing PATH" if PATH exists: for files the user names.
 void say_if_replacing(const std::string& path);
 
+// Before any work: makes PATH's directory, and throws sh::Error where PATH
+// exists but is not a regular file (a directory, a device, a pipe: the
+// rename that puts a file in place would replace a device's node).
+void check_output_path(const std::string& path);
+
+// A name beside PATH for this process's temporary file.
+std::string temp_name(const std::string& path);
+// Moves a finished temporary file into place, or removes it and says why.
+void move_into_place(const std::string& tmp, const std::string& path);
+// Writes BYTES to PATH through a temporary file: no half file under PATH,
+// and nothing left behind where the writing fails.
+void write_through_temp(const std::string& path, const std::string& bytes);
+
 }  // namespace shtrace

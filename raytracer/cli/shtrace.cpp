@@ -2,7 +2,9 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -52,13 +54,25 @@ struct Common {
   LoadLimits load;
 };
 
+// More is surely a slip of the keyboard (and some 30 GB of scene).
+constexpr std::size_t kMostProceduralTriangles = std::size_t{1} << 28;
+
+// CLI11's ranges pass a NaN (every comparison with it is false).
+const CLI::Validator kFinite(
+    [](std::string& text) {
+      double v = 0;
+      return CLI::detail::lexical_cast(text, v) && std::isfinite(v) ? std::string() : "not a finite number: " + text;
+    },
+    "FINITE");
+
 void add_common(CLI::App* app, Common& c) {
   app->add_option("--scene", c.scene,
                   "scene file (.json), model file, or built-in: cornell, spheres, procedural, soft, soft2, magg-mirror, magg-glass")
       ->capture_default_str();
   app->add_option("--size", c.size, "image size WIDTHxHEIGHT")->capture_default_str();
   app->add_option("--reflections", c.reflections, "reflection bounces")->capture_default_str()->check(CLI::Range(0, 64));
-  app->add_option("--triangles", c.triangles, "triangles of the procedural scene")->capture_default_str();
+  app->add_option("--triangles", c.triangles, "triangles of the procedural scene")->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, kMostProceduralTriangles));
   app->add_option("--precision", c.precision, "f32 or f64")->check(CLI::IsMember({"f32", "f64"}))->capture_default_str();
   app->add_option("--math", c.math, "precise or fast")->check(CLI::IsMember({"precise", "fast"}))->capture_default_str();
   app->add_option("--threads", c.threads, "CPU threads, for tracing and for building accelerators (0: all)")
@@ -69,7 +83,8 @@ void add_common(CLI::App* app, Common& c) {
       ->capture_default_str()->check(CLI::Range(1, kMaxShadowSamples));
   app->add_option("--pattern", c.pattern, "disk sample pattern: random or pseudo")
       ->check(CLI::IsMember({"random", "pseudo"}))->capture_default_str();
-  app->add_option("--grid-density", c.grid_density, "grid cells per triangle")->capture_default_str()->check(CLI::Range(0.01, 64.0));
+  app->add_option("--grid-density", c.grid_density, "grid cells per triangle")->capture_default_str()
+      ->check(kFinite & CLI::Range(0.01, 64.0));
   app->add_option("--accel", c.accel,
                   "accelerator: grid, octree (built before tracing), lazy-octree (built where rays go), bvh, or auto "
                   "(the BVH where the backend runs elements side by side in SIMD lanes; where it runs each alone, the grid "
@@ -84,7 +99,7 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--bvh-prefetch-above", c.bvh.prefetch_above,
                   "bvh: the wide walk asks for each node's children ahead of visiting them where the tree is larger than "
                   "this many bytes (0: always)")
-      ->capture_default_str()->check(CLI::Range(0.0, 1e15));
+      ->capture_default_str()->check(kFinite & CLI::Range(0.0, 1e15));
   app->add_option("--bvh-walk", c.bvh_walk,
                   "bvh: threaded (no stack; rays side by side walk together), stack (each ray its own path, with a stack) or wide (nodes of 4 children, rays side by side together, with a stack)")
       ->check(CLI::IsMember({"threaded", "stack", "wide"}))->capture_default_str();
@@ -101,10 +116,14 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--load-memory", c.load.memory_mib, "model files are read in a child process: memory it may use, MiB")
       ->capture_default_str()->check(CLI::Range(std::size_t{16}, std::size_t{1} << 30));
   app->add_option("--load-seconds", c.load.seconds, "model files are read in a child process: CPU and wall-clock seconds it may take")
-      ->capture_default_str()->check(CLI::Range(0.1, 1e6));
+      ->capture_default_str()->check(kFinite & CLI::Range(0.1, 1e6));
   app->add_flag("--load-in-process", c.load.in_process,
                 "read model files in this process, without the child or its limits (for debuggers)");
 }
+
+// The most pixels an image may have: each takes some 100 bytes across the
+// ray streams and the image (16384 x 16384, some 27 GB).
+constexpr long long kMostPixels = 1LL << 28;
 
 std::pair<int, int> parse_size(const std::string& s) {
   int w = 0, h = 0;
@@ -112,6 +131,9 @@ std::pair<int, int> parse_size(const std::string& s) {
   std::istringstream in(s);
   if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || !(in >> std::ws).eof())
     throw Error("--size: expected WIDTHxHEIGHT, got '" + s + "'");
+  if (static_cast<long long>(w) * h > kMostPixels)
+    throw Error("--size " + s + ": " + std::to_string(static_cast<long long>(w) * h) + " pixels, more than the " +
+                std::to_string(kMostPixels) + " (16384x16384) an image may have");
   return {w, h};
 }
 
@@ -119,7 +141,7 @@ Vec3 parse_vec3(const std::string& option, const std::string& s) {
   Vec3 v;
   char c1 = 0, c2 = 0;
   std::istringstream in(s);
-  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',')
+  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof())
     throw Error(option + ": expected x,y,z, got '" + s + "'");
   return v;
 }
@@ -166,19 +188,11 @@ void print_details(const char* pass, const std::shared_ptr<RunDetails>& details)
 
 // The kernel's program in its serialized form (names kept): the bytes the
 // mpi backend sends its ranks and, without the names, the kernel cache's key.
-// Written beside and renamed over FILE, so a failed write leaves no half file.
 void write_program_bytes(const std::string& path, const Program& p) {
   std::string bytes = ir::serialize(p.ir());
-  std::filesystem::path out(path);
-  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
-  std::string partial = path + ".partial";
-  {
-    std::ofstream f(partial, std::ios::binary);
-    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!f) throw Error(path + ": cannot write the program's bytes");
-  }
+  shtrace::check_output_path(path);
   shtrace::say_if_replacing(path);
-  std::filesystem::rename(partial, path);
+  shtrace::write_through_temp(path, bytes);
   std::printf("program %s: %zu bytes of serialized IR in %s\n", p.name().c_str(), bytes.size(), path.c_str());
 }
 
@@ -191,7 +205,17 @@ std::string hash_line(std::uint64_t hash) {
 
 // `shtrace ir FILE`: a program written by --dump-ir-bytes, read back (every
 // value range-checked, the program verified) and printed, with its hash.
+// A program's bytes are a few hundred KiB at most: far past that, the file
+// is something else (and /dev/zero would read until memory ran out).
+constexpr std::uintmax_t kMostProgramBytes = 64u << 20;
+
 int ir_command(const std::string& path, bool optimized) {
+  std::error_code failed;
+  if (!std::filesystem::is_regular_file(path, failed))
+    throw Error(path + ": not a regular file (`shtrace ir` reads what render --dump-ir-bytes wrote)");
+  if (std::uintmax_t size = std::filesystem::file_size(path, failed); !failed && size > kMostProgramBytes)
+    throw Error(path + ": " + std::to_string(size) + " bytes, more than a program's bytes take (at most " +
+                std::to_string(kMostProgramBytes) + ")");
   std::ifstream f(path, std::ios::binary);
   if (!f) throw Error(path + ": cannot open the file");
   std::string bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
@@ -216,6 +240,12 @@ void print_phases(const RenderReport& r) {
 int render_command(const Common& c, const std::string& backend_name, const std::string& output, const std::string& aov,
                    const std::string& eye, const std::string& look_at, const std::string& up, float fov, bool dump_ir,
                    const std::string& dump_ir_bytes, bool general, bool analyze, int frames, bool phases) {
+  // Every file named is checked before the work, so that a bad one does
+  // not fail the command after the image is written.
+  for (const std::string& named : {output, dump_ir_bytes})
+    if (!named.empty()) shtrace::check_output_path(named);
+  if (!aov.empty())
+    for (const char* suffix : {"_distance.pfm", "_triangle.pfm"}) shtrace::check_output_path(aov + suffix);
   Scene scene = scene_for(c);
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
@@ -381,7 +411,7 @@ int main(int argc, char** argv) {
   render->add_option("--eye", eye, "camera position x,y,z");
   render->add_option("--look-at", look_at, "point looked at x,y,z");
   render->add_option("--up", up, "up vector x,y,z");
-  render->add_option("--fov", fov, "vertical field of view, degrees");
+  render->add_option("--fov", fov, "vertical field of view, degrees")->check(kFinite);
   render->add_flag("--dump-ir", dump_ir, "print the kernel's IR before and after the passes");
   render->add_option("--dump-ir-bytes", dump_ir_bytes,
                      "write the kernel's IR to FILE as the bytes the kernel cache hashes and the mpi backend sends "
@@ -447,42 +477,59 @@ int main(int argc, char** argv) {
 
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
-  try {
-    // The backend runs kernels on --threads; this holds the rest (building
-    // accelerators) to as many, on every rank.
-    std::optional<tbb::global_control> threads;
-    if (common.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(common.threads));
-#ifdef SHTRACE_WITH_MPI
-    // Under mpirun, serving ranks wait for rank 0 from here on.
-    bool compares_mpi = compare->parsed() && (compare_backend_names.empty() ||
-                                              std::count(compare_backend_names.begin(), compare_backend_names.end(), "mpi") > 0);
-    if (backend_name == "mpi" || compares_mpi) sh::mpi::start();
-#endif
-    if (render->parsed())
-      return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
-                            analyze, frames, render_phases);
-    if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
-    if (bench->parsed()) return bench_command(common, bench_backends, bench_phases);
-    if (compare->parsed()) {
-      if (compare->get_option("--size")->count() == 0) common.size = "160x120";
-      compare_request.scene = scene_for(common);
-      compare_request.settings = settings_for(common, "");
-      compare_request.backends = compare_backend_names;
-      return shtrace::compare_backends(compare_request);
+  auto command = [&]() -> int {
+    try {
+      // The backend runs kernels on --threads; this holds the rest (building
+      // accelerators) to as many, on every rank.
+      std::optional<tbb::global_control> threads;
+      if (common.threads > 0)
+        threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(common.threads));
+  #ifdef SHTRACE_WITH_MPI
+      // Under mpirun, serving ranks wait for rank 0 from here on.
+      bool compares_mpi =
+          compare->parsed() && (compare_backend_names.empty() ||
+                                std::count(compare_backend_names.begin(), compare_backend_names.end(), "mpi") > 0);
+      if (backend_name == "mpi" || compares_mpi) sh::mpi::start();
+  #endif
+      if (render->parsed())
+        return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
+                              analyze, frames, render_phases);
+      if (ir_cmd->parsed()) return ir_command(ir_file, ir_optimized);
+      if (bench->parsed()) return bench_command(common, bench_backends, bench_phases);
+      if (compare->parsed()) {
+        if (compare->get_option("--size")->count() == 0) common.size = "160x120";
+        compare_request.scene = scene_for(common);
+        compare_request.settings = settings_for(common, "");
+        compare_request.backends = compare_backend_names;
+        return shtrace::compare_backends(compare_request);
+      }
+      if (rays->parsed())
+        return shtrace::compare_ray_kinds(
+            {scene_for(common), settings_for(common, backend_name), ray_repeats, ray_lanes});
+      if (accel->parsed())
+        return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
+      if (trade->parsed()) {
+        std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);
+        return shtrace::tradeoff(tradeoff_options);
+      }
+      return info_command();
+    } catch (const Error& e) {
+      std::fprintf(stderr, "shtrace: %s\n", e.what());
+      return 1;
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "shtrace: out of memory: a smaller --size, scene or --triangles takes less\n");
+      return 1;
+    } catch (const std::exception& e) {  // the file system: still a message, not a crash
+      std::fprintf(stderr, "shtrace: %s\n", e.what());
+      return 1;
     }
-    if (rays->parsed())
-      return shtrace::compare_ray_kinds({scene_for(common), settings_for(common, backend_name), ray_repeats, ray_lanes});
-    if (accel->parsed()) return shtrace::compare_accelerators({scene_for(common), settings_for(common, backend_name), view});
-    if (trade->parsed()) {
-      std::tie(tradeoff_options.width, tradeoff_options.height) = parse_size(tradeoff_size);
-      return shtrace::tradeoff(tradeoff_options);
-    }
-    return info_command();
-  } catch (const Error& e) {
-    std::fprintf(stderr, "shtrace: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {  // the file system, memory: still a message, not a crash
-    std::fprintf(stderr, "shtrace: %s\n", e.what());
+  };
+  int status = command();
+  // What was printed is part of the result: a full disk under `> file` is
+  // a failure, not a silent success.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::fprintf(stderr, "shtrace: cannot write standard output: %s\n", std::strerror(errno));
     return 1;
   }
+  return status;
 }

@@ -14,6 +14,8 @@
 
 #include <sh/sh.hpp>
 
+#include "output_file.hpp"
+
 namespace shtrace {
 namespace {
 
@@ -117,30 +119,6 @@ std::string label(const Setting& s) {
   return buf;
 }
 
-std::string temp_name(const std::string& path) { return path + "." + std::to_string(::getpid()) + ".tmp"; }
-
-// Moves a finished temporary file into place, or removes it and says why.
-void move_into_place(const std::string& tmp, const std::string& path) {
-  std::error_code failed;
-  std::filesystem::rename(tmp, path, failed);
-  if (!failed) return;
-  std::remove(tmp.c_str());
-  throw Error(path + ": cannot write: " + failed.message());
-}
-
-void write_through_temp(const std::string& path, const std::string& text) {
-  std::string tmp = temp_name(path);
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out.flush()) {
-      std::remove(tmp.c_str());
-      throw Error(path + ": cannot write");
-    }
-  }
-  move_into_place(tmp, path);
-}
-
 bool control_character(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }
 
 // A gnuplot string of any text: single-quoted, a quote in it doubled, and
@@ -227,8 +205,7 @@ int tradeoff(const TradeoffOptions& o) {
   // character cannot be written.
   if (o.out.empty() || std::any_of(o.out.begin(), o.out.end(), control_character))
     throw Error("tradeoff: --out '" + o.out + "': an empty name, or one with a control character");
-  std::filesystem::path out(o.out);
-  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  for (const char* extension : {".csv", ".gp", ".png"}) check_output_path(o.out + extension);
 
   if (scene.disk_lights.empty())
     std::fprintf(stderr, "tradeoff: %s has no disk light: the sample settings change nothing in its image\n",

@@ -54,7 +54,34 @@ refused --size --size 8x6abc
 refused fov --size 8x6 --fov 0
 refused fov --size 8x6 --fov -30
 refused fov --size 8x6 --fov 180
-echo "bad --size and --fov are errors naming them"
+refused fov --size 8x6 --fov nan
+refused size --size 32768x32768
+refused eye --size 8x6 --eye 1,2,3,4
+refused threads --size 8x6 --threads 10000000
+refused grid-density --size 8x6 --grid-density nan
+echo "bad --size, --fov, --eye, --threads and --grid-density are errors naming them"
+
+# Every output named is checked before the render: a bad one leaves no
+# image behind, and a device or a pipe in an output's place is refused,
+# never replaced by a file.
+mkfifo pipe
+refused "pipe/maps_distance.pfm: cannot make its directory pipe" --size 8x6 --aov pipe/maps
+refused "not a regular file" --size 8x6 --dump-ir-bytes "$dir"
+if render --scene cornell --size 8x6 -o pipe > pipe.txt 2>&1; then echo "a pipe replaced by an image"; exit 1; fi
+test -p pipe
+grep -q "pipe: exists and is not a regular file" pipe.txt
+echo "outputs checked before the render; a pipe is not replaced"
+
+# Other subcommands' inputs and outputs.
+if "$shtrace" ir /dev/zero > ir.txt 2>&1; then echo "ir read /dev/zero"; exit 1; fi
+grep -q "/dev/zero: not a regular file" ir.txt
+if "$shtrace" info > /dev/full 2> full.txt; then echo "info wrote to a full disk and exited 0"; exit 1; fi
+grep -q "cannot write standard output" full.txt
+if "$shtrace" compare --scene cornell --size 8x6 --runs 1 --backends no-such > compare.txt 2>&1; then
+  echo "compare exited 0 with a failed row"; exit 1
+fi
+grep -q "1 rows, 1 failed" compare.txt
+echo "ir refuses a device, a full standard output fails the command, compare fails with its rows"
 
 leftovers=$(find . -name "*.tmp" -o -name ".*.png.*")
 test -z "$leftovers" || { echo "temporary files left: $leftovers"; exit 1; }

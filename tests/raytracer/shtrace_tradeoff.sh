@@ -25,7 +25,7 @@ mkdir -p "$blocked.csv"
 if "$shtrace" tradeoff --size 32x24 --backends cpu --out "$blocked" > /dev/null 2> "$dir/blocked.txt"; then
   echo "an --out whose CSV is a directory was accepted"; exit 1
 fi
-grep -q "tradeoff.csv: cannot write: Is a directory" "$dir/blocked.txt" || { cat "$dir/blocked.txt"; exit 1; }
+grep -q "tradeoff.csv: exists and is not a regular file" "$dir/blocked.txt" || { cat "$dir/blocked.txt"; exit 1; }
 # A scene file's name goes into the plot's title: a newline in it, which
 # would end gnuplot's string and run the rest as a command, is shown as '?'.
 data=$(cd "$(dirname "$0")/data" && pwd)
