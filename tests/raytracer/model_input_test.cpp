@@ -291,6 +291,49 @@ TEST_F(ModelInput, ShapesBeyondTheMemoryLimitAreRefusedByName) {
                                                                    "segments": 64}]})"), limits).mesh.triangles(), 64u * 62u);
 }
 
+// Each model's load is held to the limit alone; a scene that names a model
+// many times is held to it as a whole.
+TEST_F(ModelInput, ManyMeshesBeyondTheMemoryLimitTogetherAreRefusedByName) {
+  std::string obj;
+  for (int i = 0; i < 20000; ++i) {
+    std::string x = std::to_string(i);
+    obj += "v " + x + " 0 0\nv " + x + " 1 0\nv " + x + " 0 1\n";
+  }
+  for (int i = 0; i < 20000; ++i)
+    obj += "f " + std::to_string(3 * i + 1) + " " + std::to_string(3 * i + 2) + " " + std::to_string(3 * i + 3) + "\n";
+  write("many.obj", obj);
+  std::string objects;
+  for (int i = 0; i < 12; ++i) objects += std::string(i ? ", " : "") + R"({"type": "mesh", "file": "many.obj"})";
+  sh::rt::LoadLimits limits;
+  limits.memory_mib = 32;
+  limits.in_process = true;
+  std::string e = error_of(write("many.json", "{\"objects\": [" + objects + "]}"), limits);
+  EXPECT_TRUE(mentions(e, "many.json: objects[")) << e;
+  EXPECT_TRUE(mentions(e, ".file: makes 20000 triangles")) << e;
+  EXPECT_TRUE(mentions(e, "more than the load limit of 32 MiB (--load-memory)")) << e;
+}
+
+// What JSON lets pass and a scene must not: a key given twice (the first
+// would vanish), a fraction where a count goes, a type that is not a name,
+// objects that are not a list; and the coordinate bound itself is taken.
+TEST_F(ModelInput, JsonThatWouldBeMisreadIsAnErrorNamingTheField) {
+  EXPECT_TRUE(mentions(error_of(write("twice.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0],
+                                                                      "radius": 1, "radius": 2}]})")),
+                       "twice.json: objects[0].radius: given twice in one object"));
+  EXPECT_TRUE(mentions(error_of(write("names.json", R"({"materials": {"a": {}, "a": {"type": "mirror"}},
+                                                      "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]})")),
+                       "names.json: materials.a: given twice in one object"));
+  EXPECT_TRUE(mentions(error_of(write("frac.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                                                                     "segments": 4.7}]})")),
+                       "frac.json: objects[0].segments: 4.7 is not a whole number"));
+  EXPECT_TRUE(mentions(error_of(write("type.json", R"({"objects": [{"type": 5}]})")),
+                       "type.json: objects[0].type: expected a string"));
+  EXPECT_TRUE(mentions(error_of(write("object.json", R"({"objects": {}})")), "object.json: objects: expected an array"));
+  sh::rt::Scene bound = sh::rt::load_scene(write("bound.json", R"({"objects": [{"type": "quad", "corner": [-1e18, 0, 0],
+                                                                   "u": [1e18, 0, 0], "v": [0, 0, 1e18]}]})"));
+  EXPECT_EQ(bound.mesh.triangles(), 2u) << "1e18 is the bound, and within it";
+}
+
 TEST_F(ModelInput, SphereTooSmallForItsPlaceSaysSo) {
   std::string e = error_of(write("tiny.json", R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1e-30}]})"));
   EXPECT_TRUE(mentions(e, "tiny.json: objects[0].radius: 1e-30 is too small"));

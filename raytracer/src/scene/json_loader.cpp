@@ -46,13 +46,15 @@ class Reader {
     if (!j.is_number()) fail(at, "expected a number");
     double v = j.get<double>();
     if (!std::isfinite(v)) fail(at, "must be finite");
-    if (std::fabs(v) > kMaxCoordinate)
+    // As the tracer holds it: 1e18 itself rounds to the bound.
+    if (std::fabs(static_cast<float>(v)) > kMaxCoordinate)
       fail(at, text(v) + " is outside the range the tracer supports (|v| <= 1e18)");
     return static_cast<float>(v);
   }
 
   int integer(const json& j, const std::string& at, int lo, int hi) const {
     float v = number(j, at);
+    if (v != std::floor(v)) fail(at, text(v) + " is not a whole number");
     if (!(v >= lo && v <= hi)) fail(at, "must be " + std::to_string(lo) + " .. " + std::to_string(hi));
     return static_cast<int>(v);
   }
@@ -192,12 +194,14 @@ void zero_area(const Reader& r, const std::string& at, std::size_t dropped, Scen
     s.warnings.push_back(r.file() + ": " + at + ": " + std::to_string(dropped) + " zero-area triangles left out");
 }
 
-// Shapes are made in this process, where no loading child's limit holds:
-// the scene may take as much memory as a model's load may (a position, a
-// normal and a material a corner and a triangle).
-void within_memory(const Reader& r, const std::string& at, const Scene& s, std::size_t adding, const LoadLimits& limits) {
-  constexpr std::size_t kBytesPerTriangle = 3 * sizeof(Vec3) * 2 + sizeof(std::int32_t);
-  std::size_t mib = (s.mesh.triangles() + adding) * kBytesPerTriangle >> 20;
+// Shapes are made, and models' triangles gathered, in this process, where
+// no loading child's limit holds: the scene may take as much memory as a
+// model's load may (a position, a normal and a material a corner and a
+// triangle, twice over while the vectors grow).
+void within_memory(const Reader& r, const std::string& at, std::size_t triangles, std::size_t adding,
+                   const LoadLimits& limits) {
+  constexpr std::size_t kBytesPerTriangle = 2 * (3 * sizeof(Vec3) * 2 + sizeof(std::int32_t));
+  std::size_t mib = (triangles + adding) * kBytesPerTriangle >> 20;
   if (mib > limits.memory_mib)
     r.fail(at, "makes " + std::to_string(adding) + " triangles, and the scene would take " + std::to_string(mib) +
                    " MiB, more than the load limit of " + std::to_string(limits.memory_mib) + " MiB (--load-memory)");
@@ -206,7 +210,8 @@ void within_memory(const Reader& r, const std::string& at, const Scene& s, std::
 void read_object(const Reader& r, const json& o, const std::string& at, Scene& s,
                  const std::map<std::string, int>& materials, const LoadLimits& limits) {
   if (!o.is_object()) r.fail(at, "expected an object");
-  if (!o.contains("type") || !o["type"].is_string()) r.fail(at + ".type", "missing (mesh, sphere, quad or box)");
+  if (!o.contains("type")) r.fail(at + ".type", "missing (mesh, sphere, quad or box)");
+  if (!o["type"].is_string()) r.fail(at + ".type", "expected a string (mesh, sphere, quad or box)");
   std::string type = o["type"];
   int material = 0;
   if (o.contains("material")) {
@@ -222,18 +227,22 @@ void read_object(const Reader& r, const json& o, const std::string& at, Scene& s
     std::string path = file.get<std::string>();
     if (!path.empty() && path[0] != '/') path = directory_of(r.file()) + path;
     Transform t = o.contains("transform") ? read_transform(r, o["transform"], at + ".transform") : Transform{};
+    std::size_t before = s.mesh.triangles();
     try {
       load_model(s, path, t, material, limits);
     } catch (const Error& e) {
       r.fail(at + ".file", e.what());
     }
+    // Each load is held to the limit alone; what the loads add up to, here.
+    within_memory(r, at + ".file", before, s.mesh.triangles() - before, limits);
   } else if (type == "sphere") {
     r.only(o, at, {"type", "center", "radius", "segments", "material"});
     float radius = r.number(r.required(o, at, "radius"), at + ".radius");
     if (radius <= 0) r.fail(at + ".radius", "must be positive");
     // Fewer than 4 segments make one ring, all pole triangles: nothing.
     int segments = o.contains("segments") ? r.integer(o["segments"], at + ".segments", 4, 4096) : 32;
-    within_memory(r, at + ".segments", s, static_cast<std::size_t>(segments) * static_cast<std::size_t>(segments - 2), limits);
+    within_memory(r, at + ".segments", s.mesh.triangles(),
+                  static_cast<std::size_t>(segments) * static_cast<std::size_t>(segments - 2), limits);
     std::size_t before = s.mesh.triangles();
     std::size_t dropped = add_sphere(s, r.vec3(r.required(o, at, "center"), at + ".center"), radius, material, segments);
     if (s.mesh.triangles() == before)
@@ -269,9 +278,12 @@ class FieldTracker {
     using E = json::parse_event_t;
     if (event == E::object_start || event == E::array_start) {
       if (depth > kMaxDepth) throw Error(at() + "nested deeper than " + std::to_string(kMaxDepth) + " levels");
-      frames_.push_back({event == E::array_start, 0, ""});
+      frames_.push_back({event == E::array_start, 0, "", {}});
     } else if (event == E::key && !frames_.empty()) {
-      frames_.back().key = parsed.is_string() ? parsed.get<std::string>() : "?";
+      Frame& f = frames_.back();
+      f.key = parsed.is_string() ? parsed.get<std::string>() : "?";
+      // JSON keeps the last of a key given twice: the first would vanish.
+      if (!f.keys.insert(f.key).second) throw Error(at() + "given twice in one object");
     } else if (event == E::object_end || event == E::array_end) {
       if (!frames_.empty()) frames_.pop_back();
       next();
@@ -296,6 +308,7 @@ class FieldTracker {
     bool array;
     std::size_t index;
     std::string key;
+    std::set<std::string> keys;  // an object's, so far
   };
   void next() {
     if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
@@ -352,8 +365,8 @@ Scene read_scene(const json& j, const std::string& path, const LoadLimits& limit
   if (j.contains("lights")) read_lights(r, j["lights"], s);
   s.background = r.vec3(j, "", "background", s.background);
   s.ambient = r.number(j, "", "ambient", s.ambient);
-  if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
-    r.fail("objects", "missing or empty: the scene has nothing to trace");
+  if (j.contains("objects") && !j["objects"].is_array()) r.fail("objects", "expected an array of objects");
+  if (!j.contains("objects") || j["objects"].empty()) r.fail("objects", "missing or empty: the scene has nothing to trace");
   for (std::size_t i = 0; i < j["objects"].size(); ++i)
     read_object(r, j["objects"][i], "objects[" + std::to_string(i) + "]", s, materials, limits);
   validate(s, path);
