@@ -1,7 +1,9 @@
 // Every recording error throws sh::Error naming the program and the fault.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <optional>
+#include <variant>
 
 #include <sh/sh.hpp>
 
@@ -170,6 +172,51 @@ TEST(RecordingErrors, PrefetchOfTheWrongRankOrOutsideAProgram) {
       },
       {"one_coordinate", "table 'grid'", "2 dimensions", "prefetched with 1 coordinates"});
   expect_error([&] { t.prefetch(ConstAttrib2i(0, 1)); }, {"prefetch", "only be asked inside a program"});
+}
+
+// Control flow nests at most ir::kMaxNesting deep: at the limit a program
+// records and runs; one level more is refused while recording (some 14 000
+// levels overflowed the stack in the passes).
+Program nested_ifs(int levels) {
+  return SH_BEGIN_PROGRAM("deep") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x;
+    for (int i = 0; i < levels; ++i) {
+      SH_IF(x > static_cast<float>(i)) { r = r + 1.0f; }
+    }
+    for (int i = 0; i < levels; ++i) {
+      SH_ENDIF;
+    }
+  } SH_END;
+}
+
+TEST(RecordingErrors, ControlFlowNestedPastTheLimit) {
+  Channel<Attrib1f> x(std::vector<float>{2.5f}), r;
+  run(nested_ifs(ir::kMaxNesting), {x}, {r}, backend("interp"));
+  EXPECT_EQ(r[0], 2.5f + 3.0f);
+  expect_error([] { nested_ifs(ir::kMaxNesting + 1); }, {"deep", "SH_IF nested deeper than 1000 levels"});
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("deep_loops") {
+          Attrib1f n = 0.0f;
+          for (int i = 0; i <= ir::kMaxNesting; ++i) {
+            SH_WHILE(n < 0.0f) {}
+          }
+        } SH_END;
+      },
+      {"deep_loops", "a loop nested deeper than 1000 levels"});
+  // IR built by hand (or by a pass) is held to the same limit by the
+  // verifier, before anything walks it.
+  ir::Program deeper = nested_ifs(ir::kMaxNesting).ir();
+  auto top = std::find_if(deeper.body.begin(), deeper.body.end(),
+                          [](const ir::Stmt& s) { return std::holds_alternative<ir::If>(s.node); });
+  ASSERT_NE(top, deeper.body.end());
+  ir::If wrapper = std::get<ir::If>(top->node);
+  wrapper.then_body = {*top};
+  wrapper.else_body.clear();
+  *top = ir::Stmt{std::move(wrapper)};
+  expect_error([&] { ir::verify(deeper); }, {"deep", "nested deeper than 1000 levels"});
 }
 
 TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {

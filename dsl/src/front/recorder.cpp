@@ -167,7 +167,13 @@ void Recorder::close(ir::Block* next) {
   current_ = next;
 }
 
+void Recorder::check_nesting(const char* what) const {
+  if (open_.size() >= static_cast<std::size_t>(ir::kMaxNesting))
+    fail(std::string(what) + " nested deeper than " + std::to_string(ir::kMaxNesting) + " levels of control flow");
+}
+
 void Recorder::begin_if(const Value& cond) {
+  check_nesting("SH_IF");
   ir::If node;
   node.cond = condition(cond, "SH_IF");
   current_->push_back(ir::Stmt{std::move(node)});
@@ -185,6 +191,7 @@ void Recorder::begin_else() {
 void Recorder::end_if() { close(expect({Frame::IfThen, Frame::IfElse}, "SH_ENDIF without SH_IF").outer); }
 
 ir::Loop& Recorder::open_loop(Frame first, bool test_at_top) {
+  check_nesting("a loop");
   ir::Loop loop;
   loop.test_at_top = test_at_top;
   current_->push_back(ir::Stmt{std::move(loop)});

@@ -63,6 +63,7 @@ class Recorder {
   ir::VarId local_copy(const VarNode* input, ir::VarId id);
   ir::Operand condition(const Value& cond, const char* construct);
   ir::Loop& open_loop(Frame first, bool test_at_top);
+  void check_nesting(const char* what) const;  // before an if or a loop opens
   Open& expect(std::initializer_list<Frame> frames, const char* what);
   void close(ir::Block* next);
   void jump_statement(ir::Stmt s, const char* macro);

@@ -17,8 +17,6 @@ constexpr char kMagic[] = "SHIR";
 // An array variable (kind 6, its length after its name) reads as nothing
 // older did, so programs without one keep their bytes and hashes.
 constexpr std::uint8_t kVersion = 3;  // 3: a table's edge mode
-// Deeper nesting than any recorded program has; bounds the reader's stack.
-constexpr int kMaxDepth = 1000;
 
 class Writer {
  public:
@@ -266,7 +264,7 @@ class ProgramReader {
   }
 
   Block block(int depth) {
-    if (depth > kMaxDepth) r_.fail("statements nested deeper than " + std::to_string(kMaxDepth));
+    if (depth > kMaxNesting) r_.fail("statements nested deeper than " + std::to_string(kMaxNesting));
     std::uint32_t n = r_.count(1, "statement count");
     Block b;
     for (std::uint32_t i = 0; i < n; ++i) b.push_back(stmt(depth));

@@ -204,21 +204,23 @@ class Verifier {
       fail("prefetch coordinates must be i32, one per dimension", &s);
   }
 
-  void block(const Block& b, int loop_depth) {
+  void block(const Block& b, int loop_depth, int nesting = 0) {
     for (const Stmt& s : b) {
+      if (nesting >= kMaxNesting && (std::holds_alternative<If>(s.node) || std::holds_alternative<Loop>(s.node)))
+        fail("nested deeper than " + std::to_string(kMaxNesting) + " levels of control flow", &s);
       if (auto* a = std::get_if<Assign>(&s.node)) {
         assign(*a, s);
       } else if (auto* i = std::get_if<If>(&s.node)) {
         condition(i->cond, s);
-        block(i->then_body, loop_depth);
-        block(i->else_body, loop_depth);
+        block(i->then_body, loop_depth, nesting + 1);
+        block(i->else_body, loop_depth, nesting + 1);
       } else if (auto* l = std::get_if<Loop>(&s.node)) {
         // A break or continue in a loop's header or update would belong to
         // no loop in particular (the recorder refuses them there).
-        block(l->header, 0);
+        block(l->header, 0, nesting + 1);
         condition(l->cond, s);
-        block(l->body, loop_depth + 1);
-        block(l->update, 0);
+        block(l->body, loop_depth + 1, nesting + 1);
+        block(l->update, 0, nesting + 1);
       } else if (auto* sc = std::get_if<Scatter>(&s.node)) {
         scatter(*sc, s);
       } else if (auto* pf = std::get_if<Prefetch>(&s.node)) {

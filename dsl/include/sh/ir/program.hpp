@@ -36,6 +36,12 @@ struct Var {
 inline constexpr int kMaxArrayLength = 4096;
 inline constexpr int kMaxArrayValues = 8192;
 
+// Ifs and loops nest at most this deep: passes and backends walk the
+// program's tree by recursion, a few stack frames a level (some 14 000
+// levels overflowed an 8 MiB stack), and no program a person writes comes
+// near it.
+inline constexpr int kMaxNesting = 1000;
+
 // A read of a variable through a swizzle; the swizzle's size is the width
 // the operation sees.
 struct Operand {
