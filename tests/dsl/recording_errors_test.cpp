@@ -219,6 +219,40 @@ TEST(RecordingErrors, ControlFlowNestedPastTheLimit) {
   expect_error([&] { ir::verify(deeper); }, {"deep", "nested deeper than 1000 levels"});
 }
 
+// A variable std::move took from is an error to read, on the host and in
+// a program, and assigning it makes it a variable again (it crashed).
+TEST(RecordingErrors, AVariableMovedFromIsReadOnlyAfterAnAssignment) {
+  Attrib1f a = 2.0f;
+  Attrib1f b = std::move(a);
+  EXPECT_EQ(b.get(), 2.0f);
+  expect_error([&] { Attrib1f c = a + 1.0f; }, {"read after std::move took its variable"});
+  expect_error([&] { a.get(); }, {"read after std::move"});
+  a = 5.0f;
+  EXPECT_EQ(a.get(), 5.0f);
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("moved") {
+          InputAttrib1f x;
+          OutputAttrib1f r;
+          Attrib1f y = x * 2.0f;
+          Attrib1f z = std::move(y);
+          r = y + z;
+        } SH_END;
+      },
+      {"read after std::move"});
+  Program p = SH_BEGIN_PROGRAM("moved_then_assigned") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    Attrib1f y = x * 2.0f;
+    Attrib1f z = std::move(y);
+    y = x + 1.0f;
+    r = y + z;
+  } SH_END;
+  Channel<Attrib1f> in(std::vector<float>{3.0f}), out;
+  run(p, {in}, {out}, backend("interp"));
+  EXPECT_EQ(out[0], 4.0f + 6.0f);
+}
+
 TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {
   EXPECT_THROW(SH_BEGIN_PROGRAM("bad") { SH_ELSE; } SH_END, Error);
   // Outside any recording again: a variable is a uniform.

@@ -30,12 +30,23 @@ namespace detail {
 // Common base, so that functions can take any Attrib by its Value.
 class ValueHolder {
  public:
-  const Value& value() const { return value_; }
+  // A variable moved from holds none: reading it is an error, and an
+  // assignment gives it a new one, as assigning a moved-from string does.
+  const Value& value() const {
+    if (!value_.node) moved_from();
+    return value_;
+  }
 
  protected:
   ValueHolder() = default;
   explicit ValueHolder(Value v) : value_(std::move(v)) {}
   bool copies_on_move() const { return copy_on_move_; }
+  [[noreturn]] static void moved_from();
+  // The variable an assignment writes, new where this was moved from.
+  const Value& target(ir::Type type) {
+    if (!value_.node) value_ = declare(type, Declared::Temp);
+    return value_;
+  }
   Value value_;
   bool copy_on_move_ = false;  // a swizzle of another variable, or a constant
 };
@@ -142,14 +153,14 @@ class Attrib : public detail::ValueHolder {
   }
 
   Attrib& operator=(const Attrib& other) {
-    detail::assign(value_, other.value());
+    detail::assign(target(ir_type()), other.value());
     return *this;
   }
   // Another scalar type is converted (detail::assign records the cast).
   template <AttribLike A>
     requires AssignableTo<A, N>
   Attrib& operator=(const A& other) {
-    detail::assign(value_, other.value());
+    detail::assign(target(ir_type()), other.value());
     return *this;
   }
   template <AttribLike A>
@@ -162,7 +173,7 @@ class Attrib : public detail::ValueHolder {
   }
   template <Number U>
   Attrib& operator=(U x) {
-    detail::assign(value_, detail::constant(scalar_of<T>::value, static_cast<double>(x)));
+    detail::assign(target(ir_type()), detail::constant(scalar_of<T>::value, static_cast<double>(x)));
     return *this;
   }
 
@@ -177,23 +188,23 @@ class Attrib : public detail::ValueHolder {
   void operator--(int) { *this -= 1; }
 
   // Swizzles: read components, or write only those (v(0, 1) = ...).
-  SwizzleRef<1, T, S> operator()(int a) const { return {detail::swizzle(value_, {a})}; }
-  SwizzleRef<2, T, S> operator()(int a, int b) const { return {detail::swizzle(value_, {a, b})}; }
-  SwizzleRef<3, T, S> operator()(int a, int b, int c) const { return {detail::swizzle(value_, {a, b, c})}; }
-  SwizzleRef<4, T, S> operator()(int a, int b, int c, int d) const { return {detail::swizzle(value_, {a, b, c, d})}; }
+  SwizzleRef<1, T, S> operator()(int a) const { return {detail::swizzle(value(), {a})}; }
+  SwizzleRef<2, T, S> operator()(int a, int b) const { return {detail::swizzle(value(), {a, b})}; }
+  SwizzleRef<3, T, S> operator()(int a, int b, int c) const { return {detail::swizzle(value(), {a, b, c})}; }
+  SwizzleRef<4, T, S> operator()(int a, int b, int c, int d) const { return {detail::swizzle(value(), {a, b, c, d})}; }
 
   // A new variable: writing it never writes this one, even where U is T.
   template <ScalarType U>
   Attrib<N, U, S> cast() const {
-    return {detail::FromValue{}, detail::cast(value_, scalar_of<U>::value)};
+    return {detail::FromValue{}, detail::cast(value(), scalar_of<U>::value)};
   }
 
   Attrib& name(const std::string& n) {
-    detail::set_name(value_, n);
+    detail::set_name(value(), n);
     return *this;
   }
   // Host-side value of a uniform (outside programs).
-  T get(int i = 0) const { return static_cast<T>(detail::host_value(value_)[i]); }
+  T get(int i = 0) const { return static_cast<T>(detail::host_value(value())[i]); }
 };
 
 #undef SH_COMPOUND_ASSIGNMENT

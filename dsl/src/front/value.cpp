@@ -245,4 +245,8 @@ void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& 
   r->emit_scatter(ir::Scatter{r->table_index(accumulator), r->read(as_scalar(index, ir::Scalar::I32)), r->read(v)});
 }
 
+void ValueHolder::moved_from() {
+  throw Error("an Attrib was read after std::move took its variable: assign it a value before reading it again");
+}
+
 }  // namespace sh::detail
