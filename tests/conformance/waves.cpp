@@ -227,6 +227,22 @@ TEST_P(Conformance, WavesRefuseARequestOutputThatIsNotAnInt) {
     EXPECT_NE(std::string(e.what()).find("output 0 holds the requests of waves, so it must be int1..int4"), std::string::npos)
         << e.what();
   }
+  // An output or input that does not exist is named as given (a negative
+  // one was named as slot 0, which exists).
+  sh::Program ints = SH_BEGIN_PROGRAM("int waves") {
+    sh::InputAttrib1i i;
+    sh::OutputAttrib1i request;
+    request = i * 0 - 1;
+  } SH_END;
+  sh::Channel<sh::Attrib1i> i(std::vector<std::int32_t>{1, 2}), request;
+  for (auto [waves, says] : {std::pair{sh::Waves{nullptr, -1, {}}, "output -1 named for waves does not exist (1 outputs)"},
+                             std::pair{sh::Waves{nullptr, 0, {{0, -3}}}, "input -3 named as carried does not exist (1 inputs)"}})
+    try {
+      sh::run(ints, {i}, {request}, waves, choice());
+      FAIL() << "waves naming a slot that does not exist were accepted";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

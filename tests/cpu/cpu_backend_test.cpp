@@ -373,6 +373,25 @@ TEST(CpuBackend, OptionsHaveAStringFormAndVariantsCoverEveryWidth) {
   EXPECT_EQ(isas, expected_isas);
 }
 
+// A level outside the enumeration (a typed option set by a cast) is refused
+// by name; it read past the table of levels and crashed.
+TEST(CpuBackend, AnIsaThatIsNoLevelIsRefused) {
+  Options o;
+  o.set(sh::cpu::Options{.isa = static_cast<sh::cpu::Isa>(9)});
+  Program p = SH_BEGIN_PROGRAM("levelled") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x + 1.0f;
+  } SH_END;
+  Channel<Attrib1f> in(std::vector<float>{1}), out;
+  try {
+    run(p, {in}, {out}, backend("cpu", o));
+    ADD_FAILURE() << "isa 9 was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("isa 9 is none of host, sse4.2, avx2, avx512"), std::string::npos) << e.what();
+  }
+}
+
 // A kernel for an x86-64 level runs that level's lowering, whatever the
 // host has beyond it: the level's widest vectors by default, and, below
 // AVX-512, a gather a lane at a time.  A level the host lacks is refused

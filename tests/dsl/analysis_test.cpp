@@ -40,6 +40,18 @@ TEST(Analysis, CriticalPathUnderParallelMultipliers) {
   EXPECT_EQ(analysis::critical_path(p, m), 18u) << "the paper's 1 t_m + 3 t_a + t_d + 2 t_l";
   m.units = {0, 0, 0, 0, 0, 0, 0};
   EXPECT_EQ(analysis::critical_path(p, m), 18u) << "the dependence chain itself";
+  // A negative latency had wrapped to 2^64 - 1 cycles, a negative unit
+  // count read as unbounded: both are errors naming the class.
+  m.latency[0] = -1;
+  EXPECT_THROW(analysis::critical_path(p, m), Error);
+  m.latency[0] = 4;
+  m.units[0] = -2;
+  try {
+    analysis::critical_path(p, m);
+    ADD_FAILURE() << "a negative unit count was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("class 0 has -2 units"), std::string::npos) << e.what();
+  }
 }
 
 // Nothing waits on a prefetch: straight-line code that asks for an

@@ -253,6 +253,14 @@ TEST(RecordingErrors, AVariableMovedFromIsReadOnlyAfterAnAssignment) {
   EXPECT_EQ(out[0], 4.0f + 6.0f);
 }
 
+// A uniform's components on the host are 0 to its width less one; others
+// read past its storage.
+TEST(RecordingErrors, AComponentPastTheWidthIsAnError) {
+  Attrib3f u(1.0f, 2.0f, 3.0f);
+  EXPECT_EQ(u.get(2), 3.0f);
+  for (int i : {3, -1, 100}) expect_error([&] { u.get(i); }, {"of a value of 3 (they are 0 to 2)"});
+}
+
 TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {
   EXPECT_THROW(SH_BEGIN_PROGRAM("bad") { SH_ELSE; } SH_END, Error);
   // Outside any recording again: a variable is a uniform.

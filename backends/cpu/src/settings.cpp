@@ -161,6 +161,8 @@ std::string cannot_run(Isa isa) {
 // The options' level, where the host can run it.
 Isa runnable_isa(const sh::Options& options) {
   Isa isa = options.get<Options>().isa;
+  if (static_cast<std::size_t>(isa) > levels().size())
+    throw Error("cpu backend: isa " + std::to_string(static_cast<int>(isa)) + " is none of host, sse4.2, avx2, avx512");
   if (isa == Isa::Host) return isa;
   if (std::string why = cannot_run(isa); !why.empty())
     throw Error(std::string("cpu backend: setting \"isa\" is \"") + isa_name(isa) + "\"" + why);

@@ -204,7 +204,10 @@ class Attrib : public detail::ValueHolder {
     return *this;
   }
   // Host-side value of a uniform (outside programs).
-  T get(int i = 0) const { return static_cast<T>(detail::host_value(value())[i]); }
+  T get(int i = 0) const {
+    if (i < 0 || i >= N) detail::no_component(i, N);
+    return static_cast<T>(detail::host_value(value())[i]);
+  }
 };
 
 #undef SH_COMPOUND_ASSIGNMENT

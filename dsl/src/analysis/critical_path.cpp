@@ -59,13 +59,17 @@ std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
 }  // namespace
 
 std::uint64_t critical_path(const ir::Program& p, const Machine& m) {
+  for (int u = 0; u < kUnits; ++u)
+    if (m.units[u] < 0 || m.latency[u] < 0)
+      throw Error("critical_path: machine class " + std::to_string(u) + " has " + std::to_string(m.units[u]) +
+                  " units of latency " + std::to_string(m.latency[u]) + "; neither may be negative");
   std::vector<Node> nodes = dependence_graph(p, m);
   std::vector<std::uint64_t> ready_at(nodes.size(), 0), done_at(nodes.size(), 0);
   std::vector<int> waiting(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) waiting[i] = static_cast<int>(nodes[i].preds.size());
   // Free times of each unit of each class (one shared unit when sequential).
   std::vector<std::vector<std::uint64_t>> free_at(kUnits);
-  for (int u = 0; u < kUnits; ++u) free_at[u].assign(m.one_at_a_time ? 0 : std::max(m.units[u], 0), 0);
+  for (int u = 0; u < kUnits; ++u) free_at[u].assign(m.one_at_a_time ? 0 : static_cast<std::size_t>(m.units[u]), 0);
   std::uint64_t shared_free = 0;
   auto later = [&](int a, int b) {
     return ready_at[a] != ready_at[b] ? ready_at[a] > ready_at[b] : nodes[a].tail < nodes[b].tail;

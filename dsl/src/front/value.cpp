@@ -245,6 +245,11 @@ void scatter_add(const std::shared_ptr<TableStorage>& accumulator, const Value& 
   r->emit_scatter(ir::Scatter{r->table_index(accumulator), r->read(as_scalar(index, ir::Scalar::I32)), r->read(v)});
 }
 
+void no_component(int i, int width) {
+  throw Error("component " + std::to_string(i) + " of a value of " + std::to_string(width) + " (they are 0 to " +
+              std::to_string(width - 1) + ")");
+}
+
 void ValueHolder::moved_from() {
   throw Error("an Attrib was read after std::move took its variable: assign it a value before reading it again");
 }

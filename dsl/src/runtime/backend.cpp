@@ -300,7 +300,7 @@ void check_waves(const ir::Program& p, const Waves& w) {
                 "gathered out of their places");
   auto output = [&](int k) {
     if (k < 0 || static_cast<std::size_t>(k) >= p.outputs.size())
-      throw Error(describe_slot(p, "output", static_cast<std::size_t>(std::max(k, 0))) + " named for waves does not exist (" +
+      throw Error("program '" + p.name + "': output " + std::to_string(k) + " named for waves does not exist (" +
                   std::to_string(p.outputs.size()) + " outputs)");
     return p.type_of(p.outputs[k]);
   };
@@ -309,7 +309,8 @@ void check_waves(const ir::Program& p, const Waves& w) {
                 ir::type_name(output(w.request_output)));
   for (const auto& [out, in] : w.carried) {
     if (in < 0 || static_cast<std::size_t>(in) >= p.inputs.size())
-      throw Error(describe_slot(p, "input", static_cast<std::size_t>(std::max(in, 0))) + " named as carried does not exist");
+      throw Error("program '" + p.name + "': input " + std::to_string(in) + " named as carried does not exist (" +
+                  std::to_string(p.inputs.size()) + " inputs)");
     if (output(out) != p.type_of(p.inputs[in]))
       throw Error(describe_slot(p, "output", out) + " is carried into input " + std::to_string(in) + " of another type");
   }

@@ -74,6 +74,8 @@ void array_fill(const Value& array, const Value& value);
 
 // Host-side access to a uniform or constant (outside recording).
 std::array<double, 4> host_value(const Value& v);
+// Throws sh::Error: component `i` asked of a value of `width` components.
+[[noreturn]] void no_component(int i, int width);
 void set_name(const Value& v, const std::string& name);
 
 bool recording();
