@@ -214,6 +214,52 @@ TEST_P(Conformance, LoopLeftByABreakInItsLastAllowedPassIsNoRunaway) {
   }
 }
 
+// The cap is the passes a loop may run: a while, a for and a do/until of
+// exactly the cap's passes run (a while of 3 passes under a cap of 3 was
+// refused, its fourth test counted as a pass, and under a cap of 0 a
+// while that ran no pass); one pass more is refused, naming the element.
+TEST_P(Conformance, ALoopOfExactlyTheCapsPassesRuns) {
+  sh::Program p = SH_BEGIN_PROGRAM("exact_cap") {
+    sh::Input<Attrib1f> n;
+    sh::Output<sh::Attrib3f> r;
+    Attrib1f w = 0.0f, f = 0.0f, d = 0.0f;
+    SH_WHILE(w < n) { w += 1.0f; } SH_ENDWHILE;
+    SH_FOR(Attrib1f i = 0.0f, i < n, i += 1.0f) { f += 1.0f; } SH_ENDFOR;
+    SH_DO { d += 1.0f; } SH_UNTIL(d >= n);
+    r = join(join(w, f), d);
+  } SH_END;
+  sh::Options o;
+  o.max_loop_iterations = 3;
+  for (std::size_t count : {1u, 5u, 17u}) {
+    std::vector<float> ns(count);
+    for (std::size_t k = 0; k < count; ++k) ns[k] = static_cast<float>(1 + k % 3);  // 1, 2 or 3 passes
+    sh::Channel<Attrib1f> in(ns);
+    sh::Channel<sh::Attrib3f> out;
+    sh::run(p, {in}, {out}, choice(o));
+    for (std::size_t k = 0; k < count; ++k)
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(out[3 * k + c], ns[k]) << count << " elements, element " << k << ", loop " << c;
+    ns[count / 2] = 4.0f;
+    sh::Channel<Attrib1f> over(ns);
+    try {
+      sh::run(p, {over}, {out}, choice(o));
+      ADD_FAILURE() << "a loop of 4 passes ran under a cap of 3";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("element " + std::to_string(count / 2) + " "), std::string::npos) << e.what();
+    }
+  }
+  sh::Program none = SH_BEGIN_PROGRAM("no_pass") {
+    sh::Input<Attrib1f> n;
+    sh::Output<Attrib1f> r;
+    Attrib1f w = 0.0f;
+    SH_WHILE(w < n) { w += 1.0f; } SH_ENDWHILE;
+    r = w;
+  } SH_END;
+  o.max_loop_iterations = 0;
+  sh::Channel<Attrib1f> zero(std::vector<float>{0.0f, -1.0f}), out;
+  sh::run(none, {zero}, {out}, choice(o));
+  EXPECT_EQ(out[0], 0.0f);
+}
+
 // A variable read before anything is written to it reads zero, in every
 // element: on a loop's first trip, after a loop that did not run, after an
 // if whose other side wrote it, in a do/until body before its test, and in

@@ -210,7 +210,13 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
     b_.CreateCondBr(any(looping), counted, exit);
     b_.SetInsertPoint(counted);
   }
-  check_iterations(number, count, looping, l.test_at_top ? test : body);
+  // A pass is counted once its test (at the top) lets it in: a loop of
+  // exactly the cap's passes runs.
+  BasicBlock* let_in = l.test_at_top ? BasicBlock::Create(ctx_, "loop.let_in", fn_) : nullptr;
+  if (l.test_at_top)
+    b_.CreateBr(test);
+  else
+    check_iterations(number, count, looping, body);
 
   b_.SetInsertPoint(test);
   run_active();
@@ -219,7 +225,12 @@ void Lowering::loop(const ir::Loop& l, const ir::Stmt& s, bool masked) {
   if (masked) {
     go_on = any(keep_lanes(active, widen(go_on)));
   }
-  b_.CreateCondBr(go_on, l.test_at_top ? body : top, exit);
+  b_.CreateCondBr(go_on, l.test_at_top ? let_in : top, exit);
+
+  if (l.test_at_top) {
+    b_.SetInsertPoint(let_in);
+    check_iterations(number, count, masked ? load_mask(active) : inside_masks ? exec() : nullptr, body);
+  }
 
   b_.SetInsertPoint(body);
   run_active();

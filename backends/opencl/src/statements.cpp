@@ -128,12 +128,13 @@ void Generator::branching_loop(const ir::Loop& l, const ir::Stmt& s, int depth, 
   line(depth, "long " + counter + " = 0;");
   if (wrapped) line(depth, "int " + flag + " = 0;");
   line(depth, "for (;;) {");
-  count_iteration(number, counter, element, depth + 1);
   auto test = [&] {
     block(l.header, depth + 1);
     line(depth + 1, "if (!" + truthy(l.cond) + ") break;");
   };
+  // A pass is counted once its test (at the top) lets it in.
   if (l.test_at_top) test();
+  count_iteration(number, counter, element, depth + 1);
   exits_.push_back({"", wrapped, flag});
   if (wrapped) {
     line(depth + 1, "do {");
@@ -166,7 +167,6 @@ void Generator::masked_loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
   // Every lane may have left by a break in the last pass: the loop is over
   // then, before another is counted (as each element's own loop).
   line(depth + 2, "if (!" + any(active) + ") break;");
-  count_iteration(number, counter, "e + " + first_lane() + "(" + active + ")", depth + 2);
   auto test = [&] {
     line(depth + 2, "exec = " + active + ";");
     block(l.header, depth + 2);
@@ -174,6 +174,7 @@ void Generator::masked_loop(const ir::Loop& l, const ir::Stmt& s, int depth) {
     line(depth + 2, "if (!" + any(active) + ") break;");
   };
   if (l.test_at_top) test();
+  count_iteration(number, counter, "e + " + first_lane() + "(" + active + ")", depth + 2);
   line(depth + 2, "exec = " + active + ";");
   exits_.push_back({active, false, ""});
   block(l.body, depth + 2);

@@ -90,7 +90,7 @@ struct Options {
   Precision precision = Precision::F32;
   MathMode math = MathMode::Precise;
   int threads = 0;                        // 0: every core; at most kMostThreads
-  std::uint64_t max_loop_iterations = 1u << 24;  // per loop, per element
+  std::uint64_t max_loop_iterations = 1u << 24;  // passes a loop may run, per loop and element
   bool checked = false;                   // interp: report first NaN / bad table read
   bool optimize = true;                   // run the passes before compiling
   // Each backend's own options, by backend name.  A backend that runs

@@ -97,10 +97,12 @@ class Machine {
       block(l.header);
       return arg(l.cond, 0) > 0;
     };
+    // A pass is counted once its test (at the top) lets it in: a loop of
+    // exactly the cap's passes runs.
     for (std::uint64_t n = 0;; ++n) {
+      if (l.test_at_top && !keep_going()) break;
       if (n >= o_.max_loop_iterations)
         throw runaway_loop(p_, s, element_number(), o_.max_loop_iterations);
-      if (l.test_at_top && !keep_going()) break;
       if (block(l.body) == Flow::Break) break;
       block(l.update);
       if (!l.test_at_top && !keep_going()) break;
