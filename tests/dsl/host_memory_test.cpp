@@ -54,6 +54,17 @@ TEST(HostMemory, CountsWhoseBytesWrapAreRefused) {
             std::string::npos);
 }
 
+// A count whose bytes a size_t holds but no process can (2^48 bytes, past
+// x86-64's 2^47 of user addresses) is an error naming it, not a
+// std::bad_alloc from somewhere.
+TEST(HostMemory, CountsPastTheAddressSpaceAreErrorsNamingThem) {
+  const std::size_t too_many = std::size_t{1} << 44;
+  std::string e = error_of([&] { sh::Channel<sh::Attrib4f> c(too_many); });
+  EXPECT_NE(e.find("17592186044416 elements of f32x4 (281474976710656 bytes) do not fit"), std::string::npos) << e;
+  EXPECT_NE(error_of([] { sh::Table2D<sh::Attrib4f> t(1 << 22, 1 << 22); }).find("do not fit in this process's memory"),
+            std::string::npos);
+}
+
 TEST(HostMemory, MisalignedMemoryIsRefused) {
   alignas(8) unsigned char bytes[64] = {};
   ShHostMemoryPtr odd = new ShHostMemory(32, bytes + 2, SH_FLOAT);

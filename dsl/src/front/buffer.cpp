@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdint>
 #include <limits>
+#include <new>
 #include <utility>
 
 #include "sh/error.hpp"
@@ -38,8 +39,14 @@ void Buffer::resize(std::size_t count) {
     count_ = count;
     return;
   }
+  std::size_t bytes = bytes_for(count);
+  try {
+    words_.assign((bytes + 7) / 8, 0);
+  } catch (const std::bad_alloc&) {
+    throw Error(std::to_string(count) + " elements of " + ir::type_name(type_) + " (" + std::to_string(bytes) +
+                " bytes) do not fit in this process's memory");
+  }
   count_ = count;
-  words_.assign((bytes() + 7) / 8, 0);
 }
 
 std::array<std::size_t, 3> Buffer::shape() const {
