@@ -72,9 +72,10 @@ int table_index(const Program& p, const std::shared_ptr<TableStorage>& table) {
 
 std::string describe(const TableStorage& t) { return "table" + (t.decl.name.empty() ? "" : " '" + t.decl.name + "'"); }
 
-// The producer gives the table the consumer reads, and neither takes
-// input streams.
-void check_linked(const Program& producer, const TableStorage& through, int through_at, const Program& consumer) {
+// The producer gives the table the consumer reads without reading it, and
+// neither takes input streams.
+void check_linked(const Program& producer, const TableStorage& through, int through_at, bool producer_reads_it,
+                  const Program& consumer) {
   const ir::Program& p = producer.ir();
   const ir::Program& c = consumer.ir();
   if (!p.inputs.empty() || !c.inputs.empty())
@@ -87,6 +88,10 @@ void check_linked(const Program& producer, const TableStorage& through, int thro
                 describe(through) + " holds " + ir::type_name(through.decl.element));
   if (through_at < 0)
     throw Error("program '" + c.name + "': run_fused's consumer does not read the " + describe(through));
+  // Its reads would meet its own writes, in an order each backend picks.
+  if (producer_reads_it)
+    throw Error("program '" + p.name + "': run_fused's producer reads the " + describe(through) +
+                " it fills; read the values it needs from another table");
 }
 
 // The domain is a grid of the table's dimensions.
@@ -253,7 +258,7 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   RunStats stats;
   stats.backend = resolve(choice);
   int through_at = table_index(consumer, through);
-  check_linked(producer, *through, through_at, consumer);
+  check_linked(producer, *through, through_at, table_index(producer, through) >= 0, consumer);
   FilledByProducer filled(*through);
   RunArgs use_args = bind_arguments(consumer, {}, outputs);
   check_grid(consumer.ir(), *through, use_args.domain);
@@ -272,7 +277,7 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
   // Checked runs keep the two apart, so that their findings name elements
   // of the whole grid.
   bool may_strip = find_backend(stats.backend).runs_in_place() && !choice.options.checked &&
-                   consumer.ir().tables[through_at].edge != ir::Edge::Repeat && table_index(producer, through) < 0 &&
+                   consumer.ir().tables[through_at].edge != ir::Edge::Repeat &&
                    !has_accumulator(producer) && !has_accumulator(consumer) && !writes_a_table(make_args, use_args) &&
                    !views_the_table(make_args, use_args, through_at);
   std::optional<Reach> reach = may_strip ? reach_of(consumer, through_at, choice.options) : std::nullopt;
