@@ -49,9 +49,31 @@ class LazySquares : public sh::Refiner {
   std::vector<std::int32_t> values_;
 };
 
-// Every process of an mpi job registers it before serving.
+// A refiner whose bind hands the kernel what the program does not read:
+// one of four faults, by its seed.
+class BrokenBind : public sh::Refiner {
+ public:
+  static constexpr const char* kKind = "conformance.broken_bind";
+  explicit BrokenBind(int fault) : fault_(fault) {}
+  std::string kind() const override { return kKind; }
+  std::string seed() const override { return std::to_string(fault_); }
+  void bind(std::vector<sh::TableView>& tables) const override {
+    if (fault_ == 0) tables.pop_back();
+    if (fault_ == 1) tables[0].data = nullptr, tables[0].source = nullptr;
+    if (fault_ == 2) tables[0].dims[0] = 0;
+    if (fault_ == 3) tables[0].element = {sh::ir::Scalar::F32, 4};
+  }
+  std::size_t refine(const std::vector<std::int32_t>&, int) override { return 0; }
+  std::string summary() const override { return ""; }
+
+ private:
+  int fault_;
+};
+
+// Every process of an mpi job registers them before serving.
 const bool registered = [] {
   sh::register_refiner(kKind, [](const std::string& seed) { return std::make_unique<LazySquares>(std::stoull(seed)); });
+  sh::register_refiner(BrokenBind::kKind, [](const std::string& seed) { return std::make_unique<BrokenBind>(std::stoi(seed)); });
   return true;
 }();
 
@@ -209,6 +231,33 @@ TEST_P(Conformance, AnErrorInALaterWaveNamesTheElementsOwnPlace) {
     FAIL() << "an endless loop must be an error";
   } catch (const sh::Error& e) {
     EXPECT_NE(std::string(e.what()).find("element 10 "), std::string::npos) << e.what();
+  }
+}
+
+// What a refiner's bind leaves is checked before a kernel reads it, the
+// same on every backend (a table left out crashed the cpu backend's code,
+// one without data crashed interp, a zero extent read zeros on cpu and
+// opencl and was refused on interp).
+TEST_P(Conformance, WavesRefuseTablesTheRefinerBoundWrongly) {
+  ASSERT_TRUE(registered);
+  sh::Table1D<sh::Attrib1i> values(8);
+  values.assign(std::vector<std::int32_t>(8, 3));
+  sh::Program p = SH_BEGIN_PROGRAM("bound wrongly") {
+    sh::InputAttrib1i at;
+    sh::OutputAttrib1i request;
+    request = values[at] * 0 - 1;
+  } SH_END;
+  sh::Channel<sh::Attrib1i> at(std::vector<std::int32_t>{1, 2, 3}), request;
+  const char* says[] = {"left 0 tables where the program reads 1", "left table 0 without its elements",
+                        "made table 0 0 elements along dimension 0", "made table 0 f32x4 of rank 1 where the program reads i32"};
+  for (int fault = 0; fault < 4; ++fault) {
+    BrokenBind refiner(fault);
+    try {
+      sh::run(p, {at}, {request}, sh::Waves{&refiner, 0, {}}, choice());
+      ADD_FAILURE() << "fault " << fault << " was not found";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(says[fault]), std::string::npos) << e.what();
+    }
   }
 }
 

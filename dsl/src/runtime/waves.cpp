@@ -142,9 +142,35 @@ std::uint64_t refined_table_id() {
   return (std::uint64_t{1} << 63) | next++;
 }
 
+// What a refiner's bind hands the kernel must be what the program reads:
+// as many tables, of the same element types and ranks, each of at least
+// one element a dimension with its elements somewhere.  A kernel trusts
+// its tables (one left out crashed the cpu backend's code).
+void check_bound(const std::vector<TableView>& declared, const std::vector<TableView>& bound) {
+  auto fail = [](const std::string& what) { throw Error("running in waves: the refiner's bind " + what); };
+  if (bound.size() != declared.size())
+    fail("left " + std::to_string(bound.size()) + " tables where the program reads " + std::to_string(declared.size()));
+  for (std::size_t i = 0; i < bound.size(); ++i) {
+    const TableView &d = declared[i], &b = bound[i];
+    std::string table = "table " + std::to_string(i);
+    if (b.element != d.element || b.rank != d.rank)
+      fail("made " + table + " " + ir::type_name(b.element) + " of rank " + std::to_string(b.rank) + " where the program reads " +
+           ir::type_name(d.element) + " of rank " + std::to_string(d.rank));
+    for (int k = 0; k < b.rank; ++k)
+      if (b.dims[static_cast<std::size_t>(k)] < 1)
+        fail("made " + table + " " + std::to_string(b.dims[static_cast<std::size_t>(k)]) + " elements along dimension " +
+             std::to_string(k));
+    if (!b.data && !b.source) fail("left " + table + " without its elements (no data and no source)");
+  }
+}
+
 void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats& stats) {
   RunArgs all = args;
-  if (w.refiner) w.refiner->bind(all.tables);
+  auto bind = [&] {
+    w.refiner->bind(all.tables);
+    check_bound(args.tables, all.tables);
+  };
+  if (w.refiner) bind();
   kernel.run(all, stats);
   Stopped stopped;
   stopped.collect(all, w.request_output, {});
@@ -159,7 +185,7 @@ void run_in_waves(Kernel& kernel, const RunArgs& args, const Waves& w, RunStats&
     ++stats.waves;
     if (w.refiner) {
       refine(*w.refiner, stopped, all);
-      w.refiner->bind(all.tables);
+      bind();
     }
     std::vector<std::size_t> at = stopped.positions();
     RunArgs part = gather(all, w, at, scratch);
