@@ -152,10 +152,13 @@ TEST_P(Conformance, NormalizeAndLengthOfANaNAreNaN) {
     len = sh::length(v);
   } SH_END;
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  sh::Channel<sh::Vector3f> in(std::vector<float>{nan, 0, 0, 0, 0, nan, 3, nan, 4, nan, 1e30f, 0}), n;
+  const float inf = std::numeric_limits<float>::infinity();
+  sh::Channel<sh::Vector3f> in(
+      std::vector<float>{nan, 0, 0, 0, 0, nan, 3, nan, 4, nan, 1e30f, 0, inf, nan, 0, nan, -inf, 0}),
+      n;
   sh::Channel<sh::Attrib1f> len;
   run(p, {in}, {n, len});
-  for (int e = 0; e < 4; ++e) {
+  for (int e = 0; e < 6; ++e) {
     EXPECT_TRUE(std::isnan(len[e])) << "element " << e;
     for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isnan(n[3 * e + c])) << "element " << e << " component " << c;
   }

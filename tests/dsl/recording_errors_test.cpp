@@ -251,6 +251,16 @@ TEST(RecordingErrors, AVariableMovedFromIsReadOnlyAfterAnAssignment) {
   Channel<Attrib1f> in(std::vector<float>{3.0f}), out;
   run(p, {in}, {out}, backend("interp"));
   EXPECT_EQ(out[0], 4.0f + 6.0f);
+  // An output moved from is copied: it stays the program's output.
+  Program q = SH_BEGIN_PROGRAM("moved_output") {
+    InputAttrib1f x;
+    OutputAttrib1f r;
+    r = x * 2.0f;
+    Attrib1f t = std::move(r);
+    r = t + 1.0f;
+  } SH_END;
+  run(q, {in}, {out}, backend("interp"));
+  EXPECT_EQ(out[0], 7.0f);
 }
 
 // A uniform's components on the host are 0 to its width less one; others

@@ -306,7 +306,6 @@ TEST_F(ModelInput, ManyMeshesBeyondTheMemoryLimitTogetherAreRefusedByName) {
   for (int i = 0; i < 12; ++i) objects += std::string(i ? ", " : "") + R"({"type": "mesh", "file": "many.obj"})";
   sh::rt::LoadLimits limits;
   limits.memory_mib = 32;
-  limits.in_process = true;
   std::string e = error_of(write("many.json", "{\"objects\": [" + objects + "]}"), limits);
   EXPECT_TRUE(mentions(e, "many.json: objects[")) << e;
   EXPECT_TRUE(mentions(e, ".file: makes 20000 triangles")) << e;

@@ -231,13 +231,19 @@ class SwizzleRef : public Attrib<N, T, S> {
 template <class A>
 class Input : public A {
  public:
-  Input() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::Input)) {}
+  // Moving one copies it, as a swizzle does: the program's interface
+  // variable stays this object's.
+  Input() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::Input)) {
+    this->copy_on_move_ = true;
+  }
   using A::operator=;
 };
 template <class A>
 class Output : public A {
  public:
-  Output() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::Output)) {}
+  Output() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::Output)) {
+    this->copy_on_move_ = true;
+  }
   using A::operator=;
   Output& operator=(const Output& other) {
     A::operator=(other);
@@ -247,7 +253,9 @@ class Output : public A {
 template <class A>
 class InOut : public A {
  public:
-  InOut() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::InOut)) {}
+  InOut() : A(detail::FromValue{}, detail::declare(A::ir_type(), detail::Declared::InOut)) {
+    this->copy_on_move_ = true;
+  }
   using A::operator=;
   InOut& operator=(const InOut& other) {
     A::operator=(other);

@@ -39,12 +39,16 @@ void Buffer::resize(std::size_t count) {
     count_ = count;
     return;
   }
-  std::size_t bytes = bytes_for(count);
+  std::size_t bytes = bytes_for(count), words = bytes / 8 + (bytes % 8 != 0);
+  auto too_large = [&] {
+    return Error(std::to_string(count) + " elements of " + ir::type_name(type_) + " (" + std::to_string(bytes) +
+                 " bytes) do not fit in this process's memory");
+  };
+  if (words > words_.max_size()) throw too_large();
   try {
-    words_.assign((bytes + 7) / 8, 0);
+    words_.assign(words, 0);
   } catch (const std::bad_alloc&) {
-    throw Error(std::to_string(count) + " elements of " + ir::type_name(type_) + " (" + std::to_string(bytes) +
-                " bytes) do not fit in this process's memory");
+    throw too_large();
   }
   count_ = count;
 }

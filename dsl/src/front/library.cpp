@@ -46,12 +46,13 @@ Value cond(const Value& c, const Value& a, const Value& b) {
 
 // The largest magnitude, by a compare and a choice per component: one
 // machine instruction each, where the language's max (which gives the
-// other operand for a NaN) takes several.  A NaN this passes over is still
-// in v, and reaches the result through v / d below.
+// other operand for a NaN) takes several.  A NaN is passed over wherever
+// it lies (it is never greater); it is still in v, and reaches the result
+// through v / d below.
 static Value largest_magnitude(const Value& v) {
   Value magnitude = apply(ir::Op::Abs, {v});
-  Value acc = component(magnitude, 0);
-  for (int i = 1; i < v.width(); ++i) {
+  Value acc = k(magnitude, 0);
+  for (int i = 0; i < v.width(); ++i) {
     Value next = component(magnitude, i);
     acc = cond(apply(ir::Op::Gt, {next, acc}), next, acc);
   }
@@ -79,7 +80,9 @@ Value length(const Value& v) {
   auto [m, d, s, q] = scaled(v);
   Value len = apply(ir::Op::Mul, {d, apply(ir::Op::Sqrt, {q})});
   double inf = std::numeric_limits<double>::infinity();
-  return cond(apply(ir::Op::Lt, {m, k(m, inf)}), len, m);
+  // An infinite component: infinity, unless another is NaN (q is then NaN).
+  Value infinite = cond(apply(ir::Op::Eq, {q, q}), m, q);
+  return cond(apply(ir::Op::Lt, {m, k(m, inf)}), len, infinite);
 }
 
 Value normalize(const Value& v) {

@@ -233,8 +233,9 @@ void read_object(const Reader& r, const json& o, const std::string& at, Scene& s
     } catch (const Error& e) {
       r.fail(at + ".file", e.what());
     }
-    // Each load is held to the limit alone; what the loads add up to, here.
-    within_memory(r, at + ".file", before, s.mesh.triangles() - before, limits);
+    // Each load is held to the limit alone; what the loads add up to, here
+    // (a load in this process has no limits).
+    if (!limits.in_process) within_memory(r, at + ".file", before, s.mesh.triangles() - before, limits);
   } else if (type == "sphere") {
     r.only(o, at, {"type", "center", "radius", "segments", "material"});
     float radius = r.number(r.required(o, at, "radius"), at + ".radius");
