@@ -45,8 +45,8 @@ const char* accel_name(Accel a) {
 }
 
 // The renderer validates its scene first; a caller that builds an
-// accelerator alone gets the same check of what the builds assume (a NaN
-// would bin nowhere and index no cell).
+// accelerator alone gets the check of what the builds assume of the
+// vertices (a NaN would bin nowhere and index no cell).
 Box accelerator_bounds(const Scene& scene) {
   if (scene.mesh.triangles() == 0) throw Error("cannot build an accelerator over a scene without triangles");
   for (std::size_t i = 0; i < scene.mesh.positions.size(); ++i)

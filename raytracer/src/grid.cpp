@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "sh/raytracer/grid.hpp"
+#include "sh/error.hpp"
 
 namespace sh::rt {
 namespace {
@@ -96,6 +97,11 @@ std::string dims_text(const Grid& g) {
 }  // namespace
 
 Grid build_grid(const Scene& scene, double cells_per_triangle, double tests_per_triangle) {
+  // Out of range (a NaN, 1e30) the resolution overflowed to one cell.
+  if (!(cells_per_triangle >= 0.01 && cells_per_triangle <= 64))
+    throw Error("grid: cells per triangle must be 0.01 .. 64, got " + std::to_string(cells_per_triangle));
+  if (!(tests_per_triangle >= 1))
+    throw Error("grid: tests per triangle must be at least 1, got " + std::to_string(tests_per_triangle));
   auto t0 = std::chrono::steady_clock::now();
   Grid g;
   std::size_t n = scene.mesh.triangles();

@@ -34,9 +34,18 @@ void commit(const std::string& tmp, const std::string& path, bool written, std::
   throw Error(path + ": cannot write the image" + (why.empty() ? "" : ": " + why));
 }
 
+// An image's values must be as many as its pixels ask for: a shorter
+// buffer would be read past its end.
+void check_values(const std::string& path, int width, int height, std::size_t values, int per_pixel) {
+  if (width < 1 || height < 1 || values != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * per_pixel)
+    throw Error(path + ": cannot write the image: " + std::to_string(values) + " values for " + std::to_string(width) +
+                "x" + std::to_string(height) + " pixels of " + std::to_string(per_pixel));
+}
+
 }  // namespace
 
 void write_png(const std::string& path, const Image& image) {
+  check_values(path, image.width, image.height, image.rgb.size(), 3);
   std::vector<unsigned char> bytes(image.rgb.size());
   for (std::size_t i = 0; i < bytes.size(); ++i) {
     float v = std::isnan(image.rgb[i]) ? 0.f : std::clamp(image.rgb[i], 0.f, 1.f);
@@ -54,6 +63,7 @@ void write_png(const std::string& path, const Image& image) {
 
 // PFM: "Pf" (one channel) header, bottom row first, little-endian floats.
 void write_pfm(const std::string& path, int width, int height, const std::vector<float>& values) {
+  check_values(path, width, height, values.size(), 1);
   std::string tmp = staging_name(path);
   {
     std::ofstream out(tmp, std::ios::binary);

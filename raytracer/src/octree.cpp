@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <map>
 
@@ -57,8 +58,11 @@ Octree::Octree(std::vector<Vec3> positions, Box bounds, OctreeLimits limits)
     throw Error("octree references per triangle must be at least 1, got " + std::to_string(limits_.references_per_triangle));
   std::vector<std::int32_t> all(positions_.size() / 3);
   for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<std::int32_t>(t);
-  reference_budget_ = std::max(kMinReferenceBudget, static_cast<std::size_t>(limits_.references_per_triangle *
-                                                                             static_cast<double>(all.size())));
+  // Saturated where the product passes what a size_t counts (1e300 per
+  // triangle is no cap, not the smallest budget).
+  double asked = limits_.references_per_triangle * static_cast<double>(all.size());
+  reference_budget_ = asked >= 0x1p63 ? std::numeric_limits<std::size_t>::max()
+                                      : std::max(kMinReferenceBudget, static_cast<std::size_t>(asked));
   references_ = all.size();
   nodes_.push_back(0);
   triangles_.push_back(-1);  // a table is never empty

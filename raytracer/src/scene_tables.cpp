@@ -132,6 +132,9 @@ SceneTables::SceneTables(const Scene& scene)
       lights(at_least_one(2 * scene.lights.size())),
       disks(at_least_one(4 * scene.disk_lights.size())),
       samples(kMaxShadowSamples) {
+  // Kernels trust their tables: a scene built by hand is checked here, as
+  // the renderer checks it, before anything is copied into them.
+  validate(scene, scene.name);
   const Mesh& m = scene.mesh;
   std::vector<Vec3> corner[3];
   for (int k = 0; k < 3; ++k) {

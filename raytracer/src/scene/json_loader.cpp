@@ -142,11 +142,7 @@ void read_materials(const Reader& r, const json& j, Scene& s, std::map<std::stri
     mat.reflectivity = r.number(m, at, "reflectivity", mat.reflectivity);
     mat.transparency = r.number(m, at, "transparency", mat.transparency);
     mat.ior = r.number(m, at, "ior", mat.ior);
-    if (mat.reflectivity < 0 || mat.reflectivity > 1) r.fail(at + ".reflectivity", "must be in [0, 1]");
-    if (mat.transparency < 0 || mat.transparency > 1) r.fail(at + ".transparency", "must be in [0, 1]");
-    if (mat.reflectivity + mat.transparency > 1) r.fail(at, "reflectivity + transparency must not exceed 1");
-    if (!(mat.ior >= 1 && mat.ior <= 4)) r.fail(at + ".ior", "must be in [1, 4]");
-    if (mat.shininess < 0) r.fail(at + ".shininess", "must not be negative");
+    if (std::string problem = material_problem(mat); !problem.empty()) r.fail(at, problem);
     ids[name] = static_cast<int>(s.materials.size());
     s.materials.push_back(mat);
   }

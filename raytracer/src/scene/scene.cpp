@@ -82,8 +82,71 @@ std::string coordinate_problem(Vec3 p) {
   return "";
 }
 
+std::string material_problem(const Material& m) {
+  auto shown = [](float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", static_cast<double>(v));
+    return std::string(text);
+  };
+  if (!finite(m.diffuse) || m.diffuse.x < 0 || m.diffuse.y < 0 || m.diffuse.z < 0)
+    return "diffuse must be finite and not negative";
+  if (!(m.specular >= 0 && std::isfinite(m.specular)))
+    return "specular " + shown(m.specular) + " must be finite and not negative";
+  if (!(m.shininess >= 0 && std::isfinite(m.shininess)))
+    return "shininess " + shown(m.shininess) + " must be finite and not negative";
+  if (!(m.reflectivity >= 0 && m.reflectivity <= 1))
+    return "reflectivity " + shown(m.reflectivity) + " must be in [0, 1]";
+  if (!(m.transparency >= 0 && m.transparency <= 1))
+    return "transparency " + shown(m.transparency) + " must be in [0, 1]";
+  if (m.reflectivity + m.transparency > 1) return "reflectivity + transparency must not exceed 1";
+  if (!(m.ior >= 1 && m.ior <= 4)) return "ior " + shown(m.ior) + " must be in [1, 4]";
+  return "";
+}
+
+namespace {
+
+bool colour(Vec3 c) { return finite(c) && c.x >= 0 && c.y >= 0 && c.z >= 0; }
+
+// Where the camera and lights may lie: beyond the vertices (a model's
+// framing puts them there), but not so far that the rays lose the scene.
+constexpr float kMaxPlacement = 10 * kMaxCoordinate;
+
+void check_placed(Vec3 p, const std::string& where, const std::string& field) {
+  if (!finite(p)) throw Error(where + ": " + field + ": NaN or infinite coordinate");
+  if (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxPlacement)
+    throw Error(where + ": " + field + ": a coordinate beyond 1e19, where the tracer's rays lose the scene");
+}
+
+// What the kernels read per corner and per triangle: as many entries as
+// there are triangles, each a number the shading can use.
+void check_mesh(const Mesh& m, const std::string& where) {
+  std::size_t corners = m.positions.size();
+  if (corners % 3 != 0)
+    throw Error(where + ": mesh.positions holds " + std::to_string(corners) + " points, not 3 a triangle");
+  if (m.normals.size() != corners)
+    throw Error(where + ": mesh.normals holds " + std::to_string(m.normals.size()) + " normals for " +
+                std::to_string(corners) + " corners");
+  if (!m.colors.empty() && m.colors.size() != corners)
+    throw Error(where + ": mesh.colors holds " + std::to_string(m.colors.size()) + " colours for " +
+                std::to_string(corners) + " corners (or none)");
+  if (m.material.size() != corners / 3)
+    throw Error(where + ": mesh.material holds " + std::to_string(m.material.size()) + " entries for " +
+                std::to_string(corners / 3) + " triangles");
+  auto corner = [&](std::size_t i) {
+    return where + ": triangle " + std::to_string(i / 3) + ", vertex " + std::to_string(i % 3) + ": ";
+  };
+  for (std::size_t i = 0; i < corners; ++i) {
+    if (!finite(m.normals[i]) || !(length(m.normals[i]) > 0))
+      throw Error(corner(i) + "its normal is zero or not finite");
+    if (!m.colors.empty() && !colour(m.colors[i])) throw Error(corner(i) + "its colour is negative or not finite");
+  }
+}
+
+}  // namespace
+
 void validate(const Scene& s, const std::string& where) {
   if (s.mesh.triangles() == 0) throw Error(where + ": the scene has no triangles (nothing to trace)");
+  check_mesh(s.mesh, where);
   for (std::size_t i = 0; i < s.mesh.positions.size(); ++i)
     if (std::string problem = coordinate_problem(s.mesh.positions[i]); !problem.empty())
       throw Error(where + ": triangle " + std::to_string(i / 3) + ", vertex " + std::to_string(i % 3) + ": " + problem);
@@ -96,13 +159,32 @@ void validate(const Scene& s, const std::string& where) {
   for (std::int32_t m : s.mesh.material)
     if (m < 0 || m >= static_cast<std::int32_t>(s.materials.size()))
       throw Error(where + ": a triangle names material " + std::to_string(m) + ", which does not exist");
-  // The camera and lights may lie a little beyond the vertices' range (a
-  // model's framing does): they need only be finite.
-  const std::pair<const char*, Vec3> camera[] = {{"eye", s.camera.eye}, {"look_at", s.camera.look_at}, {"up", s.camera.up}};
-  for (const auto& [field, v] : camera)
-    if (!finite(v)) throw Error(where + ": camera." + field + ": NaN or infinite coordinate");
-  for (std::size_t i = 0; i < s.lights.size(); ++i)
-    if (!finite(s.lights[i].position)) throw Error(where + ": lights[" + std::to_string(i) + "].position: NaN or infinite coordinate");
+  for (std::size_t i = 0; i < s.materials.size(); ++i)
+    if (std::string problem = material_problem(s.materials[i]); !problem.empty())
+      throw Error(where + ": material " + std::to_string(i) + " '" + s.materials[i].name + "': " + problem);
+  check_placed(s.camera.eye, where, "camera.eye");
+  check_placed(s.camera.look_at, where, "camera.look_at");
+  if (!finite(s.camera.up)) throw Error(where + ": camera.up: NaN or infinite coordinate");
+  for (std::size_t i = 0; i < s.lights.size(); ++i) {
+    std::string at = "lights[" + std::to_string(i) + "]";
+    check_placed(s.lights[i].position, where, at + ".position");
+    if (!colour(s.lights[i].color)) throw Error(where + ": " + at + ".color: negative or not finite");
+    if (!(s.lights[i].intensity >= 0 && std::isfinite(s.lights[i].intensity)))
+      throw Error(where + ": " + at + ".intensity: must be finite and not negative (0: the default)");
+  }
+  for (std::size_t i = 0; i < s.disk_lights.size(); ++i) {
+    const DiskLight& d = s.disk_lights[i];
+    std::string at = "disk_lights[" + std::to_string(i) + "]";
+    check_placed(d.centre, where, at + ".centre");
+    if (!finite(d.normal) || !(length(d.normal) > 0))
+      throw Error(where + ": " + at + ".normal: zero or not finite");
+    if (!(d.radius >= 0 && d.radius <= kMaxCoordinate))
+      throw Error(where + ": " + at + ".radius: must be 0 .. 1e18");
+    if (!colour(d.color)) throw Error(where + ": " + at + ".color: negative or not finite");
+  }
+  if (!colour(s.background)) throw Error(where + ": background: negative or not finite");
+  if (!(s.ambient >= 0 && std::isfinite(s.ambient)))
+    throw Error(where + ": ambient: must be finite and not negative");
   if (length(s.camera.look_at - s.camera.eye) == 0) throw Error(where + ": camera: eye and look_at coincide");
   // As the camera makes its frame: a side vector of length one, or none.
   Vec3 side = normalize(cross(normalize(s.camera.look_at - s.camera.eye), s.camera.up));

@@ -173,8 +173,18 @@ void load_model(Scene& scene, const std::string& path, const Transform& t, int m
 // kMaxCoordinate.
 std::string coordinate_problem(Vec3 p);
 
-// Throws sh::Error if the scene cannot be traced (no triangles, NaN,
-// infinite or out-of-range coordinates), naming `where`.
+// What is wrong with a material ("reflectivity 2 must be in [0, 1]"), or
+// "": colours and numbers finite and not negative, the shares of light
+// mirrored and transmitted in [0, 1] and together at most 1, the index of
+// refraction in [1, 4].
+std::string material_problem(const Material& m);
+
+// Throws sh::Error if the scene cannot be traced, naming `where` and what:
+// no triangles; a coordinate NaN, infinite or beyond kMaxCoordinate; the
+// mesh's normals, colours or materials not one per corner or triangle, or
+// not numbers the shading can use; a material, light, the background or
+// the ambient light out of range; the camera or a light beyond 1e19 or
+// without a frame.
 void validate(const Scene& s, const std::string& where);
 
 }  // namespace sh::rt
