@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace {
 
@@ -46,6 +47,23 @@ TEST(Mpi, EveryRankComputesAndResultsLandInOrder) {
   }
   EXPECT_EQ(elements, xs.size());
   EXPECT_GE(chunks, 8u * parts.size()) << "many more chunks than ranks";
+}
+
+// A uniform changed from +0 to -0 is a change (they compare equal): every
+// rank divides by the new one.
+TEST(Mpi, AUniformsSignOfZeroReachesEveryRank) {
+  Attrib1f u = 0.0f;
+  Program p = SH_BEGIN_PROGRAM("by_zero") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x / u;
+  } SH_END;
+  Channel<Attrib1f> in(std::vector<float>(64, 1.0f)), out;
+  run(p, {in}, {out}, backend("mpi"));
+  for (std::size_t i = 0; i < 64; ++i) EXPECT_EQ(out[i], std::numeric_limits<float>::infinity()) << i;
+  u = -0.0f;
+  run(p, {in}, {out}, backend("mpi"));
+  for (std::size_t i = 0; i < 64; ++i) EXPECT_EQ(out[i], -std::numeric_limits<float>::infinity()) << "element " << i;
 }
 
 TEST(Mpi, TablesAndUniformsGoOutOncePerVersion) {

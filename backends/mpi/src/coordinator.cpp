@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <set>
@@ -346,7 +347,10 @@ class Coordinator : public Kernel {
       p.put(table.version).put(table).put(static_cast<std::uint64_t>(table.bytes())).raw(table.data, table.bytes());
       sent = {table.version, true};
     }
-    bool changed = args.uniforms != uniforms_sent_;
+    // Compared bit for bit: -0.0 == +0.0, but x / -0.0 is not x / +0.0.
+    bool changed = args.uniforms.size() != uniforms_sent_.size() ||
+                   std::memcmp(args.uniforms.data(), uniforms_sent_.data(),
+                               args.uniforms.size() * sizeof(std::array<double, 4>)) != 0;
     p.put(changed);
     if (changed)
       for (const auto& u : args.uniforms) p.put(u);

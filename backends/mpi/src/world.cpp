@@ -30,13 +30,23 @@ int ensure_started() {
     }
     MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &world_size);
-    // Every rank must cut messages alike, or they would wait for ever.
+    // Every rank must cut messages alike, or they would wait for ever (or
+    // truncate what they receive): each checks its own setting, then they
+    // compare them, and rank 0 ends the job on a bad or unequal one.
+    long long mine = 0, least = 0, most = 0;
     try {
-      message_bytes();
+      mine = static_cast<long long>(message_bytes());
     } catch (const Error& e) {
-      if (world_rank == 0) std::fprintf(stderr, "sh: %s\n", e.what());
-      MPI_Abort(MPI_COMM_WORLD, 2);
+      std::fprintf(stderr, "sh: rank %d: %s\n", world_rank, e.what());
     }
+    MPI_Allreduce(&mine, &least, 1, MPI_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
+    MPI_Allreduce(&mine, &most, 1, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
+    if (world_rank == 0 && least > 0 && least != most)
+      std::fprintf(stderr,
+                   "sh: mpi backend: SH_MPI_MESSAGE_BYTES differs between ranks (%lld on some, %lld on others): every "
+                   "rank must cut messages alike\n",
+                   least, most);
+    if (world_rank == 0 && (least == 0 || least != most)) MPI_Abort(MPI_COMM_WORLD, 2);
     if (world_rank == 0) {
       std::atexit(shutdown_workers);
       if (world_size == 1)

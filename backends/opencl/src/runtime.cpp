@@ -88,7 +88,9 @@ Found choose(const std::vector<Found>& found, std::string choice) {
     if (const char* env = std::getenv("SH_OPENCL_DEVICE")) choice = env;
   if (choice.empty()) return found.front();
   std::smatch m;
-  if (std::regex_match(choice, m, std::regex(R"((\d+):(\d+))"))) {
+  // Indices of up to 9 digits: a longer one names no device (and would not
+  // fit an int).
+  if (std::regex_match(choice, m, std::regex(R"((\d{1,9}):(\d{1,9}))"))) {
     for (const Found& f : found)
       if (f.p == std::stoi(m[1]) && f.d == std::stoi(m[2])) return f;
   } else {
