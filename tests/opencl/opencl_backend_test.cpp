@@ -72,6 +72,14 @@ TEST(OpenClBackend, DevicesAreListedAndChosenByIndexOrName) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no OpenCL device matches 'no such device'"), std::string::npos) << e.what();
   }
+  // An index too long for an int names no device (it threw a bare "stoi").
+  o.set("opencl.device", "99999999999:0");
+  try {
+    run(shader(), {n}, {r}, backend("opencl", o));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no OpenCL device matches '99999999999:0'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(OpenClBackend, BuildsOncePerProgramAndOptions) {
