@@ -472,7 +472,7 @@ class OpenClBackend : public Backend {
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);
-    if (lines.empty()) lines.push_back("opencl: no platform or device found (install pocl-opencl-icd)");
+    if (lines.empty()) lines.push_back("opencl: " + no_device_found());
     return lines;
   }
 };

@@ -41,6 +41,22 @@ struct Found {
   int p, d;
 };
 
+// Platforms there are whose devices cannot be listed: installed, but not
+// working (PoCL lists none where it cannot use its cache directory).
+std::vector<std::string> platforms_without_devices() {
+  cl_uint np = 0;
+  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
+  std::vector<cl_platform_id> platforms(np);
+  clGetPlatformIDs(np, platforms.data(), nullptr);
+  std::vector<std::string> out;
+  for (cl_platform_id p : platforms) {
+    cl_uint nd = 0;
+    if (cl_int err = clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 0, nullptr, &nd); err != CL_SUCCESS || nd == 0)
+      out.push_back("'" + platform_name(p) + "' (" + error_name(err) + ")");
+  }
+  return out;
+}
+
 std::vector<Found> all_devices() {
   cl_uint np = 0;
   if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
@@ -83,7 +99,7 @@ std::string capabilities(const Device& d) {
 }
 
 Found choose(const std::vector<Found>& found, std::string choice) {
-  if (found.empty()) throw Error(kInstallHint);
+  if (found.empty()) throw Error(no_device_found());
   if (choice.empty())
     if (const char* env = std::getenv("SH_OPENCL_DEVICE")) choice = env;
   if (choice.empty()) return found.front();
@@ -127,6 +143,15 @@ void check(cl_int err, const std::string& what) {
   if (err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES || err == CL_OUT_OF_HOST_MEMORY)
     hint = " (the device is out of memory: use a smaller stream, or a device with more memory)";
   throw Error(what + ": " + error_name(err) + " (" + std::to_string(err) + ")" + hint);
+}
+
+std::string no_device_found() {
+  std::vector<std::string> broken = platforms_without_devices();
+  if (broken.empty()) return kInstallHint;
+  std::string names;
+  for (const std::string& b : broken) names += (names.empty() ? "" : ", ") + b;
+  return "OpenCL platforms were found, but none lists a device: " + names +
+         "; PoCL lists none where it cannot use its cache directory (POCL_CACHE_DIR) or its compiler";
 }
 
 std::vector<std::string> list_devices() {

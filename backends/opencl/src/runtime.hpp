@@ -35,6 +35,9 @@ struct Device {
 // SH_OPENCL_DEVICE or else the first device), with its context and queue.
 std::shared_ptr<Device> open_device(const std::string& choice);
 std::vector<std::string> list_devices();
+// Why there is no device: none installed (how to install PoCL), or
+// platforms installed whose devices cannot be listed (which, and why).
+std::string no_device_found();
 
 // Builds `source` for the device; a failure throws sh::Error with the
 // program name, the build log and the source lines the log points at.
