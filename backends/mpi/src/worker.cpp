@@ -3,10 +3,12 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <map>
 #include <memory>
+#include <new>
 #include <optional>
 
 #include "sh/error.hpp"
@@ -39,24 +41,40 @@ class Worker {
  public:
   Worker() { MPI_Comm_rank(MPI_COMM_WORLD, &rank_); }
 
+  // A compile or a chunk that fails is reported to rank 0, which goes on.
+  // What fails outside them (memory for rank 0's message or its tables)
+  // leaves this rank out of step with the others: it says why and ends
+  // the job, rather than leave the runtime's abort unexplained.
   [[noreturn]] void serve() {
     for (;;) {
-      Traffic t;
-      std::string message = broadcast({}, t);
-      Unpacker u(message);
-      switch (u.get<Command>()) {
-        case Command::Compile: compile(u); break;
-        case Command::Run: run(u, t); break;
-        case Command::Forget: forget(u.get<std::uint64_t>()); break;
-        case Command::Shutdown:
-          release_split_tables();
-          MPI_Finalize();
-          std::exit(0);
+      try {
+        Traffic t;
+        std::string message = broadcast({}, t);
+        Unpacker u(message);
+        switch (u.get<Command>()) {
+          case Command::Compile: compile(u); break;
+          case Command::Run: run(u, t); break;
+          case Command::Forget: forget(u.get<std::uint64_t>()); break;
+          case Command::Shutdown:
+            release_split_tables();
+            MPI_Finalize();
+            std::exit(0);
+        }
+      } catch (const std::bad_alloc&) {
+        end_job("out of memory receiving rank 0's command or tables");
+      } catch (const std::exception& e) {
+        end_job(e.what());
       }
     }
   }
 
  private:
+  [[noreturn]] void end_job(const std::string& why) const {
+    std::fprintf(stderr, "sh: rank %d: mpi backend: %s; ending the job\n", rank_, why.c_str());
+    MPI_Abort(MPI_COMM_WORLD, 3);
+    std::abort();  // MPI_Abort does not return
+  }
+
   void compile(Unpacker& u) {
     auto id = u.get<std::uint64_t>();
     std::string local = u.text();
