@@ -3,7 +3,10 @@
 // writes give the documented results on the reference interpreter.
 #include <gtest/gtest.h>
 
+#include <sh/ir/serialize.hpp>
 #include <sh/sh.hpp>
+
+#include <variant>
 
 #include "../common/expect_error.hpp"
 
@@ -133,6 +136,30 @@ TEST(Legalize, ShiftsPastTheWidthShiftEverythingOut) {
     EXPECT_EQ(l[i], want_l[i]) << i;
     EXPECT_EQ(r[i], want_r[i]) << i;
   }
+}
+
+// A program that already holds what legalisation writes (a load, whose
+// coordinates were never brought inside its table) is refused before any
+// backend reads them: cpu, opencl and mpi read far outside and crashed.
+TEST(Legalize, AProgramWithALoadOfItsOwnIsRefused) {
+  Table1D<Attrib1f> t(4);
+  t.assign({1.f, 2.f, 3.f, 4.f});
+  Program p = SH_BEGIN_PROGRAM("own_load") {
+    Input<Attrib1i> i;
+    Output<Attrib1f> r;
+    r = t[i];
+  } SH_END;
+  ir::Program edited = p.ir();
+  for (ir::Stmt& s : edited.body)
+    if (auto* a = std::get_if<ir::Assign>(&s.node); a && a->op == ir::Op::Fetch) {
+      a->op = ir::Op::Load;
+      a->args.push_back(a->args[0]);
+    }
+  ir::Program back = ir::deserialize(ir::serialize(edited));
+  Channel<Attrib1i> at(std::vector<std::int32_t>{100000000});
+  Channel<Attrib1f> out;
+  for (const std::string& name : backend_names())
+    expect_error([&] { run(p.with_ir(back), {at}, {out}, backend(name)); }, {"own_load", "`load` is written by legalisation only"});
 }
 
 TEST(Legalize, BackendsRefuseIllegalIr) {

@@ -19,6 +19,7 @@
 //     without a test.
 // Legal IR holds no fetch or sample, no integer division that could trap
 // and no shift past the width; backends lower only that.
+#include "sh/error.hpp"
 #include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
 
@@ -31,6 +32,11 @@ class Legalizer : public ir::Mutator {
   using ir::Mutator::mutate;
 
   void mutate(ir::Assign a, ir::Block& out) override {
+    // A load given to this pass (which writes them) has coordinates never
+    // brought inside its table, and a backend reads them as they are.
+    if (a.op == ir::Op::Load)
+      throw Error("program '" + p_.name + "': `load` is written by legalisation only; a program reads its tables with "
+                  "fetch or sample");
     if (a.op == ir::Op::Fetch || a.op == ir::Op::Sample) return table_read(std::move(a), out);
     if ((a.op == ir::Op::Div || a.op == ir::Op::Mod) && p_.type_of(a.dest).scalar == ir::Scalar::I32 && may_trap(a.args[1]))
       return integer_division(std::move(a), out);
