@@ -30,6 +30,29 @@ TEST(LaunchDomain, ShapeSetsTheGridAndACountChangeForgetsIt) {
   at = where();
   EXPECT_EQ(at[2 * 4], 4);
   EXPECT_EQ(at[2 * 4 + 1], 0);
+  at.resize(12);
+  EXPECT_EQ(at.shape(), (std::array<std::size_t, 3>{0, 1, 1})) << "the old grid's count again is not its grid";
+}
+
+// A channel shaped after its data were given keeps them: a stencil's
+// shaped input had run on zeros.
+TEST(LaunchDomain, ShapingAChannelOfThatCountKeepsItsElements) {
+  Channel<Attrib1f> x(std::vector<float>{1, 2, 3, 4, 5, 6});
+  x.shape(3, 2);
+  EXPECT_EQ(x.values(), (std::vector<float>{1, 2, 3, 4, 5, 6}));
+  x.shape(6, 1);
+  EXPECT_EQ(x.values(), (std::vector<float>{1, 2, 3, 4, 5, 6}));
+  Program p = SH_BEGIN_PROGRAM("row_plus") {
+    InputAttrib1f v;
+    OutputAttrib1f y;
+    y = v + position<2>()(1).cast<float>();
+  } SH_END;
+  x.shape(3, 2);
+  Channel<Attrib1f> y;
+  y = p << x;
+  EXPECT_EQ(y.values(), (std::vector<float>{1, 2, 3, 5, 6, 7}));
+  x.shape(2, 2);
+  EXPECT_EQ(x.values(), (std::vector<float>(4, 0.0f))) << "a new count starts from zeros";
 }
 
 TEST(LaunchDomain, AShapedInputSetsTheDomainOfAnUnshapedOutput) {

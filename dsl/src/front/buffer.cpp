@@ -33,7 +33,10 @@ std::size_t Buffer::bytes_for(std::size_t count) const {
   return count * element;
 }
 
+// Zeroes the elements (accumulators start from this); a new count forgets
+// the shape, which named the old count's grid.
 void Buffer::resize(std::size_t count) {
+  if (count != count_) shape_ = {0, 1, 1};
   if (memory_) {
     check_fits(count, "a channel of " + ir::type_name(type_));
     count_ = count;
@@ -66,7 +69,10 @@ void Buffer::shape(const std::array<std::size_t, 3>& extent) {
     if (e == 0 || e > kMostPerDimension) throw Error(what + " has an extent outside [1, 2^31 - 1]");
   if (extent[0] * extent[1] > kMostPerDimension * kMostPerDimension / extent[2])
     throw Error(what + " holds more elements than memory can");
-  resize(extent[0] * extent[1] * extent[2]);
+  // Elements already given keep their places where the count stays: a
+  // channel shaped after its data were given (a stencil's input) had run
+  // on zeros.
+  if (extent[0] * extent[1] * extent[2] != count_) resize(extent[0] * extent[1] * extent[2]);
   shape_ = extent;
 }
 

@@ -50,8 +50,9 @@ class Buffer {
   std::uint64_t memory_version() const { return memory_ ? memory_->version() : 0; }
 
   // The grid the elements form, row-major (LaunchDomain::extent): set by
-  // shape(), which resizes to the grid's count; one row ({0, 1, 1}) where
-  // none was set or the count changed since.
+  // shape(), which resizes to the grid's count (zeros) unless the count is
+  // already that (the elements kept); one row ({0, 1, 1}) where none was
+  // set or the count changed since.
   std::array<std::size_t, 3> shape() const;
   void shape(const std::array<std::size_t, 3>& extent);
 
