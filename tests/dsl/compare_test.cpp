@@ -152,6 +152,21 @@ TEST(Compare, FastVariantsShowTheirDifferenceInUlpsAndPreciseOnesNone) {
   EXPECT_EQ(c.find("nudged", "one", MathMode::Fast)->max_ulps(), 1);
 }
 
+// ULPs across zero: -0 and +0 are one value, so -0 against the smallest
+// float above it is one ULP (it was counted two).
+TEST(Compare, UlpsAcrossZeroCountMinusAndPlusZeroAsOne) {
+  Program negate = SH_BEGIN_PROGRAM("negate") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = -x;
+  } SH_END;
+  Channel<Attrib1f> zeros(std::vector<float>(8, 0.0f));
+  Comparison c = compare(negate, {zeros}, only({"nudged"}));
+  ASSERT_FALSE(c.reference.failed()) << c.reference.error;
+  EXPECT_EQ(c.find("nudged", "one", MathMode::Fast)->max_ulps(), 1);
+  EXPECT_EQ(c.find("nudged", "three", MathMode::Fast)->max_ulps(), 3);
+}
+
 TEST(Compare, ABackendThatThrowsIsItsRowsErrorAndTheOthersStillRun) {
   Channel<Attrib1f> x(ramp(16, 1.0f)), y(ramp(16, 2.0f));
   Comparison c = compare(exact_program(), {x, y}, only({"broken", "interp"}));

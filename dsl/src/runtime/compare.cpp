@@ -19,13 +19,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 using Buffers = std::vector<std::shared_ptr<detail::Buffer>>;
 
 // Maps a float's bits onto unsigned integers in the order of the values,
-// so that the distance between two maps is the count of floats between.
+// so that the distance between two maps is the count of floats between
+// (-0 and +0 one place: one value, not two floats apart).
 template <class Bits, class Float>
 Bits ordered(Float x) {
   Bits bits;
   std::memcpy(&bits, &x, sizeof x);
   constexpr Bits sign = Bits{1} << (8 * sizeof(Bits) - 1);
-  return (bits & sign) ? ~bits : bits | sign;
+  return (bits & sign) ? sign - (bits & ~sign) : bits | sign;
 }
 
 template <class Bits>
