@@ -2,6 +2,7 @@
 // loop iteration, and the critical path under parallel units.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <set>
 
 #include <sh/sh.hpp>
@@ -94,6 +95,41 @@ TEST(Analysis, LoopsReportPerIterationAndConstantTripCounts) {
   std::string text = analysis::describe(c);
   EXPECT_NE(text.find("10 iterations"), std::string::npos) << text;
   EXPECT_NE(text.find("depend on the data"), std::string::npos) << text;
+}
+
+// A counter stepped only in some passes (under an if, in an inner loop,
+// past a continue) or bounded by an infinity or NaN gives no count: they
+// had given 100 for 10 passes, 10 for 15, 0 for a runaway loop and 2^63.
+TEST(Analysis, LoopsWhoseStepsTheIrDoesNotShowHaveNoTripCount) {
+  Program p = SH_BEGIN_PROGRAM("uncounted") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x;
+    Attrib1f i = 0.0f, j = 0.0f, k = 0.0f, m = 0.0f, n = 0.0f;
+    SH_WHILE(i < 100.0f) {
+      SH_FOR(Attrib1f a = 0.0f, a < 10.0f, a += 1.0f) { i += 1.0f; } SH_ENDFOR;
+    } SH_ENDWHILE;
+    SH_WHILE(j < 10.0f) {
+      y = y * x;
+      SH_IF(y > 2.0f) { j += 1.0f; } SH_ENDIF;
+    } SH_ENDWHILE;
+    SH_WHILE(k < 10.0f) {
+      y = y + 1.0f;
+      SH_CONTINUE(y > 3.0f);
+      k += 1.0f;
+    } SH_ENDWHILE;
+    SH_WHILE(m < std::numeric_limits<float>::infinity()) { m += 1.0f; } SH_ENDWHILE;
+    SH_WHILE(n < std::numeric_limits<float>::quiet_NaN()) { n += 1.0f; } SH_ENDWHILE;
+    y = y + i + j + k + m + n;
+  } SH_END;
+  analysis::Cost c = analysis::count_operations(optimize(p.ir()));
+  int outer = 0;
+  for (const analysis::LoopCost& loop : c.loops) {
+    if (loop.depth != 0) continue;
+    EXPECT_FALSE(loop.trips.has_value()) << "loop " << outer << " (" << loop.loop << "): " << *loop.trips;
+    ++outer;
+  }
+  EXPECT_EQ(outer, 5);
 }
 
 TEST(Analysis, CriticalPathNeedsStraightLineCode) {

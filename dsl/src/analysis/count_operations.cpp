@@ -3,6 +3,7 @@
 // IR shows a constant trip count (a counter set to a constant before the
 // loop, tested against a constant, stepped by a constant, written nowhere
 // else, no break).
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -102,15 +103,33 @@ class Counter {
     w.visit(l.update);
     if (!start || w.found.size() != 1) return std::nullopt;
     const ir::Assign& step = *w.found[0];
+    // The step runs once a pass only where it is a statement of the update,
+    // or of the body with no continue to pass it by (not inside an if or
+    // an inner loop).
+    auto holds = [&](const ir::Block& block) {
+      return std::any_of(block.begin(), block.end(), [&](const ir::Stmt& s) { return std::get_if<ir::Assign>(&s.node) == &step; });
+    };
+    if (!holds(l.update) && !(holds(l.body) && !has_continue(l.body))) return std::nullopt;
     if (step.op != ir::Op::Add || step.args[0].var != counter.var || p_.var(step.args[1].var).kind != ir::VarKind::Const)
       return std::nullopt;
     double by = p_.var(step.args[1].var).value[step.args[1].swizzle[0]];
     double k = p_.var(limit.var).value[limit.swizzle[0]];
     if (by <= 0) return std::nullopt;
     double span = k - *start;
+    if (!std::isfinite(span) || !std::isfinite(by)) return std::nullopt;  // a NaN or infinite bound: no count
     if (span < 0 || (span == 0 && test->op == ir::Op::Lt)) return 0;
     double n = test->op == ir::Op::Lt ? std::ceil(span / by) : std::floor(span / by) + 1;
+    if (!(n < 0x1p40)) return std::nullopt;  // past any loop cap; counts times it would overflow
     return static_cast<std::uint64_t>(n);
+  }
+
+  static bool has_continue(const ir::Block& b) {
+    for (const ir::Stmt& s : b) {
+      if (std::holds_alternative<ir::Continue>(s.node)) return true;
+      if (auto* f = std::get_if<ir::If>(&s.node))
+        if (has_continue(f->then_body) || has_continue(f->else_body)) return true;
+    }
+    return false;
   }
 
   static bool has_break(const ir::Block& b) {
