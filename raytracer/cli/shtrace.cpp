@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -203,12 +203,12 @@ std::string hash_line(std::uint64_t hash) {
   return line;
 }
 
-// `shtrace ir FILE`: a program written by --dump-ir-bytes, read back (every
-// value range-checked, the program verified) and printed, with its hash.
 // A program's bytes are a few hundred KiB at most: far past that, the file
 // is something else (and /dev/zero would read until memory ran out).
 constexpr std::uintmax_t kMostProgramBytes = 64u << 20;
 
+// `shtrace ir FILE`: a program written by --dump-ir-bytes, read back (every
+// value range-checked, the program verified) and printed, with its hash.
 int ir_command(const std::string& path, bool optimized) {
   std::error_code failed;
   if (!std::filesystem::is_regular_file(path, failed))
@@ -484,13 +484,13 @@ int main(int argc, char** argv) {
       std::optional<tbb::global_control> threads;
       if (common.threads > 0)
         threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(common.threads));
-  #ifdef SHTRACE_WITH_MPI
+#ifdef SHTRACE_WITH_MPI
       // Under mpirun, serving ranks wait for rank 0 from here on.
       bool compares_mpi =
           compare->parsed() && (compare_backend_names.empty() ||
                                 std::count(compare_backend_names.begin(), compare_backend_names.end(), "mpi") > 0);
       if (backend_name == "mpi" || compares_mpi) sh::mpi::start();
-  #endif
+#endif
       if (render->parsed())
         return render_command(common, backend_name, output, aov, eye, look_at, up, fov, dump_ir, dump_ir_bytes, general,
                               analyze, frames, render_phases);

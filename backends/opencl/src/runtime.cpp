@@ -41,15 +41,19 @@ struct Found {
   int p, d;
 };
 
+std::vector<cl_platform_id> platforms() {
+  cl_uint np = 0;
+  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
+  std::vector<cl_platform_id> out(np);
+  clGetPlatformIDs(np, out.data(), nullptr);
+  return out;
+}
+
 // Platforms there are whose devices cannot be listed: installed, but not
 // working (PoCL lists none where it cannot use its cache directory).
 std::vector<std::string> platforms_without_devices() {
-  cl_uint np = 0;
-  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
-  std::vector<cl_platform_id> platforms(np);
-  clGetPlatformIDs(np, platforms.data(), nullptr);
   std::vector<std::string> out;
-  for (cl_platform_id p : platforms) {
+  for (cl_platform_id p : platforms()) {
     cl_uint nd = 0;
     if (cl_int err = clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 0, nullptr, &nd); err != CL_SUCCESS || nd == 0)
       out.push_back("'" + platform_name(p) + "' (" + error_name(err) + ")");
@@ -58,17 +62,14 @@ std::vector<std::string> platforms_without_devices() {
 }
 
 std::vector<Found> all_devices() {
-  cl_uint np = 0;
-  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
-  std::vector<cl_platform_id> platforms(np);
-  clGetPlatformIDs(np, platforms.data(), nullptr);
+  std::vector<cl_platform_id> all = platforms();
   std::vector<Found> out;
-  for (cl_uint p = 0; p < np; ++p) {
+  for (std::size_t p = 0; p < all.size(); ++p) {
     cl_uint nd = 0;
-    if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, nullptr, &nd) != CL_SUCCESS) continue;
+    if (clGetDeviceIDs(all[p], CL_DEVICE_TYPE_ALL, 0, nullptr, &nd) != CL_SUCCESS) continue;
     std::vector<cl_device_id> ids(nd);
-    clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, nd, ids.data(), nullptr);
-    for (cl_uint d = 0; d < nd; ++d) out.push_back({platforms[p], ids[d], static_cast<int>(p), static_cast<int>(d)});
+    clGetDeviceIDs(all[p], CL_DEVICE_TYPE_ALL, nd, ids.data(), nullptr);
+    for (cl_uint d = 0; d < nd; ++d) out.push_back({all[p], ids[d], static_cast<int>(p), static_cast<int>(d)});
   }
   return out;
 }

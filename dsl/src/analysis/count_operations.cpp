@@ -107,7 +107,8 @@ class Counter {
     // or of the body with no continue to pass it by (not inside an if or
     // an inner loop).
     auto holds = [&](const ir::Block& block) {
-      return std::any_of(block.begin(), block.end(), [&](const ir::Stmt& s) { return std::get_if<ir::Assign>(&s.node) == &step; });
+      return std::any_of(block.begin(), block.end(),
+                         [&](const ir::Stmt& s) { return std::get_if<ir::Assign>(&s.node) == &step; });
     };
     if (!holds(l.update) && !(holds(l.body) && !has_continue(l.body))) return std::nullopt;
     if (step.op != ir::Op::Add || step.args[0].var != counter.var || p_.var(step.args[1].var).kind != ir::VarKind::Const)
