@@ -913,7 +913,9 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   EXPECT_EQ(y1[1], 17.f);
   // An entry that exists but does not open (here a socket in its place;
   // elsewhere another user's file) is compiled afresh too.
-  cpu.compile(ir, sh::Options{});  // stores the entry again
+  auto after = cpu.compile(ir, sh::Options{});
+  EXPECT_NE(after->listing().find("loaded from the object cache"), std::string::npos)
+      << "the fresh compile took the damaged entry's place";
   int in_the_way = socket(AF_UNIX, SOCK_STREAM, 0);
   std::size_t replaced = 0;
   for (const auto& f : fs::directory_iterator(dir))

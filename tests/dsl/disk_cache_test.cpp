@@ -3,6 +3,10 @@
 // is damaged; and the build ID that keys it to this build.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -83,6 +87,102 @@ TEST(DiskCache, AFileThatNoLongerMatchesItsChecksumReadsAsNone) {
   EXPECT_FALSE(detail::read_cache_file(path)) << "shorter than a checksum";
   detail::write_cache_file(path, "");
   EXPECT_EQ(detail::read_cache_file(path), "") << "an empty entry is an entry";
+  fs::remove_all(dir);
+}
+
+// Another user who can write in the directory could plant machine code
+// that would run as ours: such a directory is not used, and a run says why,
+// once.
+TEST(DiskCache, ADirectoryOthersCanWriteInIsNotUsedAndSaysWhyOnce) {
+  fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_shared";
+  fs::remove_all(dir);
+  setenv("SH_CACHE_DIR", dir.c_str(), 1);
+  ASSERT_TRUE(detail::cache_directory());
+  EXPECT_EQ(fs::status(dir).permissions() & (fs::perms::group_all | fs::perms::others_all), fs::perms::none)
+      << "made for its owner alone";
+  fs::permissions(dir, fs::perms::all);
+  testing::internal::CaptureStderr();
+  EXPECT_FALSE(detail::cache_directory());
+  EXPECT_FALSE(detail::cache_path("passes", "key"));
+  std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("others can write in it"), std::string::npos) << said;
+  EXPECT_EQ(said.find(dir.string()), said.rfind(dir.string())) << "said once: " << said;
+  if (geteuid() == 0) {  // root can give the directory away
+    fs::permissions(dir, fs::perms::owner_all);
+    ASSERT_EQ(chown(dir.c_str(), 65534, 65534), 0);
+    fs::path other = dir / "other";
+    fs::create_directory(other);
+    ASSERT_EQ(chown(other.c_str(), 65534, 65534), 0);
+    setenv("SH_CACHE_DIR", other.c_str(), 1);
+    testing::internal::CaptureStderr();
+    EXPECT_FALSE(detail::cache_directory());
+    said = testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find("belongs to another user"), std::string::npos) << said;
+  }
+  fs::path file = fs::path(testing::TempDir()) / "sh_disk_cache_file";
+  std::ofstream(file) << "a file";
+  setenv("SH_CACHE_DIR", file.c_str(), 1);
+  testing::internal::CaptureStderr();
+  EXPECT_FALSE(detail::cache_directory());
+  said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("not a directory"), std::string::npos) << said;
+  unsetenv("SH_CACHE_DIR");
+  fs::remove_all(dir);
+  fs::remove(file);
+}
+
+std::uintmax_t entries_bytes(const fs::path& dir) {
+  std::uintmax_t total = 0;
+  for (const auto& f : fs::directory_iterator(dir))
+    if (f.path().filename().string().rfind("passes-", 0) == 0) total += f.file_size();
+  return total;
+}
+
+// Past its limit the cache drops what was used longest ago, reading counting
+// as a use; temporaries of killed writers go too, and nothing that is not
+// named as an entry is touched.
+TEST(DiskCache, PrunedToThreeQuartersOfItsLimitLeastRecentlyUsedFirst) {
+  fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_prune";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto now = fs::file_time_type::clock::now();
+  std::string kib(1024, 'k');
+  for (int i = 0; i < 8; ++i) {
+    std::string path = (dir / ("passes-" + std::to_string(i))).string();
+    detail::write_cache_file(path, kib);
+    fs::last_write_time(path, now - std::chrono::minutes(60 - i));
+  }
+  std::ofstream(dir / "notes.txt") << std::string(100000, 'n');
+  std::ofstream(dir / "cpu-ABC.o") << "upper case: not a name the cache gives";
+  std::ofstream(dir / "cpu-ab.o.tmp12.0") << "killed mid-write";
+  fs::last_write_time(dir / "cpu-ab.o.tmp12.0", now - std::chrono::minutes(11));
+  std::ofstream(dir / "cpu-cd.o.tmp13.0") << "being written";
+  EXPECT_TRUE(detail::read_cache_file((dir / "passes-0").string())) << "the oldest, used now";
+  detail::prune_cache(dir.string(), 4 * 1032);
+  std::vector<std::string> left;
+  for (const auto& f : fs::directory_iterator(dir)) left.push_back(f.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"cpu-ABC.o", "cpu-cd.o.tmp13.0", "notes.txt", "passes-0", "passes-6",
+                                            "passes-7", "pruned"}))
+      << "the scan's stamp beside them";
+  fs::remove_all(dir);
+}
+
+// Stores keep the cache near its limit without a scan at every store.
+TEST(DiskCache, StoresKeepTheCacheNearItsLimit) {
+  fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_limit";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  setenv("SH_CACHE_LIMIT_MB", "1", 1);
+  EXPECT_EQ(detail::cache_limit_bytes(), 1u << 20);
+  std::string quarter(256 << 10, 'q');
+  for (int i = 0; i < 16; ++i) detail::write_cache_file((dir / ("passes-" + std::to_string(i))).string(), quarter);
+  EXPECT_LE(entries_bytes(dir), (1u << 20) + 2 * (quarter.size() + 8));
+  EXPECT_TRUE(fs::exists(dir / "passes-15"));
+  EXPECT_FALSE(fs::exists(dir / "passes-0"));
+  setenv("SH_CACHE_LIMIT_MB", "-3", 1);
+  EXPECT_EQ(detail::cache_limit_bytes(), std::uintmax_t{1024} << 20) << "a bad setting keeps the default";
+  unsetenv("SH_CACHE_LIMIT_MB");
   fs::remove_all(dir);
 }
 

@@ -164,7 +164,7 @@ Jitted::Jitted(const ir::Program& program, const sh::Options& options) {
   } catch (const Error&) {
     if (!from_cache()) throw;
     // A cached object that does not load (truncated, another LLVM): forget
-    // it and compile afresh.
+    // it and compile afresh, keeping what is compiled in its place.
     cache_->forget();
     jit_.reset();
     build(program, options, false);
@@ -209,7 +209,7 @@ std::string cache_key(const ir::Program& program, const sh::Options& options, in
          builder.getCPU() + "|" + builder.getFeatures().getString() + "|" + LLVM_VERSION_STRING + "|" + library;
 }
 
-void Jitted::build(const ir::Program& program, const sh::Options& options, bool use_cache) {
+void Jitted::build(const ir::Program& program, const sh::Options& options, bool read_cache) {
   PhaseClock clock(phases_);
   lanes_ = lane_count(options);
   auto builder = unwrap(llvm::orc::JITTargetMachineBuilder::detectHost(), program, "detecting the host CPU");
@@ -223,10 +223,10 @@ void Jitted::build(const ir::Program& program, const sh::Options& options, bool 
       options.math == MathMode::Fast ? llvm::FPOpFusion::Fast : llvm::FPOpFusion::Strict;
   // A library without a build ID cannot tell its machine code from an
   // older build's: it keeps none.
-  bool keyed = use_cache && !detail::build_id(reinterpret_cast<const void*>(&lane_count)).empty();
+  bool keyed = !detail::build_id(reinterpret_cast<const void*>(&lane_count)).empty();
   cache_ = keyed ? ObjectCache::open(cache_key(program, options, lanes_, builder)) : std::nullopt;
   clock.end("cache key");
-  if (cache_ && cache_->has_object()) {
+  if (read_cache && cache_ && cache_->has_object()) {
     // Machine code from an earlier compile: no lowering, no LLVM.
     loops_ = loop_statements(program);
     start_jit(program, builder);

@@ -36,7 +36,7 @@ class Jitted {
   double cpu_ms_elsewhere() const { return cpu_ms_elsewhere_; }  // code generation on other threads
 
  private:
-  void build(const ir::Program& program, const sh::Options& options, bool use_cache);
+  void build(const ir::Program& program, const sh::Options& options, bool read_cache);
   void start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder);
   void link(const ir::Program& program);
 

@@ -46,7 +46,7 @@ std::vector<std::unique_ptr<llvm::MemoryBuffer>> ObjectCache::objects() {
 
 bool ObjectCache::has_object() const {
   std::error_code ignored;
-  return std::filesystem::exists(path_ + ".o", ignored);
+  return std::filesystem::is_regular_file(path_ + ".o", ignored);
 }
 
 void ObjectCache::forget() const {

@@ -3,14 +3,17 @@
 // results, a backend's machine code): where, under which names, and how a
 // file is written so that a reader never sees half of it.  Caching is a
 // saving, never a failure: every function here gives up quietly.
+#include <cstdint>
 #include <optional>
 #include <string>
 
 namespace sh::detail {
 
 // $SH_CACHE_DIR ("off": no cache), else $XDG_CACHE_HOME/sh, else
-// ~/.cache/sh; created on first use.  None where caching is off or there
-// is no home.
+// ~/.cache/sh; created on first use, for its owner alone.  None where
+// caching is off or there is no home, and, said once on stderr, where the
+// directory cannot be used: not a directory, not writable, or writable by
+// another user (whose files would run as this process's machine code).
 std::optional<std::string> cache_directory();
 
 // The file for `key` in the cache directory: <dir>/<kind>-<64-bit FNV-1a of
@@ -18,11 +21,21 @@ std::optional<std::string> cache_directory();
 std::optional<std::string> cache_path(const std::string& kind, const std::string& key);
 
 // Writes through a temporary file renamed into place; a failure leaves
-// nothing behind.  The file ends in a checksum of the bytes: a file that
+// nothing behind, and an entry larger than the process's file-size limit
+// is not written.  The file ends in a checksum of the bytes: a file that
 // does not match it (damaged on disk, cut short) reads as none, and is
 // computed afresh, never loaded (a damaged object file would run).
 void write_cache_file(const std::string& path, const std::string& bytes);
 std::optional<std::string> read_cache_file(const std::string& path);
+
+// The cache's size: $SH_CACHE_LIMIT_MB mebibytes, 1024 by default.  Past it
+// the least recently used entries are removed, down to three quarters of
+// it, when a store finds the directory due a scan (a process's first store
+// an hour after the last scan, then after each quarter of the limit it
+// stores); a scan also removes temporaries ten minutes old, left by a
+// writer that was killed.  Only files named as entries are touched.
+std::uintmax_t cache_limit_bytes();
+void prune_cache(const std::string& dir, std::uintmax_t limit);
 
 // The GNU build ID of the loaded program or library holding `address`, in
 // hex: which build of our code made what a cache holds.  Empty where the
