@@ -1,5 +1,6 @@
 set terminal pngcairo size 1100,700 noenhanced
-set output 'docs/tradeoff_soft.png.6646.tmp'
+if (!exists('plot_file')) plot_file = 'docs/tradeoff_soft.png'
+set output plot_file
 set title 'Error against render time, scene soft'
 set xlabel 'render time (ms, warm)'
 set ylabel 'RMSE against the converged reference'

@@ -1,6 +1,7 @@
 #include "output_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -18,6 +19,27 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMostNumbered = 9999;
+// What a temporary's name adds to the name it stands for (".PID.N.tmp").
+constexpr std::size_t kTemporarySuffixBytes = 32;
+
+// Holds back the signals that end a process from the terminal or a kill
+// while a file is written and moved into place: the process then ends with
+// the file in place, not with its temporary left beside it.
+class SignalsHeld {
+ public:
+  SignalsHeld() {
+    sigset_t held;
+    sigemptyset(&held);
+    for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&held, s);
+    pthread_sigmask(SIG_BLOCK, &held, &before_);
+  }
+  ~SignalsHeld() { pthread_sigmask(SIG_SETMASK, &before_, nullptr); }
+  SignalsHeld(const SignalsHeld&) = delete;
+  SignalsHeld& operator=(const SignalsHeld&) = delete;
+
+ private:
+  sigset_t before_;
+};
 
 std::string numbered(const fs::path& first, int n) {
   if (n == 1) return first.string();
@@ -66,18 +88,52 @@ std::string default_image_path(const std::string& scene) {
 }
 
 void say_if_replacing(const std::string& path) {
-  if (fs::exists(path)) std::printf("replacing %s\n", path.c_str());
+  std::error_code ignored;
+  if (fs::exists(path, ignored)) std::printf("replacing %s\n", path.c_str());
 }
 
 void check_output_path(const std::string& path) {
-  make_parent(path);
+  fs::path name(path);
+  if (name.filename().empty()) throw sh::Error(path + ": names a directory, not a file: name the output file");
+  make_parent(name);
+  std::string dir = name.has_parent_path() ? name.parent_path().string() : ".";
+  long longest = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  if (longest <= 0) longest = 255;
+  std::size_t bytes = name.filename().string().size();
+  if (bytes + kTemporarySuffixBytes > static_cast<std::size_t>(longest))
+    throw sh::Error(path + ": a file name of " + std::to_string(bytes) + " bytes: at most " +
+                    std::to_string(longest - static_cast<long>(kTemporarySuffixBytes)) +
+                    " here (the temporary file it is written through needs the rest)");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw sh::Error(path + ": cannot write in its directory " + dir + ": " + std::strerror(errno));
   std::error_code ignored;
   fs::file_status status = fs::symlink_status(path, ignored);
   if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_symlink(status))
     throw sh::Error(path + ": exists and is not a regular file (a directory, a device or a pipe): name another output");
 }
 
+void check_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  auto same = [](const std::string& a, const std::string& b) {
+    std::error_code missing, failed;
+    if (fs::equivalent(a, b, missing)) return true;  // one file under two names (a hard link too)
+    fs::path ca = fs::weakly_canonical(fs::absolute(a, failed), failed);
+    fs::path cb = fs::weakly_canonical(fs::absolute(b, failed), failed);
+    return !failed && ca == cb;
+  };
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    check_output_path(outputs[i]);
+    for (std::size_t j = 0; j < i; ++j)
+      if (same(outputs[i], outputs[j]))
+        throw sh::Error(outputs[i] + ": named for two outputs (" + outputs[j] + "): name each its own file");
+    for (const std::string& input : inputs)
+      if (same(outputs[i], input))
+        throw sh::Error(outputs[i] + ": is an input of this command (" + input + "): name another output");
+  }
+}
+
 std::string temp_name(const std::string& path) { return path + "." + std::to_string(::getpid()) + ".tmp"; }
+
+void ignore_file_size_limit() { ::signal(SIGXFSZ, SIG_IGN); }
 
 void move_into_place(const std::string& tmp, const std::string& path) {
   std::error_code failed;
@@ -88,6 +144,7 @@ void move_into_place(const std::string& tmp, const std::string& path) {
 }
 
 void write_through_temp(const std::string& path, const std::string& bytes) {
+  SignalsHeld held;
   std::string tmp = temp_name(path);
   {
     std::ofstream out(tmp, std::ios::binary);
@@ -101,6 +158,7 @@ void write_through_temp(const std::string& path, const std::string& bytes) {
 }
 
 std::string write_image(const std::string& chosen, const std::string& scene, const FileWriter& write) {
+  SignalsHeld held;
   if (!chosen.empty()) {
     check_output_path(chosen);
     say_if_replacing(chosen);

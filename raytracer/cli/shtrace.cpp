@@ -242,10 +242,12 @@ int render_command(const Common& c, const std::string& backend_name, const std::
                    const std::string& dump_ir_bytes, bool general, bool analyze, int frames, bool phases) {
   // Every file named is checked before the work, so that a bad one does
   // not fail the command after the image is written.
+  std::vector<std::string> outputs;
   for (const std::string& named : {output, dump_ir_bytes})
-    if (!named.empty()) shtrace::check_output_path(named);
+    if (!named.empty()) outputs.push_back(named);
   if (!aov.empty())
-    for (const char* suffix : {"_distance.pfm", "_triangle.pfm"}) shtrace::check_output_path(aov + suffix);
+    for (const char* suffix : {"_distance.pfm", "_triangle.pfm"}) outputs.push_back(aov + suffix);
+  shtrace::check_outputs(outputs, {c.scene});
   Scene scene = scene_for(c);
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
@@ -477,6 +479,7 @@ int main(int argc, char** argv) {
 
   app.add_subcommand("info", "backends and OpenCL devices found");
   CLI11_PARSE(app, argc, argv);
+  shtrace::ignore_file_size_limit();
   auto command = [&]() -> int {
     try {
       // The backend runs kernels on --threads; this holds the rest (building

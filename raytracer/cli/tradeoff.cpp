@@ -130,11 +130,11 @@ std::string gnuplot_string(const std::string& text) {
   return quoted + "'";
 }
 
-// gnuplot on a script, with no shell between (the script's name may hold
-// any character): whether it ran and succeeded.
-bool run_gnuplot(const std::string& script) {
-  std::string program = "gnuplot";
-  char* argv[] = {program.data(), const_cast<char*>(script.c_str()), nullptr};
+// gnuplot running one command, then a script, with no shell between (the
+// script's name may hold any character): whether it ran and succeeded.
+bool run_gnuplot(const std::string& first, const std::string& script) {
+  std::string program = "gnuplot", e = "-e";
+  char* argv[] = {program.data(), e.data(), const_cast<char*>(first.c_str()), const_cast<char*>(script.c_str()), nullptr};
   pid_t child = 0;
   if (posix_spawnp(&child, "gnuplot", nullptr, nullptr, argv, environ) != 0) return false;
   int status = 0;
@@ -205,7 +205,7 @@ int tradeoff(const TradeoffOptions& o) {
   // character cannot be written.
   if (o.out.empty() || std::any_of(o.out.begin(), o.out.end(), control_character))
     throw Error("tradeoff: --out '" + o.out + "': an empty name, or one with a control character");
-  for (const char* extension : {".csv", ".gp", ".png"}) check_output_path(o.out + extension);
+  check_outputs({o.out + ".csv", o.out + ".gp", o.out + ".png"}, {o.scene});
 
   if (scene.disk_lights.empty())
     std::fprintf(stderr, "tradeoff: %s has no disk light: the sample settings change nothing in its image\n",
@@ -258,9 +258,12 @@ int tradeoff(const TradeoffOptions& o) {
     points += line;
     if (r->pareto) front += line;
   }
+  // The script names the plot; this run has gnuplot draw it under a
+  // temporary name, moved into place once whole.
   std::string png = temp_name(o.out + ".png");
-  std::string gp = "set terminal pngcairo size 1100,700 noenhanced\nset output " + gnuplot_string(png) +
-                   "\nset title " + gnuplot_string("Error against render time, scene " + o.scene) +
+  std::string gp = "set terminal pngcairo size 1100,700 noenhanced\nif (!exists('plot_file')) plot_file = " +
+                   gnuplot_string(o.out + ".png") + "\nset output plot_file\nset title " +
+                   gnuplot_string("Error against render time, scene " + o.scene) +
                    "\nset xlabel 'render time (ms, warm)'\nset ylabel 'RMSE against the converged reference'\n"
                    "set logscale xy\nset grid\nset key top right\n"
                    "$all << EOD\n" + points + "EOD\n$front << EOD\n" + front + "EOD\n"
@@ -268,7 +271,7 @@ int tradeoff(const TradeoffOptions& o) {
                    "     $front using 1:2 with linespoints pt 7 ps 1.3 lw 2 lc rgb '#d62728' title 'Pareto front', \\\n"
                    "     $front using 1:2:3 with labels offset 1,0.6 left font ',8' notitle\n";
   write_through_temp(o.out + ".gp", gp);
-  if (run_gnuplot(o.out + ".gp")) {
+  if (run_gnuplot("plot_file = " + gnuplot_string(png), o.out + ".gp")) {
     move_into_place(png, o.out + ".png");
     std::printf("%zu settings; csv: %s.csv, plot: %s.png\n", results.size(), o.out.c_str(), o.out.c_str());
     return 0;

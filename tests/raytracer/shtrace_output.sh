@@ -72,6 +72,30 @@ test -p pipe
 grep -q "pipe: exists and is not a regular file" pipe.txt
 echo "outputs checked before the render; a pipe is not replaced"
 
+# An output that is an input, or that another output also names, is
+# refused before the render; so is a name too long for its temporary.
+cp "$data/flat_box.json" scene.json
+if render --scene scene.json --size 8x6 -o scene.json > input.txt 2>&1; then echo "the scene replaced"; exit 1; fi
+grep -q "scene.json: is an input of this command" input.txt
+cmp scene.json "$data/flat_box.json"
+refused "named for two outputs" --size 8x6 --dump-ir-bytes ./refused.png
+if render --scene cornell --size 8x6 -o p_distance.pfm --aov p > twice.txt 2>&1; then echo "one file, two outputs"; exit 1; fi
+grep -q "p_distance.pfm: named for two outputs" twice.txt
+test ! -e p_distance.pfm
+long=$(printf 'a%.0s' $(seq 246)).png
+if render --scene cornell --size 8x6 -o "$long" > long.txt 2>&1; then echo "a name too long for its temporary"; exit 1; fi
+grep -q "a file name of 250 bytes: at most" long.txt
+echo "an input, one file named twice and a name too long are refused before the render"
+
+# A file-size limit (ulimit -f) fails the write, as a full disk would, and
+# leaves nothing behind, where its signal would end the process.
+if (ulimit -f 1; SH_CACHE_DIR=off render --scene cornell --size 64x48 -o limited.png > limited.txt 2>&1); then
+  echo "an image past the file-size limit reported as written"; exit 1
+fi
+grep -q "limited.png: cannot write the image" limited.txt
+test ! -e limited.png
+echo "past the file-size limit: an error, no file"
+
 # Other subcommands' inputs and outputs.
 if "$shtrace" ir /dev/zero > ir.txt 2>&1; then echo "ir read /dev/zero"; exit 1; fi
 grep -q "/dev/zero: not a regular file" ir.txt

@@ -13,6 +13,10 @@ grep -q "^16 settings; csv: .*tradeoff.csv, plot: .*tradeoff.png$" "$dir/said.tx
 test "$(head -n 1 "$out.csv" | cut -c 1-7)" = backend
 test "$(head -c 4 "$out.png" | tail -c 3)" = PNG
 if grep -q "gnuplot failed" "$dir/progress.txt"; then cat "$dir/progress.txt"; exit 1; fi
+# The script, run by itself, draws the plot under the plot's own name.
+rm "$out.png"
+gnuplot "$out.gp"
+test "$(head -c 4 "$out.png" | tail -c 3)" = PNG
 # The front: of settings whose errors lie within 1 % of each other, one at
 # most (the fastest) is on it.
 awk -F, 'NR > 1 && $1 !~ /^#/ { ms[NR] = $8; e[NR] = $9; p[NR] = $12 }
