@@ -1,5 +1,6 @@
 // Disagreements between backends that the IR fuzzer (tests/fuzz_ir) found,
-// each as small as the fuzzer's minimiser left it.  Where the front end
+// each as small as the fuzzer's minimiser left it, and the last ones found
+// by reading the passes and the backends' code.  Where the front end
 // cannot record the program (a loop header that writes), the IR is built
 // by hand and wrapped as a program; the suite runs it on every backend and
 // variant like any other test.
@@ -241,9 +242,12 @@ TEST_P(Conformance, FuzzRemainderByAZeroTheCompilerSeesIsNaN) {
       yz.index = {1, 2};
       last.index[0] = in_component ? 2 : 0;
       VarId zero = in_component ? t : ir.temp({s, 1});
+      // The fuzzer's tiny positive double; in f32 the tiniest float (the
+      // double would be an f32 constant of 0).
+      double tiny = s == Scalar::F32 ? std::numeric_limits<float>::denorm_min() : 5.562684646268003e-309;
       Block body = {ir.set(t, Op::Mov, {ir(x)})};
-      body.push_back(in_component ? Stmt{Assign{t, yz, Op::Not, {ir.number(s, 5.562684646268003e-309)}, -1}}
-                                  : ir.set(zero, Op::Not, {ir.number(s, 5.562684646268003e-309)}));
+      body.push_back(in_component ? Stmt{Assign{t, yz, Op::Not, {ir.number(s, tiny)}, -1}}
+                                  : ir.set(zero, Op::Not, {ir.number(s, tiny)}));
       body.push_back(ir.set(remainder, Op::Mod, {Operand{t, first}, Operand{zero, last}}));
       body.push_back(ir.set(floored, Op::Floor, {ir(remainder)}));
       sh::Program p = ir.program(std::move(body));
@@ -349,5 +353,48 @@ TEST_P(Conformance, FuzzMinusZeroSurvivesAZeroChosenOnATestOfIt) {
     }
   }
 }
+// Review: a negative constant negated, the passes off (they fold it),
+// was written "--2.5" into the OpenCL C source, which did not compile.
+TEST_P(Conformance, ReviewNegativeConstantsNegatedWithoutThePasses) {
+  for (Scalar s : {Scalar::F32, Scalar::F64}) {
+    Ir ir("review_negated_constants");
+    VarId x = ir.input({s, 1}), a = ir.output({s, 1}), b = ir.output({s, 1});
+    sh::Program p = ir.program({ir.set(a, Op::Neg, {ir.number(s, -2.5)}),
+                                ir.set(b, Op::Sub, {ir(x), ir.number(s, -INFINITY)})});
+    sh::Options o;
+    o.optimize = false;
+    if (s == Scalar::F32) {
+      sh::Channel<sh::Attrib1f> in(std::vector<float>{1}), oa, ob;
+      sh::run(p, {in}, {oa, ob}, choice(o));
+      EXPECT_EQ(oa[0], 2.5f);
+      if (!fast()) {
+        EXPECT_EQ(ob[0], INFINITY);
+      }
+    } else {
+      sh::Channel<sh::Attrib1d> in(std::vector<double>{1}), oa, ob;
+      sh::run(p, {in}, {oa, ob}, choice(o));
+      EXPECT_EQ(oa[0], 2.5);
+      if (!fast()) {
+        EXPECT_EQ(ob[0], INFINITY);
+      }
+    }
+  }
+}
+
+// Review: an f32 constant holding a double that is no float (IR written by
+// hand or read back) was 0.1 to the interpreter and to constant folding and
+// 0.1f to the cpu backend: every backend now reads it as the float it is.
+TEST_P(Conformance, ReviewAnF32ConstantIsReadAsAFloat) {
+  if (f64()) GTEST_SKIP() << "under f64 precision an f32 register holds a double: 0.1 stays 0.1";
+  Ir ir("review_f32_constant");
+  VarId x = ir.input({Scalar::F32, 1}), seen = ir.output({Scalar::F32, 1}), folded = ir.output({Scalar::F32, 1});
+  sh::Program p = ir.program({ir.set(seen, Op::Eq, {ir(x), ir.number(Scalar::F32, 0.1)}),
+                              ir.set(folded, Op::Eq, {ir.number(Scalar::F32, 0.1), ir.number(Scalar::F32, 0.1f)})});
+  sh::Channel<sh::Attrib1f> in(std::vector<float>{0.1f}), a, b;
+  run(p, {in}, {a, b});
+  EXPECT_EQ(a[0], 1.f);
+  EXPECT_EQ(b[0], 1.f);
+}
+
 }  // namespace
 }  // namespace conformance

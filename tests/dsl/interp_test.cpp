@@ -2,6 +2,8 @@
 // call's handling of bad input.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <sh/sh.hpp>
 
 #include "../common/expect_error.hpp"
@@ -32,6 +34,24 @@ TEST(CheckedMode, ReportsFirstNanAndFirstOutOfRangeRead) {
 
   RunStats unchecked = run(p, {in}, {out}, backend("interp"));
   EXPECT_TRUE(unchecked.diagnostics.empty());
+}
+
+// A NaN made from constants is left to the run by the passes, so that a
+// checked run still names the instruction that made it.
+TEST(CheckedMode, ReportsANanMadeFromConstants) {
+  Program p = SH_BEGIN_PROGRAM("constant_nan") {
+    Input<Attrib1f> x;
+    Output<Attrib1f> r;
+    r = x + ConstAttrib<1>(0.f) / ConstAttrib<1>(0.f);
+  } SH_END;
+  Channel<Attrib1f> in(std::vector<float>{1, 2}), out;
+  Options o;
+  o.checked = true;
+  RunStats s = run(p, {in}, {out}, backend("interp", o));
+  EXPECT_TRUE(std::isnan(out[0]));
+  ASSERT_EQ(s.diagnostics.size(), 1u);
+  EXPECT_NE(s.diagnostics[0].find("first NaN: element 0"), std::string::npos) << s.diagnostics[0];
+  EXPECT_NE(s.diagnostics[0].find("div"), std::string::npos) << s.diagnostics[0];
 }
 
 TEST(RunErrors, StreamsOfDifferentLengths) {

@@ -95,7 +95,8 @@ std::string Generator::operation(ir::Op op, ir::Scalar from, ir::Scalar to, cons
     // Legal IR divides integers only by divisors that cannot trap.
     case Op::Div: return a + " / " + b;
     case Op::Mod: return floor_remainder(from) + "(" + a + ", " + b + ")";
-    case Op::Neg: return fp ? "-" + a : bits_as("int", "0u - " + uint(a));
+    // In brackets: a negative constant's "-" + "-2.5" would read as "--".
+    case Op::Neg: return fp ? "-(" + a + ")" : bits_as("int", "0u - " + uint(a));
     case Op::Min: return call2(fp ? "fmin" : "min", a, b);
     case Op::Max: return call2(fp ? "fmax" : "max", a, b);
     // In uint: abs(INT_MIN) wraps to INT_MIN, where PoCL's abs assumes a

@@ -16,11 +16,15 @@ enum class Flow { Next, Break, Continue };
 class Machine {
  public:
   Machine(const ir::Program& p, const Options& o, const RunArgs& a, RunStats& s)
-      : p_(p), o_(o), a_(a), stats_(s), regs_(p.vars.size()), arrays_(p.vars.size()) {}
+      : p_(p), o_(o), a_(a), stats_(s), regs_(p.vars.size()), arrays_(p.vars.size()), initial_(p.vars.size()) {
+    // Constants as registers hold them: an f32 one rounded to float.
+    for (std::size_t v = 0; v < p_.vars.size(); ++v)
+      if (p_.vars[v].kind == ir::VarKind::Const) initial_[v] = held(static_cast<ir::VarId>(v), p_.vars[v].value);
+  }
 
   void element(std::size_t e) {
     element_ = e;
-    for (std::size_t v = 0; v < p_.vars.size(); ++v) regs_[v] = p_.vars[v].kind == ir::VarKind::Const ? p_.vars[v].value : Reg{};
+    regs_ = initial_;
     for (std::size_t v = 0; v < p_.vars.size(); ++v) arrays_[v].assign(static_cast<std::size_t>(p_.vars[v].length), Reg{});
     for (std::size_t u = 0; u < p_.uniforms.size(); ++u) regs_[p_.uniforms[u]] = held(p_.uniforms[u], a_.uniforms[u]);
     for (std::size_t i = 0; i < p_.inputs.size(); ++i) load(p_.inputs[i], a_.inputs[i], e);
@@ -224,6 +228,7 @@ class Machine {
   RunStats& stats_;
   std::vector<Reg> regs_;
   std::vector<std::vector<Reg>> arrays_;  // by variable: an array's elements, empty for the others
+  std::vector<Reg> initial_;              // by variable: what each register holds at an element's start
   std::size_t element_ = 0;
 };
 

@@ -1,6 +1,9 @@
 // Constant folding: an assignment whose operands are all constants becomes
 // a move of the computed constant; an `if` on a constant keeps only the
 // branch taken; a loop whose test fails before the first iteration goes.
+#include <cmath>
+
+#include "sh/ir/eval.hpp"
 #include "sh/ir/visitor.hpp"
 #include "sh/passes.hpp"
 
@@ -16,10 +19,18 @@ class Folder : public ir::Mutator {
     if (a.op != ir::Op::Mov && ir::op_info(a.op).folds && all_constant(a)) {
       ir::Scalar from = p_.type_of(a.args[0].var).scalar, to = p_.type_of(a.dest).scalar;
       std::array<double, 4> v{};
+      bool nan_made = false;
       for (int i = 0; i < a.mask.size; ++i) {
         double x[3] = {0, 0, 0};
         for (std::size_t k = 0; k < a.args.size(); ++k) x[k] = component(a.args[k], i);
         v[i] = ir::eval(a.op, from, to, precision_, x[0], x[1], x[2]);
+        nan_made = nan_made || (std::isnan(v[i]) && !std::isnan(x[0]) && !std::isnan(x[1]) && !std::isnan(x[2]));
+      }
+      // A NaN made from numbers (0 / 0, inf - inf, sqrt(-1)) is left to
+      // the run, where a checked run names the instruction that made it.
+      if (nan_made) {
+        out.push_back(ir::Stmt{std::move(a)});
+        return;
       }
       ir::VarId c = p_.add_const({to, a.mask.size}, v);
       a.op = ir::Op::Mov;
@@ -49,8 +60,10 @@ class Folder : public ir::Mutator {
       if (!is_constant(o)) return false;
     return true;
   }
+  // As a register holds it: an f32 constant rounded to float, as every
+  // backend reads it.
   double component(const ir::Operand& o, int i) const {
-    return p_.var(o.var).value[o.component(i)];
+    return ir::hold(p_.type_of(o.var).scalar, precision_, p_.var(o.var).value[o.component(i)]);
   }
 
   ir::Program& p_;
