@@ -243,6 +243,34 @@ TEST(Compare, EveryLinkedBackendAndVariantGivesTheExactProgramsBits) {
       << printed.str();
 }
 
+// Accumulators are outputs too: every row's sums are compared, each run
+// starts from what the accumulator held (three runs a row would otherwise
+// add three times), and compare leaves the caller's sums as they were.
+TEST(Compare, AccumulatorsAreComparedAndLeftAsTheyWere) {
+  std::vector<std::string> linked;
+  for (const std::string& name : backend_names())
+    if (std::find(kToys.begin(), kToys.end(), name) == kToys.end()) linked.push_back(name);
+  Accumulator<Attrib1i> counts(4, "counts");
+  Program p = SH_BEGIN_PROGRAM("histogram") {
+    Input<Attrib1i> k;
+    Output<Attrib1i> same;
+    same = k;
+    counts.add(k, 1);
+  } SH_END;
+  Channel<Attrib1i> keys(std::vector<std::int32_t>{0, 1, 1, 3, 3, 3}), out;
+  run(p, {keys}, {out}, backend("interp"));
+  std::vector<std::int32_t> before = counts.values();
+  ASSERT_EQ(before, (std::vector<std::int32_t>{1, 2, 0, 3}));
+  Comparison c = compare(p, {keys}, only(linked));
+  for (const CompareRow& row : c.rows) {
+    ASSERT_FALSE(row.failed()) << row.label() << ": " << row.error;
+    ASSERT_EQ(row.outputs.size(), 2u) << row.label();
+    EXPECT_EQ(row.outputs[1].name, "accumulator 'counts'");
+    EXPECT_EQ(row.outputs[1].differing, 0u) << row.label() << "\n" << to_string(c);
+  }
+  EXPECT_EQ(counts.values(), before);
+}
+
 TEST(Compare, InputsThatDoNotFitTheProgramAreTheCallersError) {
   Channel<Attrib1f> x(ramp(4, 1.0f));
   Channel<Attrib2f> pairs(ramp(8, 1.0f));

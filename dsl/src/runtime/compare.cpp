@@ -65,16 +65,59 @@ void compare_component(double value, double reference, std::size_t element, Outp
   d.max_ulps = std::max(d.max_ulps, ulps);
 }
 
-OutputDifference difference(const ir::Program& p, std::size_t k, const detail::Buffer& value,
-                            const detail::Buffer& reference) {
+OutputDifference difference(std::string name, const detail::Buffer& value, const detail::Buffer& reference) {
   OutputDifference d;
-  d.name = p.var(p.outputs[k]).name;
-  if (d.name.empty()) d.name = "output " + std::to_string(k);
+  d.name = std::move(name);
   d.type = value.type();
   for (std::size_t i = 0; i < value.size(); ++i)
     for (int c = 0; c < d.type.width; ++c) compare_component(value.get(i, c), reference.get(i, c), i, d);
   return d;
 }
+
+std::string output_name(const ir::Program& p, std::size_t k) {
+  const std::string& name = p.var(p.outputs[k]).name;
+  return name.empty() ? "output " + std::to_string(k) : name;
+}
+
+// The program's accumulators, whose sums every run adds to: each run of a
+// row starts from the sums they held when compare was called, the sums a
+// row leaves are compared as its outputs are, and the caller's sums are put
+// back at the end.
+class Accumulators {
+ public:
+  explicit Accumulators(const Program& program) {
+    for (const std::shared_ptr<detail::TableStorage>& t : program.tables())
+      if (t->decl.accumulator) held_.push_back({t, t->buffer});
+  }
+  ~Accumulators() { restore(); }
+  Accumulators(const Accumulators&) = delete;
+  Accumulators& operator=(const Accumulators&) = delete;
+
+  void restore() const {
+    for (const auto& [table, sums] : held_) {
+      table->buffer = sums;
+      table->touch();
+    }
+  }
+  std::vector<detail::Buffer> sums() const {
+    std::vector<detail::Buffer> out;
+    for (const auto& held : held_) out.push_back(held.first->buffer);
+    return out;
+  }
+  std::string name(std::size_t k) const {
+    const std::string& name = held_[k].first->decl.name;
+    return "accumulator " + (name.empty() ? std::to_string(k) : "'" + name + "'");
+  }
+
+ private:
+  std::vector<std::pair<std::shared_ptr<detail::TableStorage>, detail::Buffer>> held_;
+};
+
+// What a row left: its outputs, and its accumulators' sums.
+struct RowResult {
+  Buffers outputs;
+  std::vector<detail::Buffer> sums;
+};
 
 Buffers fresh_outputs(const ir::Program& p, std::size_t count) {
   Buffers out;
@@ -102,24 +145,29 @@ std::size_t stream_length(const ir::Program& p, const Buffers& inputs, const Com
 
 // Runs one row, `runs` times, into fresh outputs; a throw becomes its error.
 CompareRow run_row(const Program& program, const Buffers& inputs, CompareRow row, const Options& options, int runs,
-                   std::size_t count, Buffers& outputs) {
-  outputs = fresh_outputs(program.ir(), count);
+                   std::size_t count, const Accumulators& accumulators, RowResult& result) {
+  result.outputs = fresh_outputs(program.ir(), count);
+  auto run_once = [&] {
+    accumulators.restore();
+    return run(program, inputs, result.outputs, backend(row.backend, options));
+  };
   try {
-    RunStats first = run(program, inputs, outputs, backend(row.backend, options));
+    RunStats first = run_once();
     row.compiled = first.compiled;
     row.compile_ms = first.compile_ms;
     row.run_ms = first.run_ms;
     if (first.details) row.notes = first.details->describe();
-    for (int r = 1; r < runs; ++r) row.run_ms = std::min(row.run_ms, run(program, inputs, outputs, backend(row.backend, options)).run_ms);
+    for (int r = 1; r < runs; ++r) row.run_ms = std::min(row.run_ms, run_once().run_ms);
+    result.sums = accumulators.sums();
   } catch (const std::exception& e) {
     row.error = e.what();
-    outputs.clear();
+    result = {};
   }
   return row;
 }
 
 CompareRow reference_row(const Program& program, const Buffers& inputs, const CompareOptions& o, std::size_t count,
-                         Buffers& outputs) {
+                         const Accumulators& accumulators, RowResult& result) {
   CompareRow row;
   row.backend = "interp";
   row.precision = Precision::F64;
@@ -127,7 +175,7 @@ CompareRow reference_row(const Program& program, const Buffers& inputs, const Co
   options.precision = Precision::F64;
   options.math = MathMode::Precise;
   options.checked = false;
-  return run_row(program, inputs, row, options, 1, count, outputs);  // its time is not what is compared
+  return run_row(program, inputs, row, options, 1, count, accumulators, result);  // its time is not what is compared
 }
 
 }  // namespace
@@ -151,8 +199,9 @@ Comparison compare(const Program& program, const Buffers& inputs, const CompareO
   Comparison c;
   c.program = p.name;
   c.elements = stream_length(p, inputs, o);
-  Buffers expected, got;
-  c.reference = reference_row(program, inputs, o, c.elements, expected);
+  Accumulators accumulators(program);
+  RowResult expected, got;
+  c.reference = reference_row(program, inputs, o, c.elements, accumulators, expected);
   for (const std::string& name : o.backends.empty() ? backend_names() : o.backends) {
     std::vector<Backend::Variant> variants;
     try {
@@ -175,9 +224,15 @@ Comparison compare(const Program& program, const Buffers& inputs, const CompareO
         options.precision = o.precision;
         options.math = math;
         options.set(v.options);
-        row = run_row(program, inputs, std::move(row), options, o.runs, c.elements, got);
-        if (!row.failed() && !c.reference.failed())
-          for (std::size_t k = 0; k < got.size(); ++k) row.outputs.push_back(difference(p, k, *got[k], *expected[k]));
+        row = run_row(program, inputs, std::move(row), options, o.runs, c.elements, accumulators, got);
+        if (row.failed() || c.reference.failed()) {
+          c.rows.push_back(std::move(row));
+          continue;
+        }
+        for (std::size_t k = 0; k < got.outputs.size(); ++k)
+          row.outputs.push_back(difference(output_name(p, k), *got.outputs[k], *expected.outputs[k]));
+        for (std::size_t k = 0; k < got.sums.size(); ++k)
+          row.outputs.push_back(difference(accumulators.name(k), got.sums[k], expected.sums[k]));
         c.rows.push_back(std::move(row));
       }
   }
