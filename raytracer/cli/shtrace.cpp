@@ -65,6 +65,17 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
+// A list of backends is one argument split at its commas.  An empty list
+// ("--backends ,") has CLI11 read the next option as a name: no name starts
+// with a dash.
+const CLI::Validator kBackendName(
+    [](std::string& name) {
+      if (name.empty()) return std::string("an empty backend name (a stray comma?)");
+      if (name[0] == '-') return "'" + name + "' is an option, not a backend name: the list before it is empty";
+      return std::string();
+    },
+    "NAME");
+
 void add_common(CLI::App* app, Common& c) {
   app->add_option("--scene", c.scene,
                   "scene file (.json), model file, or built-in: cornell, spheres, procedural, soft, soft2, magg-mirror, magg-glass")
@@ -428,7 +439,8 @@ int main(int argc, char** argv) {
 
   CLI::App* bench = app.add_subcommand("bench", "each backend on one scene: compile, render, error against interp f64");
   add_common(bench, common);
-  bench->add_option("--backends", bench_backends, "backends to run, comma-separated (default: all built)")->delimiter(',');
+  bench->add_option("--backends", bench_backends, "backends to run, comma-separated (default: all built)")
+      ->delimiter(',')->allow_extra_args(false)->check(kBackendName);
   bool bench_phases = false;
   bench->add_flag("--phases", bench_phases,
                   "under each backend, where its compile went: passes, lowering, cache key, LLVM optimisation, JIT "
@@ -440,7 +452,8 @@ int main(int argc, char** argv) {
                                          "compile and run time, largest difference from interp in f64 (sh::compare)");
   add_common(compare, common);
   compare->get_option("--size")->default_str("160x120");  // the interpreter runs every pixel, thrice
-  compare->add_option("--backends", compare_backend_names, "backends to run, comma-separated (default: all built)")->delimiter(',');
+  compare->add_option("--backends", compare_backend_names, "backends to run, comma-separated (default: all built)")
+      ->delimiter(',')->allow_extra_args(false)->check(kBackendName);
   compare->add_option("--kernel", compare_request.kernel, "render (the whole kernel over every pixel) or intersect "
                       "(the intersector on the primary rays)")->check(CLI::IsMember({"render", "intersect"}))->capture_default_str();
   compare->add_option("--runs", compare_request.runs, "runs per row; the fastest counts")->capture_default_str()
@@ -451,7 +464,8 @@ int main(int argc, char** argv) {
   CLI::App* trade = app.add_subcommand("tradeoff", "a grid of settings against a converged reference: CSV and plot");
   trade->add_option("--scene", tradeoff_options.scene, "scene (default: soft)")->capture_default_str();
   trade->add_option("--size", tradeoff_size, "image size")->capture_default_str();
-  trade->add_option("--backends", tradeoff_options.backends, "backends, comma-separated (default: cpu and opencl)")->delimiter(',');
+  trade->add_option("--backends", tradeoff_options.backends, "backends, comma-separated (default: cpu and opencl)")
+      ->delimiter(',')->allow_extra_args(false)->check(kBackendName);
   trade->add_option("--out", tradeoff_options.out, "writes OUT.csv, OUT.gp and OUT.png")->capture_default_str();
 
   std::string view = "full";

@@ -106,6 +106,13 @@ if "$shtrace" compare --scene cornell --size 8x6 --runs 1 --backends no-such > c
 fi
 grep -q "1 rows, 1 failed" compare.txt
 echo "ir refuses a device, a full standard output fails the command, compare fails with its rows"
+for cmd in bench compare; do
+  if "$shtrace" $cmd --scene cornell --size 8x6 --backends , --threads 1 > stray.txt 2>&1; then
+    echo "$cmd took --threads for a backend"; exit 1
+  fi
+  grep -q "'--threads' is an option, not a backend name" stray.txt
+done
+echo "an empty --backends list is an error, not the next option read as a backend"
 
 leftovers=$(find . -name "*.tmp" -o -name ".*.png.*")
 test -z "$leftovers" || { echo "temporary files left: $leftovers"; exit 1; }
