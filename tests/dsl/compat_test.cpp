@@ -21,6 +21,26 @@ ShAttrib1f nearest_root(ShAttrib1f a, ShAttrib1f b, ShAttrib1f c, ShAttrib1f& ro
   return hit;
 }
 
+// Each of Sh's SH_DECL forms: with an expression, with a number, and with
+// no initial value; each variable keeps its name.
+TEST(Compat, EverySHDeclFormRecordsANamedVariable) {
+  ShProgram p = SH_BEGIN_PROGRAM("decl_forms") {
+    ShInputAttrib1f x;
+    ShOutputAttrib3f out;
+    ShAttrib1f SH_DECL(twice) = x * 2.0f;
+    ShAttrib1f SH_DECL(one) = 1.0f;
+    ShAttrib3f SH_DECL(later);
+    later = join(join(twice, one), x);
+    out = later;
+  } SH_END;
+  std::string printed = sh::print(p);
+  for (const char* name : {"twice", "one", "later"}) EXPECT_NE(printed.find(name), std::string::npos) << name << printed;
+  ShChannel<ShAttrib1f> x(std::vector<float>{3});
+  ShChannel<ShAttrib3f> out;
+  sh::run(p, {x}, {out}, sh::backend("interp"));
+  EXPECT_EQ(out.values(), (std::vector<float>{6, 1, 3}));
+}
+
 // Integer streams in Sh's spelling, as float ones.
 TEST(Compat, IntegerInputsAndOutputs) {
   ShProgram p = SH_BEGIN_PROGRAM("twice") {

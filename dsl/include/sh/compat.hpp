@@ -45,6 +45,20 @@ using ShMatrix3x4f = sh::Matrix3x4f;
 inline void shUseBackend(const std::string& name) { sh::use_backend(name); }
 
 namespace sh::detail {
+// A number given to SH_DECL's variable: the variable's type is known only
+// where the number initialises it.
+template <Number N>
+struct NamedNumber {
+  const char* name;
+  N number;
+  template <AttribLike A>
+  operator A() const {
+    A named(number);
+    named.name(name);
+    return named;
+  }
+};
+
 struct Named {
   const char* name;
   template <AttribLike A>
@@ -53,11 +67,23 @@ struct Named {
     named.name(name);
     return named;
   }
+  template <Number N>
+  NamedNumber<N> operator=(N number) const {
+    return {name, number};
+  }
+  // No initial value: a variable of the declared type, named.
+  template <AttribLike A>
+  operator A() const {
+    A named;
+    named.name(name);
+    return named;
+  }
 };
 }  // namespace sh::detail
 
 // Sh's SH_DECL(name): declares a variable and gives it its own name in the
-// IR, e.g.  ShAttrib3f SH_DECL(sptr) = step > 0.0f;
+// IR, in each of Sh's forms:
+//   ShAttrib1f SH_DECL(hit) = disc >= 0.0f;   ShAttrib1f SH_DECL(t) = 1.0f;   ShPoint3f SH_DECL(p);
 #define SH_DECL(var) var = ::sh::detail::Named{#var}
 #define SH_NAMED(var) var.name(#var)
 
