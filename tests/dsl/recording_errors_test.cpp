@@ -271,6 +271,21 @@ TEST(RecordingErrors, AComponentPastTheWidthIsAnError) {
   for (int i : {3, -1, 100}) expect_error([&] { u.get(i); }, {"of a value of 3 (they are 0 to 2)"});
 }
 
+// get() of an input inside the program that declares it: the program is
+// named, and the message says which values exist on the host.
+TEST(RecordingErrors, AHostValueOfAnInputIsAnErrorNamingTheProgram) {
+  expect_error(
+      [] {
+        SH_BEGIN_PROGRAM("asks_host") {
+          InputAttrib1f x;
+          x.name("speed");
+          OutputAttrib1f r;
+          r = x * x.get();
+        } SH_END;
+      },
+      {"asks_host", "a host value was asked of a program variable 'speed'", "uniforms and constants have one"});
+}
+
 TEST(RecordingErrors, ProgramStateRecoversAfterAnError) {
   EXPECT_THROW(SH_BEGIN_PROGRAM("bad") { SH_ELSE; } SH_END, Error);
   // Outside any recording again: a variable is a uniform.

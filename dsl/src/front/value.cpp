@@ -23,8 +23,15 @@ Value whole(std::shared_ptr<VarNode> node) {
 
 // Component i of the operand as the operation sees it (width-1 broadcasts).
 double host_component(const Value& v, int i) {
-  if (v.node->kind != ir::VarKind::Uniform && v.node->kind != ir::VarKind::Const)
-    host_fail("a program variable is used on the host");
+  if (v.node->kind != ir::VarKind::Uniform && v.node->kind != ir::VarKind::Const) {
+    // Inside a program too: get() of an input, an output or a temporary.
+    const std::string what = "a host value was asked of a program variable" +
+                             (v.node->name.empty() ? std::string() : " '" + v.node->name + "'") +
+                             " (an input, an output or a temporary has values only as the program runs; uniforms "
+                             "and constants have one on the host)";
+    if (Recorder* r = current_recorder()) r->fail(what);
+    host_fail(what);
+  }
   return v.node->value[v.swizzle[v.width() == 1 ? 0 : i]];
 }
 
