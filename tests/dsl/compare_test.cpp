@@ -193,6 +193,24 @@ TEST(Compare, AnUnknownBackendIsARowNotAnAbort) {
   EXPECT_FALSE(c.rows[1].failed());
 }
 
+// The table's header gives the rows' precision whatever the first row did,
+// and a long output name is printed whole.
+TEST(Compare, TheTableSaysThePrecisionAndKeepsLongNamesWhole) {
+  std::string long_name(150, 'n');
+  Program p = SH_BEGIN_PROGRAM("long_names") {
+    Input<Attrib1f> x;
+    Output<Attrib1f> y;
+    y.name(long_name);
+    y = x + 1.0f;
+  } SH_END;
+  Channel<Attrib1f> x(ramp(4, 1.0f));
+  CompareOptions o = only({"no-such", "interp"});
+  o.precision = Precision::F64;
+  std::string table = to_string(compare(p, {x}, o));
+  EXPECT_NE(table.find("4 elements in f64 against interp in f64"), std::string::npos) << table;
+  EXPECT_NE(table.find(long_name + " f32"), std::string::npos) << table;
+}
+
 TEST(Compare, NanAgainstANumberCountsAsADifferenceEitherWay) {
   // x / y with x = y = 0 at element 7: the reference gives NaN there.
   Program divide = SH_BEGIN_PROGRAM("divide") {

@@ -63,6 +63,7 @@ struct CompareRow {
 struct Comparison {
   std::string program;
   std::size_t elements = 0;
+  Precision precision = Precision::F32;  // of every row
   CompareRow reference;  // interp in f64
   std::vector<CompareRow> rows;
 

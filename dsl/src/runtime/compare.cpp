@@ -199,6 +199,7 @@ Comparison compare(const Program& program, const Buffers& inputs, const CompareO
   Comparison c;
   c.program = p.name;
   c.elements = stream_length(p, inputs, o);
+  c.precision = o.precision;
   Accumulators accumulators(program);
   RowResult expected, got;
   c.reference = reference_row(program, inputs, o, c.elements, accumulators, expected);

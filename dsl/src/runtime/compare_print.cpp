@@ -39,19 +39,29 @@ std::string differing(const OutputDifference& d) {
 
 std::string math_name(MathMode m) { return m == MathMode::Fast ? "fast" : "precise"; }
 
+// Columns of at least `width` characters; a longer text is kept whole and
+// pushes the rest of its line along.
+std::string left(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
+}
+std::string right(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
+}
+
 std::string line(const std::string& label, const std::string& math, const std::string& compile, const std::string& run,
                  const std::string& rest) {
-  char text[160];
-  std::snprintf(text, sizeof text, "%-20s %-8s %10s %10s  ", label.c_str(), math.c_str(), compile.c_str(), run.c_str());
-  return text + rest + "\n";
+  return left(label, 20) + " " + left(math, 8) + " " + right(compile, 10) + " " + right(run, 10) + "  " + rest + "\n";
+}
+
+std::string output_columns(const std::string& name, const std::string& type, const std::string& max_abs,
+                           const std::string& max_ulps, const std::string& differing, const std::string& worst) {
+  return left(name, 10) + " " + left(type, 7) + " " + right(max_abs, 11) + " " + right(max_ulps, 10) + " " +
+         right(differing, 15) + " " + right(worst, 8);
 }
 
 std::string output_columns(const OutputDifference& d) {
-  char text[200];
   std::string worst = d.differing ? std::to_string(d.worst_element) : "-";
-  std::snprintf(text, sizeof text, "%-10s %-7s %11s %10s %15s %8s", d.name.c_str(), ir::type_name(d.type).c_str(),
-                magnitude(d.max_abs).c_str(), ulps(d.max_ulps).c_str(), differing(d).c_str(), worst.c_str());
-  return text;
+  return output_columns(d.name, ir::type_name(d.type), magnitude(d.max_abs), ulps(d.max_ulps), differing(d), worst);
 }
 
 // An error's lines after the first, indented under it.
@@ -78,15 +88,13 @@ std::string row_text(const CompareRow& r, bool reference_failed) {
 
 std::string to_string(const Comparison& c) {
   const CompareRow& ref = c.reference;
-  std::string precision = c.rows.empty() || c.rows[0].precision == Precision::F32 ? "f32" : "f64";
+  std::string precision = c.precision == Precision::F32 ? "f32" : "f64";
   std::string text = "compare '" + c.program + "': " + std::to_string(c.elements) + " elements in " + precision +
                      " against interp in f64 ";
   text += ref.failed() ? "(failed: " + indented(ref.error) + ")\n"
                        : "(compile " + milliseconds(ref, ref.compile_ms, true) + " ms, run " + format("%.1f", ref.run_ms) + " ms)\n";
-  char columns[200];
-  std::snprintf(columns, sizeof columns, "%-10s %-7s %11s %10s %15s %8s", "output", "type", "max |diff|", "max ULPs",
-                "differing", "worst at");
-  text += line("backend", "math", "compile ms", "run ms", columns);
+  text += line("backend", "math", "compile ms", "run ms",
+               output_columns("output", "type", "max |diff|", "max ULPs", "differing", "worst at"));
   for (const CompareRow& r : c.rows) text += row_text(r, ref.failed());
   return text;
 }
