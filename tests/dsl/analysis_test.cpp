@@ -74,6 +74,24 @@ TEST(Analysis, APrefetchIsNotOnTheCriticalPath) {
   EXPECT_EQ(analysis::critical_path(program(true).ir(), m), without);
 }
 
+// A read of a local array at an index known only as the program runs
+// waits on every store to it: here the slow division stored at slot 0.
+TEST(Analysis, ALocalArrayReadWaitsOnEveryStoreToIt) {
+  Program p = SH_BEGIN_PROGRAM("slots") {
+    InputAttrib1f x;
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    LocalArray<Attrib1f> slots(2, "slots");
+    slots.store(0, x / 3.0f);
+    slots.store(1, x + 1.0f);
+    y = slots[i];
+  } SH_END;
+  analysis::Machine m;
+  m.latency = {4, 1, 9, 1, 1, 1, 1};
+  m.units = {0, 0, 0, 0, 0, 0, 0};
+  EXPECT_GE(analysis::critical_path(p.ir(), m), 9u) << "the division's 9 cycles come before the read";
+}
+
 TEST(Analysis, LoopsReportPerIterationAndConstantTripCounts) {
   Program p = SH_BEGIN_PROGRAM("loops") {
     InputAttrib1f x;

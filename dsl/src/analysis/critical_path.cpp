@@ -22,6 +22,10 @@ struct Node {
 std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
   std::vector<Node> nodes;
   std::map<std::pair<ir::VarId, int>, int> producer;  // (variable, component) -> node
+  // A local array's reads wait on every store since its last fill: the
+  // index each reads and each stored is known only as the program runs.
+  std::map<ir::VarId, std::vector<int>> array_writers;
+  auto is_array = [&](ir::VarId v) { return p.var(v).kind == ir::VarKind::Array; };
   for (const ir::Stmt& s : p.body) {
     if (std::holds_alternative<ir::Prefetch>(s.node)) continue;  // nothing waits on it
     auto* a = std::get_if<ir::Assign>(&s.node);
@@ -33,6 +37,11 @@ std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
       Node n;
       n.unit = u ? static_cast<int>(*u) : -1;
       for (const ir::Operand& o : a->args) {
+        if (is_array(o.var)) {
+          const std::vector<int>& writers = array_writers[o.var];
+          n.preds.insert(n.preds.end(), writers.begin(), writers.end());
+          continue;
+        }
         int reads = is_table_read(a->op) ? o.width() : 1;
         for (int r = 0; r < reads; ++r) {
           int c = is_table_read(a->op) ? o.swizzle[r] : o.component(i);
@@ -42,6 +51,12 @@ std::vector<Node> dependence_graph(const ir::Program& p, const Machine& m) {
       }
       nodes.push_back(std::move(n));
       made.push_back(static_cast<int>(nodes.size() - 1));
+    }
+    if (is_array(a->dest)) {
+      std::vector<int>& writers = array_writers[a->dest];
+      if (a->op == ir::Op::Fill) writers.clear();
+      writers.insert(writers.end(), made.begin(), made.end());
+      continue;
     }
     for (int i = 0; i < a->mask.size; ++i) producer[{a->dest, a->mask[i]}] = made[is_table_read(a->op) ? 0 : i];
   }
