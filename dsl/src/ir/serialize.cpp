@@ -4,6 +4,7 @@
 
 #include "sh/error.hpp"
 #include "sh/ir/verifier.hpp"
+#include "../fnv1a.hpp"
 
 namespace sh::ir {
 namespace {
@@ -361,13 +362,6 @@ std::string serialize(const Program& p, const SerializeOptions& options) {
 
 Program deserialize(const std::string& bytes) { return ProgramReader(bytes).read(); }
 
-std::uint64_t structural_hash(const Program& p) {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : serialize(p, {.names = false})) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
+std::uint64_t structural_hash(const Program& p) { return sh::detail::fnv1a(serialize(p, {.names = false})); }
 
 }  // namespace sh::ir

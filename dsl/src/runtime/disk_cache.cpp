@@ -22,17 +22,10 @@
 #include <sstream>
 #include <vector>
 
+#include "../fnv1a.hpp"
+
 namespace sh::detail {
 namespace {
-
-std::uint64_t fnv1a(const char* bytes, std::size_t size) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i < size; ++i) {
-    h ^= static_cast<unsigned char>(bytes[i]);
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 // The checksum that ends every cache file: 8 bytes, this host's order.
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
@@ -94,7 +87,7 @@ std::optional<std::string> cache_path(const std::string& kind, const std::string
   std::optional<std::string> dir = cache_directory();
   if (!dir) return std::nullopt;
   std::ostringstream name;
-  name << *dir << "/" << kind << "-" << std::hex << fnv1a(key.data(), key.size());
+  name << *dir << "/" << kind << "-" << std::hex << fnv1a(key);
   return name.str();
 }
 
@@ -215,7 +208,7 @@ void write_cache_file(const std::string& path, const std::string& bytes) {
   std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(writes++);
   std::error_code ignored;
   std::ofstream out(tmp, std::ios::binary);
-  std::uint64_t checksum = fnv1a(bytes.data(), bytes.size());
+  std::uint64_t checksum = fnv1a(bytes);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.write(reinterpret_cast<const char*>(&checksum), kChecksumBytes);
   out.close();
@@ -238,7 +231,7 @@ std::optional<std::string> read_cache_file(const std::string& path) {
   std::uint64_t checksum = 0;
   std::memcpy(&checksum, bytes.data() + bytes.size() - kChecksumBytes, kChecksumBytes);
   bytes.resize(bytes.size() - kChecksumBytes);
-  if (fnv1a(bytes.data(), bytes.size()) != checksum) return std::nullopt;
+  if (fnv1a(bytes) != checksum) return std::nullopt;
   std::error_code ignored;
   fs::last_write_time(path, fs::file_time_type::clock::now(), ignored);  // used: the last to be pruned
   return bytes;
