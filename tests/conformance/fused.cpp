@@ -6,6 +6,8 @@
 // height (one strip or several), over rows of odd lengths, for elements of
 // one component and of three.
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 
 #include "harness.hpp"
 
@@ -136,6 +138,27 @@ TEST_P(Conformance, FusedStencilsOfThreeComponentsGiveWhatTheirRunsApartGive) {
   fused.shape(w, h);
   sh::RunStats s = sh::run_fused(along, rows, down, {fused}, choice(), 4);
   EXPECT_EQ(s.strips, sh::find_backend(mode().backend).runs_in_place() ? 4u : 0u);
+  apart.shape(w, h);
+  run_apart(along, rows, down, {apart}, choice());
+  EXPECT_EQ(fused.values(), apart.values());
+}
+
+// A tap INT_MAX rows down wraps, in the kernel's int32 arithmetic, to a row
+// above the image, read clamped to its first: the strips, which hold the
+// rows a tap reaches in 64 bits, would not hold it, so the two run apart.
+TEST_P(Conformance, FusedStencilsWithATapPastWhatInt32HoldsGiveWhatTheirRunsApartGive) {
+  const int w = 8, h = 8;
+  sh::Table2D<Attrib1f> image(w, h), rows(w, h);
+  image.assign(picture(w, h));
+  sh::Program along = rows_program(image);
+  sh::Program down = SH_BEGIN_PROGRAM("fused_far_tap") {
+    sh::OutputAttrib1f out;
+    out = rows[sh::position<2>() + sh::ConstAttrib2i(0, std::numeric_limits<std::int32_t>::max())];
+  } SH_END;
+  sh::Channel<Attrib1f> fused, apart;
+  fused.shape(w, h);
+  sh::RunStats s = sh::run_fused(along, rows, down, {fused}, choice(), 2);
+  EXPECT_EQ(s.strips, 0u);
   apart.shape(w, h);
   run_apart(along, rows, down, {apart}, choice());
   EXPECT_EQ(fused.values(), apart.values());

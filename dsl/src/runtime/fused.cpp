@@ -281,6 +281,9 @@ RunStats run_fused(const Program& producer, const std::shared_ptr<TableStorage>&
                    !has_accumulator(producer) && !has_accumulator(consumer) && !writes_a_table(make_args, use_args) &&
                    !views_the_table(make_args, use_args, through_at);
   std::optional<Reach> reach = may_strip ? reach_of(consumer, through_at, choice.options) : std::nullopt;
+  // A tap so far below the last row that row + offset passes what int32
+  // holds wraps in the kernel's arithmetic to a row the strips do not hold.
+  if (reach && static_cast<std::int64_t>(use_args.domain.extent[1]) - 1 + reach->high > INT32_MAX) reach.reset();
   auto t0 = std::chrono::steady_clock::now();
   if (reach) {
     std::size_t row_bytes = rows->bytes_for(use_args.domain.extent[0]);
