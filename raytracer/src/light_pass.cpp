@@ -78,7 +78,7 @@ LightPass::LightPass(const Scene& scene, const SceneTables& tables, LightPassSet
     : lights_(scene.lights.size()),
       settings_(checked(settings, scene.mesh.triangles())),
       element_table_(static_cast<int>(std::max<std::size_t>(1, scene.mesh.triangles() * settings.subdivision * settings.subdivision))),
-      emitters_(static_cast<int>(std::max<std::size_t>(1, 2 * scene.lights.size()))),
+      emitters_(static_cast<int>(std::max<std::size_t>(2, 2 * scene.lights.size()))),  // one light's rows at least
       energy_(static_cast<int>(side_slot(scene.mesh.triangles(), 0, element_slots(settings.subdivision))), "element_energy") {
   if (tables.octree && tables.octree->lazy)
     throw Error("light pass: runs over a grid or a static octree (a lazy octree is built by the view's rays)");

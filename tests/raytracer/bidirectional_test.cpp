@@ -4,6 +4,7 @@
 // backends.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sh/raytracer.hpp>
@@ -80,6 +81,20 @@ class LightPassOn : public testing::TestWithParam<std::string> {};
 // element receives I s_e, on the side that faces the light, and the box
 // I * 4 pi, whatever n: no sampling error, only the solid angle's and float
 // sums' rounding.
+// A scene without point lights (disk lights only, or none) has nothing to
+// shoot from: the pass runs and leaves every element dark (its table of
+// emitters was one element short of what it was given).
+TEST_P(LightPassOn, WithoutPointLightsLeavesEveryElementDark) {
+  sh::rt::Scene box = closed_box();
+  box.lights.clear();
+  sh::rt::LightPassSettings lp;
+  lp.subdivision = 2;
+  lp.samples = 2;
+  std::vector<float> energy = light_pass(box, sh::backend(GetParam()), lp);
+  ASSERT_FALSE(energy.empty());
+  EXPECT_EQ(*std::max_element(energy.begin(), energy.end()), 0.0f);
+}
+
 TEST_P(LightPassOn, ConservesEnergyInAClosedDiffuseBox) {
   sh::rt::Scene box = closed_box();
   sh::rt::LightPassSettings lp;
