@@ -92,6 +92,14 @@ TEST_P(Conformance, ScatterIndicesClampToTheEdgeAndRunsAccumulate) {
   EXPECT_EQ(hits.values(), (std::vector<std::int32_t>{6, 0, 2, 8}));
   hits.clear();
   EXPECT_EQ(hits.values(), (std::vector<std::int32_t>(4, 0)));
+  // Sums moved into memory (a table viewing them) are cleared there too.
+  run(p, {ci}, {out});
+  sh::MemoryPtr sums = hits.storage()->buffer.memory();
+  ASSERT_TRUE(sums);
+  hits.clear();
+  EXPECT_EQ(hits.values(), (std::vector<std::int32_t>(4, 0)));
+  run(p, {ci}, {out});
+  EXPECT_EQ(hits.values(), (std::vector<std::int32_t>{3, 0, 1, 4}));
 }
 
 // Values that are not exact in binary32: every backend's sum is within the

@@ -7,6 +7,7 @@
 // is the backend's (threads, lanes, work items, ranks), so float sums agree
 // across backends to rounding, not bit for bit; int sums agree exactly.
 #include <array>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -56,8 +57,10 @@ class Accumulator {
       for (int c = 0; c < components; ++c) out[i * components + c] = static_cast<scalar>(storage_->buffer.get(i, c));
     return out;
   }
+  // Zero sums, in its own storage or in memory it was moved into.
   void clear() {
-    storage_->buffer.resize(size());
+    std::memset(storage_->buffer.data(), 0, storage_->buffer.bytes());
+    storage_->buffer.written();
     ++storage_->version;
   }
 
