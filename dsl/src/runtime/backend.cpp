@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -166,6 +167,9 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
     args.outputs.push_back(view_of(*outputs[k]));
   }
   args.domain = launch_domain(p, inputs, outputs);
+  if (args.domain.extent[0] == 0 && args.count > static_cast<std::size_t>(INT32_MAX) && ir::uses(p, ir::Op::Position))
+    throw Error("program '" + p.name + "' reads position(), whose x holds at most 2^31 - 1, but runs over a stream of " +
+                std::to_string(args.count) + " elements in one row: give its channels a shape (Channel::shape)");
   for (const auto& u : program.uniforms()) args.uniforms.push_back(u->value);
   for (std::size_t t = 0; t < program.tables().size(); ++t) {
     detail::TableStorage& s = *program.tables()[t];
