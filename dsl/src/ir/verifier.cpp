@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
@@ -21,6 +22,12 @@ class Verifier {
     for (VarId id : p_.inputs) expect_kind(id, {VarKind::Input, VarKind::InOut}, "input list");
     for (VarId id : p_.outputs) expect_kind(id, {VarKind::Output, VarKind::InOut}, "output list");
     for (VarId id : p_.uniforms) expect_kind(id, {VarKind::Uniform}, "uniform list");
+    // Which list holds each variable, marked once: a search of the lists
+    // for each variable took time in the square of their length.
+    in_list_.assign(p_.vars.size(), 0);
+    for (VarId id : p_.inputs) in_list_[id] |= kInInputs;
+    for (VarId id : p_.outputs) in_list_[id] |= kInOutputs;
+    for (VarId id : p_.uniforms) in_list_[id] |= kInUniforms;
     long array_values = 0;
     for (VarId id = 0; id < static_cast<VarId>(p_.vars.size()); ++id) {
       const Var& v = p_.var(id);
@@ -55,11 +62,11 @@ class Verifier {
   // A stream or uniform variable is bound through its list: one left out
   // would have no value to read, and no place to write.
   void listed(VarId id) {
-    auto in = [&](const std::vector<VarId>& list) { return std::find(list.begin(), list.end(), id) != list.end(); };
+    auto in = [&](unsigned list) { return (in_list_[id] & list) != 0; };
     VarKind k = p_.var(id).kind;
-    bool missing = ((k == VarKind::Input || k == VarKind::InOut) && !in(p_.inputs)) ||
-                   ((k == VarKind::Output || k == VarKind::InOut) && !in(p_.outputs)) ||
-                   (k == VarKind::Uniform && !in(p_.uniforms));
+    bool missing = ((k == VarKind::Input || k == VarKind::InOut) && !in(kInInputs)) ||
+                   ((k == VarKind::Output || k == VarKind::InOut) && !in(kInOutputs)) ||
+                   (k == VarKind::Uniform && !in(kInUniforms));
     if (missing)
       fail("variable %" + std::to_string(id) + " of kind " + var_kind_name(k) + " is in none of the program's lists");
   }
@@ -232,6 +239,8 @@ class Verifier {
   }
 
   const Program& p_;
+  static constexpr unsigned char kInInputs = 1, kInOutputs = 2, kInUniforms = 4;
+  std::vector<unsigned char> in_list_;  // by variable: the lists that hold it
 };
 
 }  // namespace
