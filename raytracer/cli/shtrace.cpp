@@ -290,6 +290,9 @@ int render_command(const Common& c, const std::string& backend_name, const std::
   report.compile_ms = compile_ms;
   report.render_ms = best_ms;
   std::string written = shtrace::write_image(output, c.scene, [&](const std::string& path) { write_png(path, image); });
+  if (NanPixels nan = nan_pixels(image); nan.count > 0)
+    std::fprintf(stderr, "warning: %zu of %d pixels are NaN, written black; the first at x %lld, y %lld\n", nan.count,
+                 image.width * image.height, nan.first % image.width, nan.first / image.width);
   if (!aov.empty()) {
     std::vector<float> ids(image.triangle.begin(), image.triangle.end());
     for (const auto& [suffix, values] : {std::pair{"_distance.pfm", &image.distance}, std::pair{"_triangle.pfm", &ids}})

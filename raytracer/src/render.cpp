@@ -298,6 +298,15 @@ std::size_t Renderer::accelerator_bytes() const {
   return grid_ ? grid_->bytes() : bvh_ ? bvh_->bytes() : octree_->bytes() + octree_->pending_bytes();
 }
 
+NanPixels nan_pixels(const Image& image) {
+  NanPixels found;
+  for (std::size_t p = 0; 3 * p + 2 < image.rgb.size(); ++p)
+    if (std::isnan(image.rgb[3 * p]) || std::isnan(image.rgb[3 * p + 1]) || std::isnan(image.rgb[3 * p + 2])) {
+      if (found.count++ == 0) found.first = static_cast<long long>(p);
+    }
+  return found;
+}
+
 double share_within(const Image& a, const Image& b, float tolerance) {
   if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");
   std::size_t close = 0, pixels = a.rgb.size() / 3;

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <sh/raytracer.hpp>
 #include <sh/sh.hpp>
@@ -86,6 +87,22 @@ TEST(Specialisation, ReflectionDepthIsAUniform) {
   sh::rt::Renderer four(s, settings);
   EXPECT_EQ(one.program().hash(), four.program().hash()) << "a new depth must not need a new kernel";
   EXPECT_LT(sh::rt::share_within(one.render(), four.render(), 0.0f), 1.0);
+}
+
+// NaN pixels, written black, are counted, and the first is found.
+TEST(Images, NanPixelsAreCountedAndTheFirstFound) {
+  sh::rt::Image img;
+  img.width = 4;
+  img.height = 2;
+  img.rgb.assign(3 * 8, 0.5f);
+  EXPECT_EQ(sh::rt::nan_pixels(img).count, 0u);
+  EXPECT_EQ(sh::rt::nan_pixels(img).first, -1);
+  img.rgb[3 * 5 + 2] = std::numeric_limits<float>::quiet_NaN();
+  img.rgb[3 * 6] = std::numeric_limits<float>::quiet_NaN();
+  img.rgb[3 * 6 + 1] = std::numeric_limits<float>::quiet_NaN();
+  sh::rt::NanPixels nan = sh::rt::nan_pixels(img);
+  EXPECT_EQ(nan.count, 2u);
+  EXPECT_EQ(nan.first, 5);
 }
 
 // Written under a name of their own, then renamed: a file of the user's

@@ -180,6 +180,7 @@ std::vector<float> pixel_centres(int width, int height);
 std::vector<float> pixel_centres_in_tiles(int width, int height, int tile = 4);
 
 // Writes through a temporary file renamed into place; throws sh::Error.
+// A NaN channel is written as 0 (nan_pixels counts the pixels that hold one).
 void write_png(const std::string& path, const Image& image);
 void write_pfm(const std::string& path, int width, int height, const std::vector<float>& values);
 
@@ -187,5 +188,13 @@ void write_pfm(const std::string& path, int width, int height, const std::vector
 // the peak signal-to-noise ratio (dB) of b against a.
 double share_within(const Image& a, const Image& b, float tolerance);
 double psnr(const Image& a, const Image& b);
+
+// Pixels with a NaN channel, and the first of them (row-major index; -1
+// where there is none).
+struct NanPixels {
+  std::size_t count = 0;
+  long long first = -1;
+};
+NanPixels nan_pixels(const Image& image);
 
 }  // namespace sh::rt
