@@ -3,6 +3,10 @@
 // clamp to the edge; runs add to what the accumulator holds.  Sums of values
 // exact in binary32 are compared exactly, whatever order the backend added
 // in; other float sums to rounding.
+#include <string>
+#include <thread>
+#include <vector>
+
 #include "harness.hpp"
 
 namespace conformance {
@@ -100,6 +104,52 @@ TEST_P(Conformance, ScatterIndicesClampToTheEdgeAndRunsAccumulate) {
   EXPECT_EQ(hits.values(), (std::vector<std::int32_t>(4, 0)));
   run(p, {ci}, {out});
   EXPECT_EQ(hits.values(), (std::vector<std::int32_t>{3, 0, 1, 4}));
+}
+
+// Runs on several host threads at once, each into its own outputs, add
+// into one accumulator: every add counts (the interpreter's additions and
+// the opencl backend's copy of the sums lost some).  The mpi backend is
+// started for one thread's calls and refuses another's by name.
+TEST_P(Conformance, RunsOnSeveralThreadsAddIntoOneAccumulator) {
+  sh::Accumulator<Attrib1i> count(2, "count");
+  sh::Accumulator<Attrib1f> weight(1, "weight");
+  sh::Program p = SH_BEGIN_PROGRAM("scatter_threads") {
+    sh::Input<Attrib1i> i;
+    sh::Output<Attrib1i> same;
+    count.add(i % 2, 1);
+    weight.add(0, 0.5f);
+    same = i;
+  } SH_END;
+  const int threads = 4, runs = 3, elements = 1000;
+  std::vector<std::int32_t> is(elements);
+  for (int k = 0; k < elements; ++k) is[static_cast<std::size_t>(k)] = k;
+  sh::Channel<Attrib1i> in(is);
+  {
+    sh::Channel<Attrib1i> out;
+    sh::run(p, {in}, {out}, choice());  // on this thread first: the one that starts MPI
+  }
+  std::vector<std::string> errors(threads);
+  std::vector<std::thread> running;
+  for (int t = 0; t < threads; ++t)
+    running.emplace_back([&, t] {
+      try {
+        for (int r = 0; r < runs; ++r) {
+          sh::Channel<Attrib1i> out;
+          sh::run(p, {in}, {out}, choice());
+        }
+      } catch (const sh::Error& e) {
+        errors[static_cast<std::size_t>(t)] = e.what();
+      }
+    });
+  for (std::thread& t : running) t.join();
+  if (mode().backend == "mpi") {
+    for (const std::string& e : errors) EXPECT_NE(e.find("only on the thread that started MPI"), std::string::npos) << e;
+    return;
+  }
+  for (const std::string& e : errors) EXPECT_EQ(e, "");
+  const int adds = (1 + threads * runs) * elements;
+  EXPECT_EQ(count.values(), (std::vector<std::int32_t>{adds / 2, adds / 2}));
+  EXPECT_EQ(weight.values()[0], 0.5f * adds);  // halves sum exactly in any order
 }
 
 // Values that are not exact in binary32: every backend's sum is within the

@@ -14,6 +14,7 @@ class MpiBackend : public Backend {
     // Ranks other than 0 reach here running the same code as rank 0; from
     // now on they serve it instead.
     if (ensure_started() != 0) serve();
+    check_thread(p.name);
     return coordinator(p, o);
   }
 

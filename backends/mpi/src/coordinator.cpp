@@ -16,6 +16,7 @@
 #include "held_tables.hpp"
 #include "split_table.hpp"
 #include "wire.hpp"
+#include "world.hpp"
 
 namespace sh::mpi {
 namespace {
@@ -148,6 +149,7 @@ class Coordinator : public Kernel {
   }
 
   void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
+    check_thread(program_.name);
     if (ranks_ > 1) send_forgotten();
     Traffic t;
     std::vector<bool> split = which_split(whole);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <thread>
 
 #include "sh/error.hpp"
 #include "sh/mpi.hpp"
@@ -16,12 +17,14 @@ namespace {
 
 int world_rank = 0, world_size = 1;
 bool finalised = false;
+std::thread::id mpi_thread;  // the one that started MPI
 
 }  // namespace
 
 int ensure_started() {
   static std::once_flag once;
   std::call_once(once, [] {
+    mpi_thread = std::this_thread::get_id();
     int initialised = 0;
     MPI_Initialized(&initialised);
     if (!initialised) {
@@ -67,6 +70,13 @@ void shutdown_workers() {
   }
   release_split_tables();
   MPI_Finalize();
+}
+
+void check_thread(const std::string& program) {
+  ensure_started();
+  if (std::this_thread::get_id() != mpi_thread)
+    throw Error("program '" + program + "': mpi backend: compiles and runs only on the thread that started MPI "
+                "(it is started for one thread's calls); this is another thread");
 }
 
 void start() {

@@ -1,9 +1,15 @@
 #pragma once
+#include <string>
+
 // The MPI world: started once per process, shut down when rank 0 exits.
 namespace sh::mpi {
 
 // Initialises MPI (once); returns this rank.
 int ensure_started();
+// MPI is started for calls from one thread (MPI_THREAD_FUNNELED): a
+// compile or run of `program` from another throws sh::Error, where two
+// threads' messages would cross and abort the job.
+void check_thread(const std::string& program);
 // Rank 0: tells the serving ranks to stop (at exit).
 void shutdown_workers();
 // Ranks other than 0: serve rank 0 until told to stop, then exit.

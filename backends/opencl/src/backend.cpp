@@ -1,7 +1,9 @@
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
-#include <utility>
 #include <mutex>
+#include <utility>
+#include <vector>
 
 #include "codegen.hpp"
 #include "runtime.hpp"
@@ -118,10 +120,16 @@ class OpenClKernel : public Kernel {
       streams.push_back(buffers.back().mem);
     }
     for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
+    // An accumulator's adds are summed on the device from zero and added
+    // into the host's sums after the run, under a lock: runs on other
+    // threads may add to the same sums meanwhile.
     std::vector<std::pair<const TableView*, cl_mem>> sums;
+    std::vector<std::vector<char>> added;
     for (const TableView& t : args.tables) {
       if (t.sums) {
-        set_buffer(arg++, buffers, make(t.bytes(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, t.sums, "an accumulator"));
+        added.emplace_back(t.bytes(), 0);  // zero bits: 0 in f32 and in i32
+        set_buffer(arg++, buffers,
+                   make(t.bytes(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, added.back().data(), "an accumulator"));
         sums.emplace_back(&t, buffers.back().mem);
         moved->to_device += t.bytes();
         moved->from_device += t.bytes();
@@ -142,8 +150,9 @@ class OpenClKernel : public Kernel {
         launch(args.count, sums.empty());
         take_outputs(args, streams, in_place, *moved);
       }
-      for (const auto& [t, mem] : sums)
-        check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, t->bytes(), t->sums, 0, nullptr, nullptr),
+      for (std::size_t k = 0; k < sums.size(); ++k)
+        check(clEnqueueReadBuffer(device_->queue, sums[k].second, CL_FALSE, 0, sums[k].first->bytes(), added[k].data(), 0,
+                                  nullptr, nullptr),
               where("reading an accumulator"));
       check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
             where("finishing the run"));
@@ -154,12 +163,36 @@ class OpenClKernel : public Kernel {
       throw;
     }
     if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.element(static_cast<std::size_t>(status[1]))));
+    for (std::size_t k = 0; k < sums.size(); ++k) add_into(*sums[k].first, added[k]);
     stats.details = std::move(moved);
   }
 
   std::string listing() const override { return source_; }
 
  private:
+  // The run's adds into the accumulator's sums: f32 added as floats, i32
+  // wrapping.
+  static void add_into(const TableView& t, const std::vector<char>& added) {
+    static std::mutex adding;
+    std::lock_guard lock(adding);
+    std::size_t n = added.size() / 4;
+    if (t.element.scalar == ir::Scalar::F32) {
+      auto* to = static_cast<float*>(t.sums);
+      for (std::size_t i = 0; i < n; ++i) {
+        float a;
+        std::memcpy(&a, added.data() + 4 * i, 4);
+        to[i] += a;
+      }
+    } else {
+      auto* to = static_cast<std::uint32_t*>(t.sums);
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t a;
+        std::memcpy(&a, added.data() + 4 * i, 4);
+        to[i] += a;
+      }
+    }
+  }
+
   void release() {
     for (const Launcher* k : {&one_, &many_})
       if (k->kernel) clReleaseKernel(k->kernel);

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdint>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <utility>
 
@@ -105,6 +106,10 @@ void Buffer::view(MemoryPtr memory, std::size_t count, const std::string& what) 
 }
 
 MemoryPtr Buffer::memory() {
+  // Two threads asking at once (run_fused on one table from two threads)
+  // adopt the storage once: a second move would hand out empty memory.
+  static std::mutex adopting;
+  std::lock_guard lock(adopting);
   // An empty owned buffer has no memory yet (as an empty channel had none
   // in Sh): adopting nothing would pin an output channel at 0 elements.
   if (!memory_ && count_ == 0) return {};

@@ -1,5 +1,6 @@
 #include "interp.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 
@@ -191,19 +192,22 @@ class Machine {
     return r;
   }
 
-  // In stream order, one addition at a time in the accumulator's type, as
-  // every backend's atomic addition is: a float accumulator takes the value
-  // as a float first, at every precision.
+  // In stream order, one atomic addition at a time in the accumulator's
+  // type, as every backend's is (runs on other threads may add to it too):
+  // a float accumulator takes the value as a float first, at every
+  // precision; an int one wraps.
   void scatter(const ir::Scatter& sc, const ir::Stmt& s) {
     const TableView& t = a_.tables[sc.table];
     std::size_t element = element_at(t, sc.index, s);
     for (int k = 0; k < t.element.width; ++k) {
       std::size_t at = element * t.element.width + k;
-      double stored = read_component(t.element.scalar, t.sums, at), value = arg(sc.value, k);
-      double sum = t.element.scalar == ir::Scalar::F32
-                       ? static_cast<double>(static_cast<float>(stored) + static_cast<float>(value))
-                       : ir::eval(ir::Op::Add, t.element.scalar, t.element.scalar, o_.precision, stored, value);  // i32 wraps
-      write_component(t.element.scalar, t.sums, at, sum);
+      double value = arg(sc.value, k);
+      if (t.element.scalar == ir::Scalar::F32) {
+        std::atomic_ref<float>(static_cast<float*>(t.sums)[at]).fetch_add(static_cast<float>(value));
+      } else {
+        auto add = static_cast<std::uint32_t>(static_cast<std::int32_t>(value));
+        std::atomic_ref<std::uint32_t>(static_cast<std::uint32_t*>(t.sums)[at]).fetch_add(add);
+      }
     }
   }
 

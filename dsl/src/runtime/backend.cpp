@@ -160,7 +160,13 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
     if (outputs[k]->type() != p.type_of(p.outputs[k]))
       throw Error(describe_slot(p, "output", k) + " is " + ir::type_name(p.type_of(p.outputs[k])) +
                   " but its channel holds " + ir::type_name(outputs[k]->type()));
-    if (outputs[k]->size() == 0) outputs[k]->resize(args.count);
+    {
+      // Two runs given one empty channel size it once: a second resize
+      // would free the storage the first run writes.
+      static std::mutex sizing;
+      std::lock_guard lock(sizing);
+      if (outputs[k]->size() == 0) outputs[k]->resize(args.count);
+    }
     if (outputs[k]->size() != args.count)
       throw Error(describe_slot(p, "output channel", k) + " holds " + std::to_string(outputs[k]->size()) +
                   " elements but the stream has " + std::to_string(args.count));

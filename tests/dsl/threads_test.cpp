@@ -1,0 +1,64 @@
+// The host API from several threads at once: runs that share an empty
+// output channel size it once, and tables whose memory several threads ask
+// for hand every one the same memory.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <functional>
+#include <thread>
+#include <vector>
+
+#include <sh/sh.hpp>
+
+namespace {
+
+using namespace sh;
+
+// Threads released together, so that they meet in the code under test.
+void together(int threads, const std::function<void(int)>& work) {
+  std::atomic<int> waiting{threads};
+  std::vector<std::thread> running;
+  for (int t = 0; t < threads; ++t)
+    running.emplace_back([&, t] {
+      waiting.fetch_sub(1);
+      while (waiting.load() > 0) std::this_thread::yield();
+      work(t);
+    });
+  for (std::thread& t : running) t.join();
+}
+
+// A second resize of the empty channel freed the storage the first run
+// was writing (a double free in most processes).
+TEST(Threads, RunsSharingAnEmptyOutputChannelSizeItOnce) {
+  Program p = SH_BEGIN_PROGRAM("doubled") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x * 2.0f;
+  } SH_END;
+  Channel<Attrib1f> x(std::vector<float>(4096, 1.5f));
+  for (int round = 0; round < 50; ++round) {
+    Channel<Attrib1f> shared;
+    together(4, [&](int) { run(p, {x}, {shared}, backend("interp")); });
+    ASSERT_EQ(shared.size(), 4096u);
+    EXPECT_EQ(shared.values(), std::vector<float>(4096, 3.0f)) << "round " << round;
+  }
+}
+
+// Two threads adopting one table's storage moved it twice: the second was
+// handed memory without data.
+TEST(Threads, ATablesMemoryAskedForByThreadsAtOnceIsOneMemory) {
+  for (int round = 0; round < 500; ++round) {
+    Table1D<Attrib1f> t(64);
+    t.assign(std::vector<float>(64, 2.0f));
+    std::vector<MemoryPtr> got(4);
+    together(4, [&](int k) { got[static_cast<std::size_t>(k)] = t.memory(); });
+    for (const MemoryPtr& m : got) {
+      ASSERT_TRUE(m) << "round " << round;
+      ASSERT_EQ(m.get(), got[0].get()) << "round " << round;
+      ASSERT_NE(m->data(), nullptr) << "round " << round;
+      EXPECT_EQ(static_cast<const float*>(m->data())[63], 2.0f);
+    }
+  }
+}
+
+}  // namespace
