@@ -71,6 +71,18 @@ void run_apart(const sh::Program& along, sh::Table2D<E>& rows, const sh::Program
   sh::run(down, {}, outputs, choice);
 }
 
+// run_fused of a consumer the strips cannot serve: no strips, and the
+// outputs of the two runs one after the other.
+void expect_runs_apart(const sh::Program& along, sh::Table2D<Attrib1f>& rows, const sh::Program& down, int w, int h,
+                       const sh::BackendChoice& choice) {
+  sh::Channel<Attrib1f> fused, apart;
+  fused.shape(w, h);
+  EXPECT_EQ(sh::run_fused(along, rows, down, {fused}, choice, 2).strips, 0u);
+  apart.shape(w, h);
+  run_apart(along, rows, down, {apart}, choice);
+  EXPECT_EQ(fused.values(), apart.values());
+}
+
 // Rows the producer has not written read as NaN, so that a consumer that
 // reads the table's stale contents shows.
 void spoil(sh::Table2D<Attrib1f>& rows, int w, int h) {
@@ -155,13 +167,7 @@ TEST_P(Conformance, FusedStencilsWithATapPastWhatInt32HoldsGiveWhatTheirRunsApar
     sh::OutputAttrib1f out;
     out = rows[sh::position<2>() + sh::ConstAttrib2i(0, std::numeric_limits<std::int32_t>::max())];
   } SH_END;
-  sh::Channel<Attrib1f> fused, apart;
-  fused.shape(w, h);
-  sh::RunStats s = sh::run_fused(along, rows, down, {fused}, choice(), 2);
-  EXPECT_EQ(s.strips, 0u);
-  apart.shape(w, h);
-  run_apart(along, rows, down, {apart}, choice());
-  EXPECT_EQ(fused.values(), apart.values());
+  expect_runs_apart(along, rows, down, w, h, choice());
 }
 
 // Outputs written into a table the producer reads (an in-place blur), and
@@ -234,13 +240,7 @@ TEST_P(Conformance, FusedStencilsReadingAnywhereRunOneAfterTheOther) {
     Attrib1i jump = sh::abs(rows[at]).cast<std::int32_t>();
     out = rows[at + sh::join(Attrib1i(0), jump)];
   } SH_END;
-  sh::Channel<Attrib1f> fused;
-  fused.shape(w, h);
-  EXPECT_EQ(sh::run_fused(along, rows, down, {fused}, choice(), 2).strips, 0u);
-  sh::Channel<Attrib1f> apart;
-  apart.shape(w, h);
-  run_apart(along, rows, down, {apart}, choice());
-  EXPECT_EQ(fused.values(), apart.values());
+  expect_runs_apart(along, rows, down, w, h, choice());
 }
 
 // An element that runs a loop past the cap is named by its place in the
