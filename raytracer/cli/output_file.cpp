@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <system_error>
 
 #include <sh/error.hpp>
@@ -24,21 +26,35 @@ constexpr std::size_t kTemporarySuffixBytes = 32;
 
 // Holds back the signals that end a process from the terminal or a kill
 // while a file is written and moved into place: the process then ends with
-// the file in place, not with its temporary left beside it.
+// the file in place, not with its temporary left beside it.  A handler
+// notes the signal on whichever thread takes it (a backend's worker as
+// likely as this one; a mask would hold back only this thread's), and the
+// signal is raised again once the file is in place.
+constexpr int kHeldSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+volatile std::sig_atomic_t held_signal = 0;
+
+extern "C" void note_signal(int signal) { held_signal = signal; }
+
 class SignalsHeld {
  public:
   SignalsHeld() {
-    sigset_t held;
-    sigemptyset(&held);
-    for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&held, s);
-    pthread_sigmask(SIG_BLOCK, &held, &before_);
+    struct sigaction noting {};
+    noting.sa_handler = note_signal;
+    sigemptyset(&noting.sa_mask);
+    for (std::size_t k = 0; k < std::size(kHeldSignals); ++k) sigaction(kHeldSignals[k], &noting, &before_[k]);
   }
-  ~SignalsHeld() { pthread_sigmask(SIG_SETMASK, &before_, nullptr); }
+  ~SignalsHeld() {
+    for (std::size_t k = 0; k < std::size(kHeldSignals); ++k) sigaction(kHeldSignals[k], &before_[k], nullptr);
+    if (int signal = held_signal; signal != 0) {
+      held_signal = 0;
+      std::raise(signal);
+    }
+  }
   SignalsHeld(const SignalsHeld&) = delete;
   SignalsHeld& operator=(const SignalsHeld&) = delete;
 
  private:
-  sigset_t before_;
+  struct sigaction before_[std::size(kHeldSignals)];
 };
 
 std::string numbered(const fs::path& first, int n) {
@@ -126,7 +142,7 @@ void check_outputs(const std::vector<std::string>& outputs, const std::vector<st
       if (same(outputs[i], outputs[j]))
         throw sh::Error(outputs[i] + ": named for two outputs (" + outputs[j] + "): name each its own file");
     for (const std::string& input : inputs)
-      if (same(outputs[i], input))
+      if (std::error_code missing; fs::exists(input, missing) && same(outputs[i], input))  // a built-in scene: no file
         throw sh::Error(outputs[i] + ": is an input of this command (" + input + "): name another output");
   }
 }

@@ -3,11 +3,16 @@
 // temporary beside it or the file half written.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "output_file.hpp"
 
@@ -46,14 +51,44 @@ TEST(OutputFile, AnInterruptWhileAnImageIsWrittenEndsTheProcessWithTheImageInPla
   fs::remove_all(dir);
 }
 
+// The same with another thread alive, which the kernel may pick to take a
+// signal sent to the process (a mask on the writing thread alone let it
+// end the process mid-write).
+TEST(OutputFile, AnInterruptTakenByAnotherThreadStillWaitsForTheImage) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  fs::path dir = fs::path(testing::TempDir()) / "sh_output_interrupted_threads";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string path = (dir / "image.png").string();
+  auto interrupted_writer = [](const std::string& at) {
+    ::kill(::getpid(), SIGTERM);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // time for the signal to land anywhere
+    std::ofstream(at + ".part") << "the whole image";
+    fs::rename(at + ".part", at);
+  };
+  EXPECT_EXIT(
+      {
+        std::thread idle([] { std::this_thread::sleep_for(std::chrono::seconds(5)); });
+        idle.detach();
+        shtrace::write_image(path, "scene", interrupted_writer);
+        std::exit(0);
+      },
+      testing::KilledBySignal(SIGTERM), "");
+  EXPECT_EQ(contents(path), "the whole image");
+  EXPECT_FALSE(fs::exists(path + ".part"));
+  fs::remove_all(dir);
+}
+
 TEST(OutputFile, TheSignalsHeldWhileWritingAreLetGoAfter) {
   fs::path dir = fs::path(testing::TempDir()) / "sh_output_held";
   fs::remove_all(dir);
   shtrace::write_image((dir / "a.png").string(), "scene", [](const std::string& at) { std::ofstream(at) << "a"; });
   shtrace::write_through_temp((dir / "b.txt").string(), "b");
-  sigset_t now;
-  pthread_sigmask(SIG_BLOCK, nullptr, &now);
-  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) EXPECT_FALSE(sigismember(&now, s)) << s;
+  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
+    struct sigaction now {};
+    sigaction(s, nullptr, &now);
+    EXPECT_EQ(now.sa_handler, SIG_DFL) << s;
+  }
   EXPECT_EQ(contents(dir / "b.txt"), "b");
   fs::remove_all(dir);
 }
