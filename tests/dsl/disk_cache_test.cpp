@@ -91,40 +91,47 @@ TEST(DiskCache, AFileThatNoLongerMatchesItsChecksumReadsAsNone) {
 }
 
 // Another user who can write in the directory could plant machine code
-// that would run as ours: such a directory is not used, and a run says why,
-// once.
-TEST(DiskCache, ADirectoryOthersCanWriteInIsNotUsedAndSaysWhyOnce) {
+// that would run as ours: a directory of ours that others could write in is
+// made ours alone, another user's is not used (a run says why, once), and a
+// file in it that another user owns reads as none.
+TEST(DiskCache, OnlyThisUsersDirectoryAndFilesAreUsed) {
   fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_shared";
   fs::remove_all(dir);
   setenv("SH_CACHE_DIR", dir.c_str(), 1);
   ASSERT_TRUE(detail::cache_directory());
+  auto others_write = [&] {
+    return (fs::status(dir).permissions() & (fs::perms::group_write | fs::perms::others_write)) != fs::perms::none;
+  };
   EXPECT_EQ(fs::status(dir).permissions() & (fs::perms::group_all | fs::perms::others_all), fs::perms::none)
       << "made for its owner alone";
   fs::permissions(dir, fs::perms::all);
   testing::internal::CaptureStderr();
-  EXPECT_FALSE(detail::cache_directory());
-  EXPECT_FALSE(detail::cache_path("passes", "key"));
-  std::string said = testing::internal::GetCapturedStderr();
-  EXPECT_NE(said.find("others can write in it"), std::string::npos) << said;
-  EXPECT_EQ(said.find(dir.string()), said.rfind(dir.string())) << "said once: " << said;
-  if (geteuid() == 0) {  // root can give the directory away
-    fs::permissions(dir, fs::perms::owner_all);
-    ASSERT_EQ(chown(dir.c_str(), 65534, 65534), 0);
+  EXPECT_TRUE(detail::cache_directory());
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_FALSE(others_write()) << "ours, made ours alone";
+  if (geteuid() == 0) {  // root can give files and directories away
+    std::string planted = (dir / "cpu-1234").string();
+    detail::write_cache_file(planted, "machine code");
+    ASSERT_TRUE(detail::read_cache_file(planted));
+    ASSERT_EQ(chown(planted.c_str(), 65534, 65534), 0);
+    EXPECT_FALSE(detail::read_cache_file(planted)) << "another user's file";
     fs::path other = dir / "other";
     fs::create_directory(other);
     ASSERT_EQ(chown(other.c_str(), 65534, 65534), 0);
     setenv("SH_CACHE_DIR", other.c_str(), 1);
     testing::internal::CaptureStderr();
     EXPECT_FALSE(detail::cache_directory());
-    said = testing::internal::GetCapturedStderr();
+    EXPECT_FALSE(detail::cache_directory());
+    std::string said = testing::internal::GetCapturedStderr();
     EXPECT_NE(said.find("belongs to another user"), std::string::npos) << said;
+    EXPECT_EQ(said.find(other.string()), said.rfind(other.string())) << "said once: " << said;
   }
   fs::path file = fs::path(testing::TempDir()) / "sh_disk_cache_file";
   std::ofstream(file) << "a file";
   setenv("SH_CACHE_DIR", file.c_str(), 1);
   testing::internal::CaptureStderr();
   EXPECT_FALSE(detail::cache_directory());
-  said = testing::internal::GetCapturedStderr();
+  std::string said = testing::internal::GetCapturedStderr();
   EXPECT_NE(said.find("not a directory"), std::string::npos) << said;
   unsetenv("SH_CACHE_DIR");
   fs::remove_all(dir);
@@ -145,7 +152,10 @@ TEST(DiskCache, PrunedToThreeQuartersOfItsLimitLeastRecentlyUsedFirst) {
   fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_prune";
   fs::remove_all(dir);
   fs::create_directories(dir);
+  // A file of the user's, two hours old: a stamp by its name would be due.
+  std::ofstream(dir / "pruned") << "a file of the user's, whatever its name";
   auto now = fs::file_time_type::clock::now();
+  fs::last_write_time(dir / "pruned", now - std::chrono::hours(2));
   std::string kib(1024, 'k');
   for (int i = 0; i < 8; ++i) {
     std::string path = (dir / ("passes-" + std::to_string(i))).string();
@@ -159,12 +169,17 @@ TEST(DiskCache, PrunedToThreeQuartersOfItsLimitLeastRecentlyUsedFirst) {
   std::ofstream(dir / "cpu-cd.o.tmp13.0") << "being written";
   EXPECT_TRUE(detail::read_cache_file((dir / "passes-0").string())) << "the oldest, used now";
   detail::prune_cache(dir.string(), 4 * 1032);
+  detail::write_cache_file((dir / "passes-8").string(), kib);
   std::vector<std::string> left;
-  for (const auto& f : fs::directory_iterator(dir)) left.push_back(f.path().filename().string());
+  for (const auto& f : fs::directory_iterator(dir))
+    if (f.path().filename().string()[0] != '.') left.push_back(f.path().filename().string());
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"cpu-ABC.o", "cpu-cd.o.tmp13.0", "notes.txt", "passes-0", "passes-6",
-                                            "passes-7", "pruned"}))
-      << "the scan's stamp beside them";
+                                            "passes-7", "passes-8", "pruned"}));
+  std::ifstream kept(dir / "pruned");
+  std::string line;
+  std::getline(kept, line);
+  EXPECT_EQ(line, "a file of the user's, whatever its name");
   fs::remove_all(dir);
 }
 

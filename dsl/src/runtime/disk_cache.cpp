@@ -27,6 +27,9 @@
 namespace sh::detail {
 namespace {
 
+// When the directory was last scanned for pruning: its time.
+constexpr const char* kScanStamp = ".sh-cache-scanned";
+
 // The checksum that ends every cache file: 8 bytes, this host's order.
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
 
@@ -54,7 +57,9 @@ std::string unusable(const std::string& dir) {
   if (::stat(dir.c_str(), &st) != 0) return std::string("it cannot be created (") + std::strerror(errno) + ")";
   if (!S_ISDIR(st.st_mode)) return "it is not a directory";
   if (st.st_uid != ::geteuid()) return "it belongs to another user, whose files would run as this process's code";
-  if (st.st_mode & (S_IWGRP | S_IWOTH))
+  // Ours, but others may write in it (made under umask 002): theirs alone
+  // from now on; a file someone else put there is never read.
+  if ((st.st_mode & (S_IWGRP | S_IWOTH)) && ::chmod(dir.c_str(), st.st_mode & 07755 & ~(S_IWGRP | S_IWOTH)) != 0)
     return "others can write in it, and their files would run as this process's code (chmod go-w it)";
   if (::access(dir.c_str(), W_OK | X_OK) != 0) return "it is not writable";
   return "";
@@ -176,7 +181,7 @@ void prune_when_due(const std::string& path, std::size_t bytes) {
   static std::map<std::string, std::uintmax_t> stored_since_scan;
   std::string dir = fs::path(path).parent_path().string();
   std::uintmax_t limit = cache_limit_bytes();
-  fs::path stamp = fs::path(dir) / "pruned";
+  fs::path stamp = fs::path(dir) / kScanStamp;
   std::lock_guard lock(due_mutex);
   auto [at, first] = stored_since_scan.try_emplace(dir, 0);
   at->second += bytes;
@@ -184,7 +189,7 @@ void prune_when_due(const std::string& path, std::size_t bytes) {
   bool due = first ? fs::last_write_time(stamp, missing) < fs::file_time_type::clock::now() - std::chrono::hours(1) || missing
                    : at->second > limit / 4;
   if (!due) return;
-  std::ofstream{stamp};
+  std::ofstream{stamp, std::ios::app};  // made where missing, never cut
   std::error_code ignored;
   fs::last_write_time(stamp, fs::file_time_type::clock::now(), ignored);
   prune_cache(dir, limit);
@@ -222,6 +227,8 @@ void write_cache_file(const std::string& path, const std::string& bytes) {
 }
 
 std::optional<std::string> read_cache_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || st.st_uid != ::geteuid()) return std::nullopt;  // another user's: never run
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
   std::stringstream read;

@@ -2,7 +2,8 @@
 // What the language keeps on disk between processes (the IR passes'
 // results, a backend's machine code): where, under which names, and how a
 // file is written so that a reader never sees half of it.  Caching is a
-// saving, never a failure: every function here gives up quietly.
+// saving, never a failure: every function here gives up without an error
+// (cache_directory says once why it cannot use a directory).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -10,10 +11,12 @@
 namespace sh::detail {
 
 // $SH_CACHE_DIR ("off": no cache), else $XDG_CACHE_HOME/sh, else
-// ~/.cache/sh; created on first use, for its owner alone.  None where
-// caching is off or there is no home, and, said once on stderr, where the
-// directory cannot be used: not a directory, not writable, or writable by
-// another user (whose files would run as this process's machine code).
+// ~/.cache/sh; created on first use, for its owner alone (one of ours
+// that others could write in is made ours alone).  None where caching is
+// off or there is no home, and, said once on stderr, where the directory
+// cannot be used: not a directory, not writable, or another user's (whose
+// files would run as this process's machine code).  A file in it that
+// another user owns reads as none.
 std::optional<std::string> cache_directory();
 
 // The file for `key` in the cache directory: <dir>/<kind>-<64-bit FNV-1a of
