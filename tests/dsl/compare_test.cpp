@@ -287,6 +287,11 @@ TEST(Compare, AccumulatorsAreComparedAndLeftAsTheyWere) {
     EXPECT_EQ(row.outputs[1].differing, 0u) << row.label() << "\n" << to_string(c);
   }
   EXPECT_EQ(counts.values(), before);
+  // Sums moved into memory: copied, not shared, by compare's own copies.
+  ASSERT_TRUE(counts.storage()->buffer.memory());
+  Comparison in_memory = compare(p, {keys}, only(linked));
+  for (const CompareRow& row : in_memory.rows) EXPECT_EQ(row.outputs[1].differing, 0u) << row.label();
+  EXPECT_EQ(counts.values(), before);
 }
 
 TEST(Compare, InputsThatDoNotFitTheProgramAreTheCallersError) {

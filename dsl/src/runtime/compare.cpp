@@ -82,12 +82,16 @@ std::string output_name(const ir::Program& p, std::size_t k) {
 // The program's accumulators, whose sums every run adds to: each run of a
 // row starts from the sums they held when compare was called, the sums a
 // row leaves are compared as its outputs are, and the caller's sums are put
-// back at the end.
+// back at the end.  Their bytes are copied (a Buffer's copy shares memory
+// the sums were moved into).
 class Accumulators {
  public:
   explicit Accumulators(const Program& program) {
     for (const std::shared_ptr<detail::TableStorage>& t : program.tables())
-      if (t->decl.accumulator) held_.push_back({t, t->buffer});
+      if (t->decl.accumulator) {
+        const auto* bytes = static_cast<const char*>(t->buffer.data());
+        held_.push_back({t, std::vector<char>(bytes, bytes + t->buffer.bytes())});
+      }
   }
   ~Accumulators() { restore(); }
   Accumulators(const Accumulators&) = delete;
@@ -95,13 +99,18 @@ class Accumulators {
 
   void restore() const {
     for (const auto& [table, sums] : held_) {
-      table->buffer = sums;
+      std::memcpy(table->buffer.data(), sums.data(), sums.size());
+      table->buffer.written();
       table->touch();
     }
   }
   std::vector<detail::Buffer> sums() const {
     std::vector<detail::Buffer> out;
-    for (const auto& held : held_) out.push_back(held.first->buffer);
+    for (const auto& held : held_) {
+      const detail::Buffer& now = held.first->buffer;
+      out.emplace_back(now.type(), now.size());
+      std::memcpy(out.back().data(), now.data(), now.bytes());
+    }
     return out;
   }
   std::string name(std::size_t k) const {
@@ -110,7 +119,7 @@ class Accumulators {
   }
 
  private:
-  std::vector<std::pair<std::shared_ptr<detail::TableStorage>, detail::Buffer>> held_;
+  std::vector<std::pair<std::shared_ptr<detail::TableStorage>, std::vector<char>>> held_;
 };
 
 // What a row left: its outputs, and its accumulators' sums.

@@ -1,5 +1,6 @@
 // The text form of sh::compare's table: one line per row and output, the
 // row's own columns on its first output's line only.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ostream>
@@ -53,15 +54,18 @@ std::string line(const std::string& label, const std::string& math, const std::s
   return left(label, 20) + " " + left(math, 8) + " " + right(compile, 10) + " " + right(run, 10) + "  " + rest + "\n";
 }
 
-std::string output_columns(const std::string& name, const std::string& type, const std::string& max_abs,
-                           const std::string& max_ulps, const std::string& differing, const std::string& worst) {
-  return left(name, 10) + " " + left(type, 7) + " " + right(max_abs, 11) + " " + right(max_ulps, 10) + " " +
+// The output column is as wide as the longest name the table prints.
+std::string output_columns(std::size_t name_width, const std::string& name, const std::string& type,
+                           const std::string& max_abs, const std::string& max_ulps, const std::string& differing,
+                           const std::string& worst) {
+  return left(name, name_width) + " " + left(type, 7) + " " + right(max_abs, 11) + " " + right(max_ulps, 10) + " " +
          right(differing, 15) + " " + right(worst, 8);
 }
 
-std::string output_columns(const OutputDifference& d) {
+std::string output_columns(std::size_t name_width, const OutputDifference& d) {
   std::string worst = d.differing ? std::to_string(d.worst_element) : "-";
-  return output_columns(d.name, ir::type_name(d.type), magnitude(d.max_abs), ulps(d.max_ulps), differing(d), worst);
+  return output_columns(name_width, d.name, ir::type_name(d.type), magnitude(d.max_abs), ulps(d.max_ulps), differing(d),
+                        worst);
 }
 
 // An error's lines after the first, indented under it.
@@ -71,7 +75,7 @@ std::string indented(const std::string& message) {
   return out;
 }
 
-std::string row_text(const CompareRow& r, bool reference_failed) {
+std::string row_text(const CompareRow& r, bool reference_failed, std::size_t name_width) {
   std::string label = r.label(), math = math_name(r.math);
   if (r.failed()) return line(label, math, "-", "-", "error: " + indented(r.error));
   std::string compile = milliseconds(r, r.compile_ms, true), run = milliseconds(r, r.run_ms, false);
@@ -79,7 +83,8 @@ std::string row_text(const CompareRow& r, bool reference_failed) {
   if (r.outputs.empty())
     text = line(label, math, compile, run, reference_failed ? "(no reference to compare with)" : "(no outputs)");
   for (std::size_t k = 0; k < r.outputs.size(); ++k)
-    text += k == 0 ? line(label, math, compile, run, output_columns(r.outputs[k])) : line("", "", "", "", output_columns(r.outputs[k]));
+    text += line(k == 0 ? label : "", k == 0 ? math : "", k == 0 ? compile : "", k == 0 ? run : "",
+                 output_columns(name_width, r.outputs[k]));
   for (const std::string& note : r.notes) text += "    " + note + "\n";
   return text;
 }
@@ -93,9 +98,12 @@ std::string to_string(const Comparison& c) {
                      " against interp in f64 ";
   text += ref.failed() ? "(failed: " + indented(ref.error) + ")\n"
                        : "(compile " + milliseconds(ref, ref.compile_ms, true) + " ms, run " + format("%.1f", ref.run_ms) + " ms)\n";
+  std::size_t name_width = 10;
+  for (const CompareRow& r : c.rows)
+    for (const OutputDifference& d : r.outputs) name_width = std::max(name_width, d.name.size());
   text += line("backend", "math", "compile ms", "run ms",
-               output_columns("output", "type", "max |diff|", "max ULPs", "differing", "worst at"));
-  for (const CompareRow& r : c.rows) text += row_text(r, ref.failed());
+               output_columns(name_width, "output", "type", "max |diff|", "max ULPs", "differing", "worst at"));
+  for (const CompareRow& r : c.rows) text += row_text(r, ref.failed(), name_width);
   return text;
 }
 
