@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -42,6 +44,35 @@ TEST(Threads, RunsSharingAnEmptyOutputChannelSizeItOnce) {
     ASSERT_EQ(shared.size(), 4096u);
     EXPECT_EQ(shared.values(), std::vector<float>(4096, 3.0f)) << "round " << round;
   }
+}
+
+// Runs of different backends at once add into one accumulator: each adds
+// atomically (the opencl backend's sums were added under a lock of its own,
+// which the cpu backend's atomic adds did not take).
+TEST(Threads, RunsOfEveryBackendAtOnceAddIntoOneAccumulator) {
+  std::vector<std::string> local;
+  for (const std::string& name : backend_names())
+    if (name != "mpi") local.push_back(name);
+  const int slots = 1 << 18, runs = 6;
+  const std::size_t elements = std::size_t{1} << 20;
+  Accumulator<Attrib1i> count(slots, "count");
+  Program p = SH_BEGIN_PROGRAM("counted") {
+    InputAttrib1i i;
+    OutputAttrib1i same;
+    count.add(i, 1);
+    same = i;
+  } SH_END;
+  std::vector<std::int32_t> is(elements);
+  for (std::size_t k = 0; k < elements; ++k) is[k] = static_cast<std::int32_t>(k % slots);
+  Channel<Attrib1i> in(is);
+  together(static_cast<int>(local.size()), [&](int k) {
+    for (int r = 0; r < runs; ++r) {
+      Channel<Attrib1i> out;
+      run(p, {in}, {out}, backend(local[static_cast<std::size_t>(k)]));
+    }
+  });
+  const auto each = static_cast<std::int32_t>(local.size() * runs * (elements / slots));
+  EXPECT_EQ(count.values(), std::vector<std::int32_t>(slots, each));
 }
 
 // Two threads adopting one table's storage moved it twice: the second was

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <mutex>
@@ -170,25 +171,20 @@ class OpenClKernel : public Kernel {
   std::string listing() const override { return source_; }
 
  private:
-  // The run's adds into the accumulator's sums: f32 added as floats, i32
-  // wrapping.
+  // The run's adds into the accumulator's sums, each an atomic addition as
+  // the other backends' are (runs on other threads, of any backend, may add
+  // to the same sums): f32 added as floats, i32 wrapping.
   static void add_into(const TableView& t, const std::vector<char>& added) {
-    static std::mutex adding;
-    std::lock_guard lock(adding);
     std::size_t n = added.size() / 4;
-    if (t.element.scalar == ir::Scalar::F32) {
-      auto* to = static_cast<float*>(t.sums);
-      for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (t.element.scalar == ir::Scalar::F32) {
         float a;
         std::memcpy(&a, added.data() + 4 * i, 4);
-        to[i] += a;
-      }
-    } else {
-      auto* to = static_cast<std::uint32_t*>(t.sums);
-      for (std::size_t i = 0; i < n; ++i) {
+        std::atomic_ref<float>(static_cast<float*>(t.sums)[i]).fetch_add(a);
+      } else {
         std::uint32_t a;
         std::memcpy(&a, added.data() + 4 * i, 4);
-        to[i] += a;
+        if (a != 0) std::atomic_ref<std::uint32_t>(static_cast<std::uint32_t*>(t.sums)[i]).fetch_add(a);
       }
     }
   }
