@@ -65,14 +65,14 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
-// A list of backends is one argument split at its commas.  An empty list
-// ("--backends ,") has CLI11 read the next option as a name: no name starts
-// with a dash.
+// A list of backends is one argument split at its commas (CLI11 drops the
+// empty names a stray comma makes).  An empty list ("--backends ,") has
+// CLI11 read the next option as a name: no name starts with a dash.
 const CLI::Validator kBackendName(
     [](std::string& name) {
-      if (name.empty()) return std::string("an empty backend name (a stray comma?)");
-      if (name[0] == '-') return "'" + name + "' is an option, not a backend name: the list before it is empty";
-      return std::string();
+      return !name.empty() && name[0] == '-'
+                 ? "'" + name + "' is an option, not a backend name: the list before it is empty"
+                 : std::string();
     },
     "NAME");
 

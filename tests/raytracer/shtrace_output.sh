@@ -85,7 +85,9 @@ test ! -e p_distance.pfm
 long=$(printf 'a%.0s' $(seq 246)).png
 if render --scene cornell --size 8x6 -o "$long" > long.txt 2>&1; then echo "a name too long for its temporary"; exit 1; fi
 grep -q "a file name of 250 bytes: at most" long.txt
-echo "an input, one file named twice and a name too long are refused before the render"
+render --scene cornell --size 8x6 -o cornell > builtin.txt
+is_png cornell
+echo "an input, one file named twice and a name too long are refused before the render; a built-in scene's name is no file"
 
 # A file-size limit (ulimit -f) fails the write, as a full disk would, and
 # leaves nothing behind, where its signal would end the process.
