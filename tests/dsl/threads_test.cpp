@@ -75,6 +75,28 @@ TEST(Threads, RunsOfEveryBackendAtOnceAddIntoOneAccumulator) {
   EXPECT_EQ(count.values(), std::vector<std::int32_t>(slots, each));
 }
 
+// Threads asking at once for a kernel not compiled yet: one compiles it,
+// the others wait for it (each compiled it before).
+TEST(Threads, AKernelAskedForByThreadsAtOnceIsCompiledOnce) {
+  for (const std::string& name : backend_names()) {
+    if (name == "mpi") continue;
+    Program p = SH_BEGIN_PROGRAM("compiled_once_" + name) {
+      InputAttrib1f x;
+      OutputAttrib1f y;
+      Attrib1f s = x;
+      for (int k = 0; k < 200; ++k) s = s * 1.0001f + static_cast<float>(k);  // long enough to overlap
+      y = s;
+    } SH_END;
+    Channel<Attrib1f> x(std::vector<float>(64, 1.0f));
+    std::atomic<int> compiled{0};
+    together(4, [&](int) {
+      Channel<Attrib1f> y;
+      compiled += run(p, {x}, {y}, backend(name)).compiled ? 1 : 0;
+    });
+    EXPECT_EQ(compiled.load(), 1) << name;
+  }
+}
+
 // Two threads adopting one table's storage moved it twice: the second was
 // handed memory without data.
 TEST(Threads, ATablesMemoryAskedForByThreadsAtOnceIsOneMemory) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
+#include <future>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -32,6 +33,8 @@ struct Registry {
   std::map<std::string, Registered> factories;
   std::map<std::string, std::unique_ptr<Backend>> instances;
   std::map<std::string, std::shared_ptr<Kernel>> kernels;
+  // Kernels being compiled: a thread asking for one waits for it.
+  std::map<std::string, std::shared_future<std::shared_ptr<Kernel>>> compiling;
   std::string chosen;  // use_backend()
 };
 
@@ -81,25 +84,45 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
   Backend& b = find_backend(name);
   std::string key = name + "|" + std::to_string(program.hash()) + "|" + options.key();
   Registry& r = registry();
+  std::promise<std::shared_ptr<Kernel>> made;
+  std::shared_future<std::shared_ptr<Kernel>> another;
   {
     std::lock_guard<std::mutex> lock(r.mutex);
     auto it = r.kernels.find(key);
     if (it != r.kernels.end()) return it->second;
+    auto being = r.compiling.find(key);
+    if (being != r.compiling.end()) another = being->second;
+    else r.compiling.emplace(key, made.get_future().share());
   }
-  if (options.threads < 0 || options.threads > kMostThreads)
-    throw Error("program '" + program.name() + "': Options::threads = " + std::to_string(options.threads) +
-                ": must be 0 (every core) to " + std::to_string(kMostThreads));
-  auto t0 = std::chrono::steady_clock::now();
-  double cpu0 = detail::thread_cpu_ms();
-  ir::Program ir = legal_program(program, options);
-  stats.compile_phases = {{"passes", ms_since(t0)}};
-  std::shared_ptr<Kernel> kernel = b.compile(ir, options);
-  for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
-  stats.compiled = true;
-  stats.compile_ms = ms_since(t0);
-  stats.compile_cpu_ms = detail::thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
-  std::lock_guard<std::mutex> lock(r.mutex);
-  return r.kernels.emplace(key, std::move(kernel)).first->second;
+  // Another thread compiles it: this one waits (and meets its error, if any).
+  if (another.valid()) return another.get();
+  auto done = [&](auto&& answer) {
+    std::lock_guard<std::mutex> lock(r.mutex);
+    r.compiling.erase(key);
+    answer();
+  };
+  try {
+    if (options.threads < 0 || options.threads > kMostThreads)
+      throw Error("program '" + program.name() + "': Options::threads = " + std::to_string(options.threads) +
+                  ": must be 0 (every core) to " + std::to_string(kMostThreads));
+    auto t0 = std::chrono::steady_clock::now();
+    double cpu0 = detail::thread_cpu_ms();
+    ir::Program ir = legal_program(program, options);
+    stats.compile_phases = {{"passes", ms_since(t0)}};
+    std::shared_ptr<Kernel> kernel = b.compile(ir, options);
+    for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
+    stats.compiled = true;
+    stats.compile_ms = ms_since(t0);
+    stats.compile_cpu_ms = detail::thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
+    done([&] {
+      kernel = r.kernels.emplace(key, std::move(kernel)).first->second;
+      made.set_value(kernel);
+    });
+    return kernel;
+  } catch (...) {
+    done([&] { made.set_exception(std::current_exception()); });
+    throw;
+  }
 }
 
 std::string describe_slot(const ir::Program& p, const char* what, std::size_t k) {
