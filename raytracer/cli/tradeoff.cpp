@@ -134,7 +134,8 @@ std::string gnuplot_string(const std::string& text) {
 // script's name may hold any character): whether it ran and succeeded.
 bool run_gnuplot(const std::string& first, const std::string& script) {
   std::string program = "gnuplot", e = "-e";
-  char* argv[] = {program.data(), e.data(), const_cast<char*>(first.c_str()), const_cast<char*>(script.c_str()), nullptr};
+  char* argv[] = {program.data(), e.data(), const_cast<char*>(first.c_str()), const_cast<char*>(script.c_str()),
+                  nullptr};
   pid_t child = 0;
   if (posix_spawnp(&child, "gnuplot", nullptr, nullptr, argv, environ) != 0) return false;
   int status = 0;

@@ -37,7 +37,8 @@ void commit(const std::string& tmp, const std::string& path, bool written, std::
 // An image's values must be as many as its pixels ask for: a shorter
 // buffer would be read past its end.
 void check_values(const std::string& path, int width, int height, std::size_t values, int per_pixel) {
-  if (width < 1 || height < 1 || values != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * per_pixel)
+  if (width < 1 || height < 1 ||
+      values != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * per_pixel)
     throw Error(path + ": cannot write the image: " + std::to_string(values) + " values for " + std::to_string(width) +
                 "x" + std::to_string(height) + " pixels of " + std::to_string(per_pixel));
 }

@@ -65,8 +65,9 @@ Renderer::Renderer(Scene scene, RenderSettings settings)
       break;
     case Accel::Auto: throw Error("internal: auto was not resolved to an accelerator");
   }
-  if (!tables_) throw Error("accelerator " + std::to_string(static_cast<int>(settings_.accel)) + " is none of grid, octree, "
-                            "lazy-octree, bvh or auto");
+  if (!tables_)
+    throw Error("accelerator " + std::to_string(static_cast<int>(settings_.accel)) +
+                " is none of grid, octree, lazy-octree, bvh or auto");
   tables_->set_samples(settings_.pattern, settings_.shadow_samples, settings_.seed);
   tables_->set_camera(scene_.camera, settings_.width, settings_.height);
   tables_->set_reflection_depth(settings_.reflections);

@@ -143,7 +143,8 @@ TEST_P(Conformance, RunsOnSeveralThreadsAddIntoOneAccumulator) {
     });
   for (std::thread& t : running) t.join();
   if (mode().backend == "mpi") {
-    for (const std::string& e : errors) EXPECT_NE(e.find("only on the thread that started MPI"), std::string::npos) << e;
+    for (const std::string& e : errors)
+      EXPECT_NE(e.find("only on the thread that started MPI"), std::string::npos) << e;
     return;
   }
   for (const std::string& e : errors) EXPECT_EQ(e, "");

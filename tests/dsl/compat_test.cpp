@@ -34,7 +34,8 @@ TEST(Compat, EverySHDeclFormRecordsANamedVariable) {
     out = later;
   } SH_END;
   std::string printed = sh::print(p);
-  for (const char* name : {"twice", "one", "later"}) EXPECT_NE(printed.find(name), std::string::npos) << name << printed;
+  for (const char* name : {"twice", "one", "later"})
+    EXPECT_NE(printed.find(name), std::string::npos) << name << printed;
   ShChannel<ShAttrib1f> x(std::vector<float>{3});
   ShChannel<ShAttrib3f> out;
   sh::run(p, {x}, {out}, sh::backend("interp"));

@@ -27,22 +27,24 @@ std::string contents(const fs::path& path) {
   return read.str();
 }
 
-TEST(OutputFile, AnInterruptWhileAnImageIsWrittenEndsTheProcessWithTheImageInPlace) {
+// In a process of its own (another thread alive there where asked): an
+// image written through a temporary of the writer's own, as write_png
+// does, whose writer is interrupted at its start.  The process ends by the
+// signal, with the image whole in place and nothing beside it.
+void expect_the_image_written_despite(void (*interrupt)(), bool another_thread, const std::string& dir_name) {
   GTEST_FLAG_SET(death_test_style, "threadsafe");
-  fs::path dir = fs::path(testing::TempDir()) / "sh_output_interrupted";
+  fs::path dir = fs::path(testing::TempDir()) / dir_name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::string path = (dir / "image.png").string();
-  // The writer is interrupted at its start; it writes through a temporary
-  // of its own, as write_png does.
-  auto interrupted_writer = [](const std::string& at) {
-    std::raise(SIGTERM);
-    std::ofstream(at + ".part") << "the whole image";
-    fs::rename(at + ".part", at);
-  };
   EXPECT_EXIT(
       {
-        shtrace::write_image(path, "scene", interrupted_writer);
+        if (another_thread) std::thread([] { std::this_thread::sleep_for(std::chrono::seconds(5)); }).detach();
+        shtrace::write_image(path, "scene", [interrupt](const std::string& at) {
+          interrupt();
+          std::ofstream(at + ".part") << "the whole image";
+          fs::rename(at + ".part", at);
+        });
         std::exit(0);
       },
       testing::KilledBySignal(SIGTERM), "");
@@ -51,32 +53,20 @@ TEST(OutputFile, AnInterruptWhileAnImageIsWrittenEndsTheProcessWithTheImageInPla
   fs::remove_all(dir);
 }
 
+TEST(OutputFile, AnInterruptWhileAnImageIsWrittenEndsTheProcessWithTheImageInPlace) {
+  expect_the_image_written_despite([] { std::raise(SIGTERM); }, false, "sh_output_interrupted");
+}
+
 // The same with another thread alive, which the kernel may pick to take a
 // signal sent to the process (a mask on the writing thread alone let it
 // end the process mid-write).
 TEST(OutputFile, AnInterruptTakenByAnotherThreadStillWaitsForTheImage) {
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  fs::path dir = fs::path(testing::TempDir()) / "sh_output_interrupted_threads";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::string path = (dir / "image.png").string();
-  auto interrupted_writer = [](const std::string& at) {
-    ::kill(::getpid(), SIGTERM);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // time for the signal to land anywhere
-    std::ofstream(at + ".part") << "the whole image";
-    fs::rename(at + ".part", at);
-  };
-  EXPECT_EXIT(
-      {
-        std::thread idle([] { std::this_thread::sleep_for(std::chrono::seconds(5)); });
-        idle.detach();
-        shtrace::write_image(path, "scene", interrupted_writer);
-        std::exit(0);
+  expect_the_image_written_despite(
+      [] {
+        ::kill(::getpid(), SIGTERM);
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));  // time for the signal to land anywhere
       },
-      testing::KilledBySignal(SIGTERM), "");
-  EXPECT_EQ(contents(path), "the whole image");
-  EXPECT_FALSE(fs::exists(path + ".part"));
-  fs::remove_all(dir);
+      true, "sh_output_interrupted_threads");
 }
 
 TEST(OutputFile, TheSignalsHeldWhileWritingAreLetGoAfter) {

@@ -1,7 +1,7 @@
 #pragma once
+// The MPI world: started once per process, shut down when rank 0 exits.
 #include <string>
 
-// The MPI world: started once per process, shut down when rank 0 exits.
 namespace sh::mpi {
 
 // Initialises MPI (once); returns this rank.

@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <mutex>
@@ -8,6 +7,7 @@
 
 #include "codegen.hpp"
 #include "runtime.hpp"
+#include "sh/detail/sums.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
 #include "sh/opencl.hpp"
@@ -122,8 +122,8 @@ class OpenClKernel : public Kernel {
     }
     for (std::size_t u = 0; u < args.uniforms.size(); ++u) set_uniform(arg, program_.uniforms[u], args.uniforms[u]);
     // An accumulator's adds are summed on the device from zero and added
-    // into the host's sums after the run, under a lock: runs on other
-    // threads may add to the same sums meanwhile.
+    // into the host's sums after the run: runs on other threads may add to
+    // the same sums meanwhile.
     std::vector<std::pair<const TableView*, cl_mem>> sums;
     std::vector<std::vector<char>> added;
     for (const TableView& t : args.tables) {
@@ -152,8 +152,8 @@ class OpenClKernel : public Kernel {
         take_outputs(args, streams, in_place, *moved);
       }
       for (std::size_t k = 0; k < sums.size(); ++k)
-        check(clEnqueueReadBuffer(device_->queue, sums[k].second, CL_FALSE, 0, sums[k].first->bytes(), added[k].data(), 0,
-                                  nullptr, nullptr),
+        check(clEnqueueReadBuffer(device_->queue, sums[k].second, CL_FALSE, 0, sums[k].first->bytes(), added[k].data(),
+                                  0, nullptr, nullptr),
               where("reading an accumulator"));
       check(clEnqueueReadBuffer(device_->queue, buffers.back().mem, CL_TRUE, 0, sizeof status, status, 0, nullptr, nullptr),
             where("finishing the run"));
@@ -171,21 +171,21 @@ class OpenClKernel : public Kernel {
   std::string listing() const override { return source_; }
 
  private:
-  // The run's adds into the accumulator's sums, each an atomic addition as
-  // the other backends' are (runs on other threads, of any backend, may add
-  // to the same sums): f32 added as floats, i32 wrapping.
+  // The run's adds into the accumulator's sums, each atomic
+  // (sh/detail/sums.hpp).
   static void add_into(const TableView& t, const std::vector<char>& added) {
-    std::size_t n = added.size() / 4;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < added.size() / 4; ++i) {
+      double value = 0;
       if (t.element.scalar == ir::Scalar::F32) {
         float a;
         std::memcpy(&a, added.data() + 4 * i, 4);
-        std::atomic_ref<float>(static_cast<float*>(t.sums)[i]).fetch_add(a);
+        value = a;
       } else {
-        std::uint32_t a;
+        std::int32_t a;
         std::memcpy(&a, added.data() + 4 * i, 4);
-        if (a != 0) std::atomic_ref<std::uint32_t>(static_cast<std::uint32_t*>(t.sums)[i]).fetch_add(a);
+        value = a;
       }
+      detail::add_to_sum(t.element.scalar, t.sums, i, value);
     }
   }
 

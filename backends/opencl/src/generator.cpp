@@ -163,7 +163,8 @@ std::string Generator::taps_inside() const {
     if (!spans[t]) continue;
     for (int d = 0; d < p_.tables[t].rank; ++d) {
       std::string at = std::string("(long)position_") + kComponent[d] + ".s0";
-      long long last = static_cast<long long>(spans[t]->high[d]) + (d == 0 ? lanes_ - 1 : 0);  // an offset may be INT_MAX
+      // In 64 bits: an offset may be INT_MAX.
+      long long last = static_cast<long long>(spans[t]->high[d]) + (d == 0 ? lanes_ - 1 : 0);
       inside += " && " + at + " + " + std::to_string(spans[t]->low[d]) + " >= 0 && " + at + " + " + std::to_string(last) +
                 " < table" + std::to_string(t) + "_" + kComponent[d];
     }

@@ -11,9 +11,10 @@
 // A backend that throws (compiling or running) becomes its row's error; the
 // other rows still run.  A program's accumulators are compared as its
 // outputs are (each run starts from the sums they held when compare was
-// called, and those sums are theirs again when it returns).  A NaN where the reference has a number, or a
-// number where it has NaN, is a difference: it makes the largest difference
-// infinite and is counted on its own.
+// called, and those sums are theirs again when it returns).  A NaN where
+// the reference has a number, or a number where it has NaN, is a
+// difference: it makes the largest difference infinite and is counted on
+// its own.
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -35,7 +36,7 @@ struct CompareOptions {
 // One output of one row against the reference, over every component of
 // every element.
 struct OutputDifference {
-  std::string name;  // the output's name in the program, else "output K"; "accumulator 'NAME'" (or K)
+  std::string name;  // the output's name, else "output K"; an accumulator's "accumulator 'NAME'" (or K)
   ir::Type type;
   double max_abs = 0;   // largest |value - reference|; infinite where NaN meets a number
   double max_ulps = 0;  // the same in units in the last place of the output's type (integers: the difference)

@@ -1,9 +1,9 @@
 #include "interp.hpp"
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 
+#include "sh/detail/sums.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
 #include "sh/ir/verifier.hpp"
@@ -192,23 +192,14 @@ class Machine {
     return r;
   }
 
-  // In stream order, one atomic addition at a time in the accumulator's
-  // type, as every backend's is (runs on other threads may add to it too):
+  // In stream order, one atomic addition at a time (sh/detail/sums.hpp):
   // a float accumulator takes the value as a float first, at every
-  // precision; an int one wraps.
+  // precision.
   void scatter(const ir::Scatter& sc, const ir::Stmt& s) {
     const TableView& t = a_.tables[sc.table];
     std::size_t element = element_at(t, sc.index, s);
-    for (int k = 0; k < t.element.width; ++k) {
-      std::size_t at = element * t.element.width + k;
-      double value = arg(sc.value, k);
-      if (t.element.scalar == ir::Scalar::F32) {
-        std::atomic_ref<float>(static_cast<float*>(t.sums)[at]).fetch_add(static_cast<float>(value));
-      } else {
-        auto add = static_cast<std::uint32_t>(static_cast<std::int32_t>(value));
-        std::atomic_ref<std::uint32_t>(static_cast<std::uint32_t*>(t.sums)[at]).fetch_add(add);
-      }
-    }
+    for (int k = 0; k < t.element.width; ++k)
+      detail::add_to_sum(t.element.scalar, t.sums, element * t.element.width + k, arg(sc.value, k));
   }
 
   void check_nan(const ir::Assign& a, const ir::Stmt& s, const Reg& result) {

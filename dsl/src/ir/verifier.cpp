@@ -1,6 +1,5 @@
 #include "sh/ir/verifier.hpp"
 
-#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdint>

@@ -84,15 +84,21 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
   Backend& b = find_backend(name);
   std::string key = name + "|" + std::to_string(program.hash()) + "|" + options.key();
   Registry& r = registry();
-  std::promise<std::shared_ptr<Kernel>> made;
+  // A promise (and its shared state) only where this thread compiles: a
+  // kernel found costs a lookup.
+  std::optional<std::promise<std::shared_ptr<Kernel>>> made;
   std::shared_future<std::shared_ptr<Kernel>> another;
   {
     std::lock_guard<std::mutex> lock(r.mutex);
     auto it = r.kernels.find(key);
     if (it != r.kernels.end()) return it->second;
     auto being = r.compiling.find(key);
-    if (being != r.compiling.end()) another = being->second;
-    else r.compiling.emplace(key, made.get_future().share());
+    if (being != r.compiling.end()) {
+      another = being->second;
+    } else {
+      made.emplace();
+      r.compiling.emplace(key, made->get_future().share());
+    }
   }
   // Another thread compiles it: this one waits (and meets its error, if any).
   if (another.valid()) return another.get();
@@ -116,11 +122,11 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     stats.compile_cpu_ms = detail::thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
     done([&] {
       kernel = r.kernels.emplace(key, std::move(kernel)).first->second;
-      made.set_value(kernel);
+      made->set_value(kernel);
     });
     return kernel;
   } catch (...) {
-    done([&] { made.set_exception(std::current_exception()); });
+    done([&] { made->set_exception(std::current_exception()); });
     throw;
   }
 }
@@ -197,8 +203,8 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
   }
   args.domain = launch_domain(p, inputs, outputs);
   if (args.domain.extent[0] == 0 && args.count > static_cast<std::size_t>(INT32_MAX) && ir::uses(p, ir::Op::Position))
-    throw Error("program '" + p.name + "' reads position(), whose x holds at most 2^31 - 1, but runs over a stream of " +
-                std::to_string(args.count) + " elements in one row: give its channels a shape (Channel::shape)");
+    throw Error("program '" + p.name + "' reads position(), whose x holds at most 2^31 - 1, but runs over a stream " +
+                "of " + std::to_string(args.count) + " elements in one row: give its channels a shape (Channel::shape)");
   for (const auto& u : program.uniforms()) args.uniforms.push_back(u->value);
   for (std::size_t t = 0; t < program.tables().size(); ++t) {
     detail::TableStorage& s = *program.tables()[t];

@@ -27,17 +27,13 @@
 namespace sh::detail {
 namespace {
 
+namespace fs = std::filesystem;
+
 // When the directory was last scanned for pruning: its time.
 constexpr const char* kScanStamp = ".sh-cache-scanned";
 
 // The checksum that ends every cache file: 8 bytes, this host's order.
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
-
-}  // namespace
-
-namespace {
-
-namespace fs = std::filesystem;
 
 // Said once a process for each directory: a cache quietly off would leave
 // every run compiling cold with nothing to say why.
@@ -57,7 +53,7 @@ std::string unusable(const std::string& dir) {
   if (::stat(dir.c_str(), &st) != 0) return std::string("it cannot be created (") + std::strerror(errno) + ")";
   if (!S_ISDIR(st.st_mode)) return "it is not a directory";
   if (st.st_uid != ::geteuid()) return "it belongs to another user, whose files would run as this process's code";
-  // Ours, but others may write in it (made under umask 002): theirs alone
+  // Ours, but others may write in it (made under umask 002): ours alone
   // from now on; a file someone else put there is never read.
   if ((st.st_mode & (S_IWGRP | S_IWOTH)) && ::chmod(dir.c_str(), st.st_mode & 07755 & ~(S_IWGRP | S_IWOTH)) != 0)
     return "others can write in it, and their files would run as this process's code (chmod go-w it)";
@@ -186,8 +182,8 @@ void prune_when_due(const std::string& path, std::size_t bytes) {
   auto [at, first] = stored_since_scan.try_emplace(dir, 0);
   at->second += bytes;
   std::error_code missing;
-  bool due = first ? fs::last_write_time(stamp, missing) < fs::file_time_type::clock::now() - std::chrono::hours(1) || missing
-                   : at->second > limit / 4;
+  auto hour_ago = fs::file_time_type::clock::now() - std::chrono::hours(1);
+  bool due = first ? fs::last_write_time(stamp, missing) < hour_ago || missing : at->second > limit / 4;
   if (!due) return;
   std::ofstream{stamp, std::ios::app};  // made where missing, never cut
   std::error_code ignored;

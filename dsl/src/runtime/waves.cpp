@@ -154,12 +154,11 @@ void check_bound(const std::vector<TableView>& declared, const std::vector<Table
     const TableView &d = declared[i], &b = bound[i];
     std::string table = "table " + std::to_string(i);
     if (b.element != d.element || b.rank != d.rank)
-      fail("made " + table + " " + ir::type_name(b.element) + " of rank " + std::to_string(b.rank) + " where the program reads " +
-           ir::type_name(d.element) + " of rank " + std::to_string(d.rank));
+      fail("made " + table + " " + ir::type_name(b.element) + " of rank " + std::to_string(b.rank) +
+           " where the program reads " + ir::type_name(d.element) + " of rank " + std::to_string(d.rank));
     for (int k = 0; k < b.rank; ++k)
-      if (b.dims[static_cast<std::size_t>(k)] < 1)
-        fail("made " + table + " " + std::to_string(b.dims[static_cast<std::size_t>(k)]) + " elements along dimension " +
-             std::to_string(k));
+      if (int n = b.dims[static_cast<std::size_t>(k)]; n < 1)
+        fail("made " + table + " " + std::to_string(n) + " elements along dimension " + std::to_string(k));
     if (!b.data && !b.source) fail("left " + table + " without its elements (no data and no source)");
   }
 }
