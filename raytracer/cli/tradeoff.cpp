@@ -206,7 +206,7 @@ int tradeoff(const TradeoffOptions& o) {
   // character cannot be written.
   if (o.out.empty() || std::any_of(o.out.begin(), o.out.end(), control_character))
     throw Error("tradeoff: --out '" + o.out + "': an empty name, or one with a control character");
-  check_outputs({o.out + ".csv", o.out + ".gp", o.out + ".png"}, {o.scene});
+  check_outputs({o.out + ".csv", o.out + ".gp", o.out + ".png"}, scene.files);
 
   if (scene.disk_lights.empty())
     std::fprintf(stderr, "tradeoff: %s has no disk light: the sample settings change nothing in its image\n",

@@ -18,15 +18,17 @@
 #include <fstream>
 #include <sstream>
 
+#include "../common/fresh.hpp"
+
 namespace {
 
 using namespace sh;
 
-Program polynomial() {
+Program polynomial(float last = 1.0f) {
   return SH_BEGIN_PROGRAM("poly") {
     InputAttrib1f x;
     OutputAttrib1f y;
-    y = (x * 3.0f + 2.0f) * x + 1.0f;
+    y = (x * 3.0f + 2.0f) * x + last;
   } SH_END;
 }
 
@@ -282,10 +284,11 @@ TEST(CpuBackend, CompilePhasesAddUpToTheCompile) {
   o.set(cpu::Options{.width = cpu::Width::Lanes8});
   o.optimize = true;
   Attrib1f k = 3.0f;
+  const float c = fresh_constant();  // a compile in this process too
   Program p = SH_BEGIN_PROGRAM("phases") {
     InputAttrib1f x;
     OutputAttrib1f y;
-    y = x * k + 0.25f;
+    y = x * k + c;
   } SH_END;
   Channel<Attrib1f> x(std::vector<float>{1, 2}), y;
   RunStats s = run(p, {x}, {y}, backend("cpu", o));
@@ -624,17 +627,18 @@ TEST(CpuBackend, ReadsThroughSourcesWithFetchedTablesOnOneThread) {
 }
 
 TEST(CpuBackend, CompilesOncePerProgramAndOptions) {
-  Program p = polynomial();
+  const float last = fresh_constant();  // a program no earlier run compiled
+  Program p = polynomial(last);
   Channel<Attrib1f> x(std::vector<float>{1, 2}), y;
   Options o;
   o.threads = 1;
   run(p, {x}, {y}, backend("cpu", o));
-  RunStats again = run(polynomial(), {x}, {y}, backend("cpu", o));  // same IR, recorded again
+  RunStats again = run(polynomial(last), {x}, {y}, backend("cpu", o));  // same IR, recorded again
   EXPECT_FALSE(again.compiled);
   o.threads = 2;
   RunStats other = run(p, {x}, {y}, backend("cpu", o));
   EXPECT_TRUE(other.compiled) << "options are part of the key";
-  EXPECT_EQ(y[1], 17.f);
+  EXPECT_EQ(y[1], 16 + last);
 }
 
 TEST(CpuBackend, EveryThreadCountGivesTheSameResult) {

@@ -14,6 +14,8 @@
 #include <sh/detail/disk_cache.hpp>
 #include <sh/sh.hpp>
 
+#include "../common/fresh.hpp"
+
 namespace {
 
 using namespace sh;
@@ -32,10 +34,11 @@ TEST(DiskCache, ThePassesResultIsKeptReadBackAndReplacedWhereDamaged) {
   fs::path dir = fs::path(testing::TempDir()) / "sh_disk_cache_test";
   fs::remove_all(dir);
   setenv("SH_CACHE_DIR", dir.c_str(), 1);
+  const float c = fresh_constant();  // a program no earlier run compiled
   Program p = SH_BEGIN_PROGRAM("kept") {
     InputAttrib1f x;
     OutputAttrib1f y;
-    y = x * 2.0f + 1.0f;
+    y = x * 2.0f + c;
   } SH_END;
   Channel<Attrib1f> x(std::vector<float>{1, 2}), y;
   // Each run below misses the process's own kernels (another backend or
@@ -58,7 +61,7 @@ TEST(DiskCache, ThePassesResultIsKeptReadBackAndReplacedWhereDamaged) {
     if (b.name != "interp") other = b.name;
   ASSERT_FALSE(other.empty()) << "a second backend to miss the process's kernels with";
   run(p, {x}, {y}, backend(other));
-  EXPECT_EQ(y.values(), (std::vector<float>{3, 5}));
+  EXPECT_EQ(y.values(), (std::vector<float>{2 + c, 4 + c}));
   EXPECT_EQ(contents(files[0]), kept);
   unsetenv("SH_CACHE_DIR");
   fs::remove_all(dir);
@@ -115,7 +118,7 @@ TEST(DiskCache, OnlyThisUsersDirectoryAndFilesAreUsed) {
     ASSERT_TRUE(detail::read_cache_file(planted));
     ASSERT_EQ(chown(planted.c_str(), 65534, 65534), 0);
     EXPECT_FALSE(detail::read_cache_file(planted)) << "another user's file";
-    fs::path other = dir / "other";
+    fs::path other = dir / fresh_name("other");
     fs::create_directory(other);
     ASSERT_EQ(chown(other.c_str(), 65534, 65534), 0);
     setenv("SH_CACHE_DIR", other.c_str(), 1);
@@ -126,7 +129,7 @@ TEST(DiskCache, OnlyThisUsersDirectoryAndFilesAreUsed) {
     EXPECT_NE(said.find("belongs to another user"), std::string::npos) << said;
     EXPECT_EQ(said.find(other.string()), said.rfind(other.string())) << "said once: " << said;
   }
-  fs::path file = fs::path(testing::TempDir()) / "sh_disk_cache_file";
+  fs::path file = fs::path(testing::TempDir()) / fresh_name("sh_disk_cache_file");
   std::ofstream(file) << "a file";
   setenv("SH_CACHE_DIR", file.c_str(), 1);
   testing::internal::CaptureStderr();

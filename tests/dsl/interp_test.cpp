@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include <sh/sh.hpp>
 
@@ -102,20 +104,34 @@ TEST(RunErrors, EmptyProgramHandle) {
 
 // The environment names the default until use_backend chooses, and a
 // choice of a backend that does not exist is refused and changes nothing.
-// The process's default is put back (use_backend's choice lasts).
+// use_backend's choice lasts for the process, so the sequence runs in a
+// fresh one (a second run of this test, or one after another that chose,
+// would find the choice made).
 TEST(Registry, DefaultBackendFollowsEnvironmentAndUseBackend) {
   std::vector<std::string> names = backend_names();
   EXPECT_NE(std::find(names.begin(), names.end(), "interp"), names.end());
-  std::string before = default_backend_name();
-  setenv("SH_BACKEND", "elsewhere", 1);
-  EXPECT_EQ(default_backend_name(), "elsewhere");
-  expect_error([] { use_backend("no-such-backend"); }, {"no-such-backend"});
-  EXPECT_EQ(default_backend_name(), "elsewhere");
-  use_backend("interp");
-  EXPECT_EQ(default_backend_name(), "interp") << "use_backend's choice comes before the environment's";
-  unsetenv("SH_BACKEND");
-  EXPECT_EQ(default_backend_name(), "interp");
-  use_backend(before);
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  auto sequence = [] {
+    auto expect_default = [](const std::string& name, const char* why) {
+      if (default_backend_name() == name) return;
+      std::fprintf(stderr, "%s: the default is %s, not %s\n", why, default_backend_name().c_str(), name.c_str());
+      std::exit(1);
+    };
+    setenv("SH_BACKEND", "elsewhere", 1);
+    expect_default("elsewhere", "the environment's");
+    try {
+      use_backend("no-such-backend");
+      std::exit(2);
+    } catch (const Error&) {
+    }
+    expect_default("elsewhere", "after a refused choice");
+    use_backend("interp");
+    expect_default("interp", "use_backend's choice comes before the environment's");
+    unsetenv("SH_BACKEND");
+    expect_default("interp", "use_backend's choice lasts");
+    std::exit(0);
+  };
+  EXPECT_EXIT(sequence(), testing::ExitedWithCode(0), "");
 }
 
 TEST(Precision, F64ComputesFloatsAsDouble) {

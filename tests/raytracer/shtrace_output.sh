@@ -78,6 +78,12 @@ cp "$data/flat_box.json" scene.json
 if render --scene scene.json --size 8x6 -o scene.json > input.txt 2>&1; then echo "the scene replaced"; exit 1; fi
 grep -q "scene.json: is an input of this command" input.txt
 cmp scene.json "$data/flat_box.json"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > tri.obj
+cp tri.obj tri-before.obj
+printf '{"lights": [{"position": [0, 3, 2]}], "objects": [{"type": "mesh", "file": "tri.obj"}]}' > names-model.json
+if render --scene names-model.json --size 8x6 -o tri.obj > model.txt 2>&1; then echo "the model replaced"; exit 1; fi
+grep -q "tri.obj: is an input of this command" model.txt
+cmp tri.obj tri-before.obj
 refused "named for two outputs" --size 8x6 --dump-ir-bytes ./refused.png
 if render --scene cornell --size 8x6 -o p_distance.pfm --aov p > twice.txt 2>&1; then echo "one file, two outputs"; exit 1; fi
 grep -q "p_distance.pfm: named for two outputs" twice.txt
@@ -87,7 +93,7 @@ if render --scene cornell --size 8x6 -o "$long" > long.txt 2>&1; then echo "a na
 grep -q "a file name of 250 bytes: at most" long.txt
 render --scene cornell --size 8x6 -o cornell > builtin.txt
 is_png cornell
-echo "an input, one file named twice and a name too long are refused before the render; a built-in scene's name is no file"
+echo "an input (a scene file, a model it names), one file named twice and a name too long are refused before the render; a built-in scene's name is no file"
 
 # A file-size limit (ulimit -f) fails the write, as a full disk would, and
 # leaves nothing behind, where its signal would end the process.

@@ -352,6 +352,7 @@ Scene read_scene(const json& j, const std::string& path, const LoadLimits& limit
   r.only(j, "", {"camera", "lights", "materials", "objects", "background", "ambient"});
   Scene s;
   s.name = path;
+  s.files.push_back(path);
   std::map<std::string, int> materials;
   Material fallback;
   fallback.name = "default";

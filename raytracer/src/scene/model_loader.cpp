@@ -190,6 +190,7 @@ Scene read_model_file(const std::string& path, const Transform& t) {
 void load_model(Scene& scene, const std::string& path, const Transform& t, int material, const LoadLimits& limits) {
   Scene model = limits.in_process ? read_model_file(path, t) : read_model_isolated(path, t, limits);
   scene.mesh.append(model.mesh, material);
+  scene.files.push_back(path);
   scene.warnings.insert(scene.warnings.end(), model.warnings.begin(), model.warnings.end());
 }
 

@@ -91,6 +91,7 @@ struct Scene {
   Vec3 background{0.05f, 0.05f, 0.08f};
   float ambient = 0.1f;
   std::vector<std::string> warnings;  // e.g. degenerate triangles dropped
+  std::vector<std::string> files;     // read to make it: a scene file, the models it names
 
   bool has_vertex_colors() const { return !mesh.colors.empty(); }
   bool has_reflections() const;
