@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <mutex>
 #include <set>
 
+#include "sh/detail/sums.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
 #include "sh/waves.hpp"
@@ -148,12 +150,59 @@ class Coordinator : public Kernel {
     forgotten().kernels.emplace_back(id_, std::move(slots_));
   }
 
+  // What the serving ranks hold once a run's command reaches them: noted
+  // only then, so that a command that fails to go out (memory, a refiner's
+  // seed that throws) is not taken for one they have.
+  struct Held {
+    std::vector<std::pair<std::size_t, std::uint64_t>> tables;  // slot, version
+    bool uniforms = false;
+    std::uint64_t refiner = 0;
+  };
+
   void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
     check_thread(program_.name);
     if (ranks_ > 1) send_forgotten();
     Traffic t;
     std::vector<bool> split = which_split(whole);
-    if (ranks_ > 1) broadcast(run_command(whole, split, waves), t);
+    Held held;
+    std::string command = ranks_ > 1 ? run_command(whole, split, waves, held) : std::string();
+    // From the command on until their stats are in, the serving ranks wait
+    // on rank 0: a failure meanwhile would leave them waiting for ever.
+    bool ranks_waiting = ranks_ > 1;
+    std::string error;
+    try {
+      if (ranks_waiting) {
+        broadcast(command, t);
+        note_held(held, whole);
+      }
+      error = coordinate(whole, split, waves, stats, t, ranks_waiting);
+    } catch (const std::exception& e) {
+      if (ranks_waiting) end_job(e.what());
+      throw;
+    }
+    if (!error.empty()) throw Error("mpi backend: " + error);
+  }
+
+  [[noreturn]] void end_job(const char* why) const {
+    std::fprintf(stderr,
+                 "sh: rank 0: mpi backend: program '%s': %s, in the middle of a run that the other ranks wait on; "
+                 "ending the job\n",
+                 program_.name.c_str(), why);
+    MPI_Abort(MPI_COMM_WORLD, 3);
+    std::abort();  // MPI_Abort does not return
+  }
+
+  void note_held(const Held& held, const RunArgs& args) {
+    for (auto [slot, version] : held.tables) tables_sent().hold(slots_, slot, args.tables[slot].id) = {version, true};
+    if (held.uniforms) uniforms_sent_ = args.uniforms;
+    if (held.refiner != 0) refiners_sent().insert(held.refiner);
+  }
+
+  // Hands out the run's chunks, computes rank 0's, and gathers results and
+  // stats (`ranks_waiting` false once the last are in); returns the first
+  // chunk's error, if any.
+  std::string coordinate(const RunArgs& whole, const std::vector<bool>& split, const Waves* waves, RunStats& stats,
+                         Traffic& t, bool& ranks_waiting) {
     // Rank 0 reads split tables through its cache, as every rank does.
     RunArgs args = whole;
     auto details = std::make_shared<RunDetails>();
@@ -213,9 +262,10 @@ class Coordinator : public Kernel {
       std::string message = receive(MPI_ANY_SOURCE, kStats, t, &source);
       take_stats(message, args, parts.at(source - 1), summaries.at(source - 1), *details);
     }
+    ranks_waiting = false;
     for (std::size_t i = 0, k = 0; i < args.tables.size(); ++i)
       if (split[i]) details->caches[k++].counts += static_cast<SplitTable*>(args.tables[i].source)->take_counts();
-    mine.chunks = (mine.elements + chunk - 1) / chunk;  // rank 0 computes in pieces: its chunks' worth
+    mine.chunks = mine.elements / chunk + (mine.elements % chunk != 0);  // rank 0 computes in pieces: its chunks' worth
     mine.bytes_sent = t.sent;
     mine.bytes_received = t.received;
     parts.insert(parts.begin(), mine);
@@ -231,7 +281,7 @@ class Coordinator : public Kernel {
     details->parts = std::move(parts);
     stats.details = std::move(details);
     stats.diagnostics = first_findings(std::move(s.findings));
-    if (!s.error.empty()) throw Error("mpi backend: " + s.error);
+    return s.error;
   }
 
   // A serving rank's stats, with waves its refiner's summary, its
@@ -283,21 +333,22 @@ class Coordinator : public Kernel {
     }
   }
 
+  // Atomic adds: runs on other threads may add into the same sums meanwhile.
   static void add_sums(const TableView& table, const char* theirs) {
     std::size_t n = table.bytes() / ir::storage_bytes(table.element.scalar);
     for (std::size_t i = 0; i < n; ++i) {
       if (ir::is_float(table.element.scalar))
-        add_at<float>(table.sums, theirs, i);
+        detail::add_to_sum(table.element.scalar, table.sums, i, value_at<float>(theirs, i));
       else
-        add_at<std::int32_t>(table.sums, theirs, i);
+        detail::add_to_sum(table.element.scalar, table.sums, i, value_at<std::int32_t>(theirs, i));
     }
   }
 
   template <class T>
-  static void add_at(void* ours, const char* theirs, std::size_t i) {
+  static T value_at(const char* bytes, std::size_t i) {
     T x;
-    std::memcpy(&x, theirs + i * sizeof(T), sizeof(T));
-    static_cast<T*>(ours)[i] += x;
+    std::memcpy(&x, bytes + i * sizeof(T), sizeof(T));
+    return x;
   }
 
   void compile_everywhere(const sh::Options& local) {
@@ -319,7 +370,7 @@ class Coordinator : public Kernel {
 
   // The command every serving rank receives: the kernel, and the tables
   // and uniforms that changed since they last got them.
-  std::string run_command(const RunArgs& args, const std::vector<bool>& split, const Waves* waves) {
+  std::string run_command(const RunArgs& args, const std::vector<bool>& split, const Waves* waves, Held& held) {
     Packer p;
     p.put(Command::Run).put(id_);
     // A table the program reads twice (a composed program's parts with two
@@ -342,12 +393,12 @@ class Coordinator : public Kernel {
         if (fresh) p.put(table).put(split_);
         continue;
       }
-      Sent& sent = tables_sent().hold(slots_, i, table.id);
+      const Sent& sent = tables_sent().hold(slots_, i, table.id);
       bool fresh = !sent.sent || sent.version != table.version;
       p.put(fresh);
       if (!fresh) continue;
       p.put(table.version).put(table).put(static_cast<std::uint64_t>(table.bytes())).raw(table.data, table.bytes());
-      sent = {table.version, true};
+      held.tables.emplace_back(i, table.version);
     }
     // Compared bit for bit: -0.0 == +0.0, but x / -0.0 is not x / +0.0.
     bool changed = args.uniforms.size() != uniforms_sent_.size() ||
@@ -356,20 +407,23 @@ class Coordinator : public Kernel {
     p.put(changed);
     if (changed)
       for (const auto& u : args.uniforms) p.put(u);
-    uniforms_sent_ = args.uniforms;
+    held.uniforms = changed;
     p.put(args.domain);
     p.put(waves != nullptr);
-    if (waves) pack_waves(p, *waves);
+    if (waves) pack_waves(p, *waves, held);
     return p.bytes();
   }
 
-  static void pack_waves(Packer& p, const Waves& w) {
+  static void pack_waves(Packer& p, const Waves& w, Held& held) {
     // Refiners' ids start at 1: 0 says there is none (a wavefront).
     std::uint64_t id = w.refiner ? w.refiner->id() : 0;
     p.put(id);
-    bool fresh = id != 0 && refiners_sent().insert(id).second;
+    bool fresh = id != 0 && !refiners_sent().contains(id);
     p.put(fresh);
-    if (fresh) p.put(w.refiner->kind()).put(w.refiner->seed());
+    if (fresh) {
+      p.put(w.refiner->kind()).put(w.refiner->seed());
+      held.refiner = id;
+    }
     p.put(w.request_output).put(w.max_waves).put(static_cast<std::uint64_t>(w.carried.size()));
     for (const auto& [out, in] : w.carried) p.put(out).put(in);
   }

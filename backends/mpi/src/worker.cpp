@@ -42,7 +42,8 @@ class Worker {
   Worker() { MPI_Comm_rank(MPI_COMM_WORLD, &rank_); }
 
   // A compile or a chunk that fails is reported to rank 0, which goes on.
-  // What fails outside them (memory for rank 0's message or its tables)
+  // What fails outside them (memory for rank 0's message, its tables or a
+  // chunk's result on its way back)
   // leaves this rank out of step with the others: it says why and ends
   // the job, rather than leave the runtime's abort unexplained.
   [[noreturn]] void serve() {
@@ -61,7 +62,7 @@ class Worker {
             std::exit(0);
         }
       } catch (const std::bad_alloc&) {
-        end_job("out of memory receiving rank 0's command or tables");
+        end_job("out of memory for rank 0's command, its tables or a chunk's result");
       } catch (const std::exception& e) {
         end_job(e.what());
       }
@@ -223,28 +224,31 @@ class Worker {
     auto begin = u.get<std::uint64_t>();
     args.count = u.get<std::uint64_t>();
     args.domain.first += begin;
-    // Reserved up front: the views below point into these strings.
     std::vector<std::string> inputs, outputs;
-    inputs.reserve(k.program.inputs.size());
-    outputs.reserve(k.program.outputs.size());
-    for (ir::VarId v : k.program.inputs) {
-      std::size_t n = args.count * ir::element_bytes(k.program.type_of(v));
-      inputs.emplace_back(u.take(n), n);
-      args.inputs.push_back({k.program.type_of(v), args.count, inputs.back().data()});
-    }
-    for (ir::VarId v : k.program.outputs) {
-      outputs.emplace_back(args.count * ir::element_bytes(k.program.type_of(v)), '\0');
-      args.outputs.push_back({k.program.type_of(v), args.count, outputs.back().data()});
-    }
     auto busy = Clock::now();
     RunStats run;
     try {
+      // Reserved up front: the views below point into these strings.
+      inputs.reserve(k.program.inputs.size());
+      outputs.reserve(k.program.outputs.size());
+      for (ir::VarId v : k.program.inputs) {
+        std::size_t n = args.count * ir::element_bytes(k.program.type_of(v));
+        inputs.emplace_back(u.take(n), n);
+        args.inputs.push_back({k.program.type_of(v), args.count, inputs.back().data()});
+      }
+      for (ir::VarId v : k.program.outputs) {
+        outputs.emplace_back(args.count * ir::element_bytes(k.program.type_of(v)), '\0');
+        args.outputs.push_back({k.program.type_of(v), args.count, outputs.back().data()});
+      }
       if (waves)
         run_in_waves(*k.kernel, args, *waves, run);
       else
         k.kernel->run(args, run);
       stats.waves = std::max(stats.waves, run.waves);
       stats.resumed += run.resumed;
+    } catch (const std::bad_alloc&) {
+      send("out of memory for a chunk of " + std::to_string(args.count) + " elements", 0, kFailed, t);
+      return;
     } catch (const std::exception& e) {
       send(e.what(), 0, kFailed, t);
       return;

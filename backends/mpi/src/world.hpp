@@ -1,5 +1,6 @@
 #pragma once
-// The MPI world: started once per process, shut down when rank 0 exits.
+// The MPI world: started once per process, shut down when rank 0 exits
+// or ends MPI.
 #include <string>
 
 namespace sh::mpi {
@@ -10,8 +11,6 @@ int ensure_started();
 // compile or run of `program` from another throws sh::Error, where two
 // threads' messages would cross and abort the job.
 void check_thread(const std::string& program);
-// Rank 0: tells the serving ranks to stop (at exit).
-void shutdown_workers();
 // Ranks other than 0: serve rank 0 until told to stop, then exit.
 [[noreturn]] void serve();
 
