@@ -191,6 +191,42 @@ TEST_P(Conformance, LoopIterationCapTurnsEndlessLoopIntoError) {
   }
 }
 
+// The loop that ran away is the one named, when the loop around it tests
+// last and its test holds a loop too (opencl named the test's loop: it
+// numbered a do/until's parts in another order than it wrote them).
+TEST_P(Conformance, TheRunawayLoopIsNamedInsideADoUntilWhoseTestLoops) {
+  sh::Program p = SH_BEGIN_PROGRAM("runaway_in_do") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1f> r;
+    Attrib1f k = 0.0f, n = 0.0f;
+    SH_DO {
+      SH_WHILE(x > 0.0f) { k += 1.0f; } SH_ENDWHILE;  // never ends for x > 0
+      n += 1.0f;
+    } SH_UNTIL(([&] {
+      Attrib1f j = 0.0f;
+      SH_WHILE(j < 2.0f) { j += 1.0f; } SH_ENDWHILE;
+      return j + n;
+    })() > 3.0f);
+    r = k + n;
+  } SH_END;
+  sh::Options o;
+  o.max_loop_iterations = 100;
+  auto named_loop = [&](const sh::BackendChoice& c) -> std::string {
+    sh::Channel<Attrib1f> in(std::vector<float>{1.0f}), out;
+    try {
+      sh::run(p, {in}, {out}, c);
+    } catch (const sh::Error& e) {
+      std::string what = e.what();
+      auto from = what.find("(`"), to = what.find("`)");
+      return from == std::string::npos || to == std::string::npos ? what : what.substr(from, to - from);
+    }
+    return "no error";
+  };
+  std::string reference = named_loop(sh::backend("interp", o));
+  EXPECT_NE(reference.find("while"), std::string::npos) << reference;
+  EXPECT_EQ(named_loop(choice(o)), reference);
+}
+
 // A loop whose every element leaves by a break in its last allowed pass
 // ran no more than the cap: no error, however many elements share a
 // batch (a masked loop once counted one more pass with no lane left).
@@ -310,6 +346,27 @@ TEST_P(Conformance, AVariableReadBeforeItsWriteReadsZeroInEveryElement) {
         EXPECT_EQ(out[e * 4 + static_cast<std::size_t>(c)], want[c]) << "length " << length << ", element " << e << ", component " << c;
     }
   }
+}
+
+// Names are the user's to choose: a program, a variable and a local array
+// named with a backslash, a line break or a directive change nothing (the
+// opencl backend wrote them into its source's comments, where a trailing
+// backslash swallowed the next line and a line break began a new one).
+TEST_P(Conformance, NamesWithBackslashesAndLineBreaksChangeNothing) {
+  sh::Program p = SH_BEGIN_PROGRAM("named\\\n#define e 0\r\\") {
+    sh::Input<Attrib1f> x;
+    sh::Output<Attrib1f> r;
+    Attrib1f t = x * 2.0f;
+    t.name("dir\\");
+    Attrib1f u = t + 1.0f;
+    u.name("line\n#define e 0");
+    sh::LocalArray<Attrib1f> kept(2, "kept\\");
+    kept.store(1, u);
+    r = kept[1] * x;
+  } SH_END;
+  sh::Channel<Attrib1f> in(std::vector<float>{1.0f, 2.0f, 3.0f}), out;
+  run(p, {in}, {out});
+  EXPECT_EQ(out.values(), (std::vector<float>{3.0f, 10.0f, 21.0f}));
 }
 
 }  // namespace

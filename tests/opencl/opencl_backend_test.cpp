@@ -10,6 +10,7 @@
 #include <sh/sh.hpp>
 
 #include "../../backends/opencl/src/runtime.hpp"
+#include "../common/expect_error.hpp"
 #include "../common/fresh.hpp"
 
 namespace {
@@ -361,4 +362,52 @@ TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
   second.add(third);
   EXPECT_EQ(second.runs, 2u);
   EXPECT_NE(second.describe().front().find("2 runs moved"), std::string::npos) << second.describe().front();
+}
+
+// Through the Kernel API: a run of no elements whose output has no memory
+// is nothing to do (the in-place path asked OpenCL to read 0 bytes into
+// null: CL_INVALID_VALUE), and a table read through a TableSource, which
+// an OpenCL kernel cannot call back into, is refused naming the table.
+TEST(OpenClBackend, KernelRunsOfNothingAndTablesReadThroughSources) {
+  Table1D<Attrib1f> table(4);
+  table.name("lookup").assign(std::vector<float>{1, 2, 3, 4});
+  Program p = SH_BEGIN_PROGRAM("api_edges") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    y = table[i];
+  } SH_END;
+  for (const char* streams : {"auto", "copied"}) {
+    Options o;
+    o.set("opencl.streams", streams);
+    std::shared_ptr<Kernel> kernel = kernel_for(p, backend("opencl", o));
+    const ir::Program& ir = p.ir();
+    RunArgs nothing;
+    nothing.inputs.push_back({ir.type_of(ir.inputs[0]), 0, nullptr});
+    nothing.outputs.push_back({ir.type_of(ir.outputs[0]), 0, nullptr});
+    TableView view;
+    view.element = ir.tables[0].element;
+    view.dims = {4, 1, 1};
+    std::vector<float> values{1, 2, 3, 4};
+    view.data = values.data();
+    view.id = 1;
+    nothing.tables.push_back(view);
+    RunStats stats;
+    EXPECT_NO_THROW(kernel->run(nothing, stats)) << streams;
+
+    struct Spans : TableSource {
+      std::vector<float> values{1, 2, 3, 4};
+      Span span_of(std::size_t) override { return {values.data(), 0, values.size()}; }
+      void count_reads(std::size_t) override {}
+    } source;
+    RunArgs through = nothing;
+    std::vector<std::int32_t> at{2};
+    std::vector<float> out(1);
+    through.count = 1;
+    through.inputs[0] = {ir.type_of(ir.inputs[0]), 1, at.data()};
+    through.outputs[0] = {ir.type_of(ir.outputs[0]), 1, out.data()};
+    through.tables[0].data = nullptr;
+    through.tables[0].source = &source;
+    through.tables[0].id = 2;
+    expect_error([&] { kernel->run(through, stats); }, {"table 'lookup'", "TableSource"});
+  }
 }

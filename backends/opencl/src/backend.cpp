@@ -225,7 +225,8 @@ class OpenClKernel : public Kernel {
     for (std::size_t o = 0; o < args.outputs.size(); ++o) {
       std::size_t size = bytes(args.outputs[o].type, args.outputs[o].count);
       cl_mem mem = streams[args.inputs.size() + o];
-      if (!in_place[o] || size == 0) {
+      if (size == 0) continue;  // nothing to read, and no memory to read it into
+      if (!in_place[o]) {
         check(clEnqueueReadBuffer(device_->queue, mem, CL_FALSE, 0, size, args.outputs[o].data, 0, nullptr, nullptr),
               where("reading an output"));
         moved.from_device += size;
@@ -401,6 +402,10 @@ class OpenClKernel : public Kernel {
   const cl_mem& table_buffer(std::size_t slot, const TableView& t, RunDetails& moved) {
     Cached& c = tables_.at(slot);
     if (!c.buffer.mem || c.id != t.id || c.version != t.version) {
+      if (!t.data)  // a TableSource's elements come as a kernel asks for them, which an OpenCL kernel cannot
+        throw Error(where("table '" + program_.tables.at(slot).name +
+                          "' is read through a TableSource (its elements are not in memory): OpenCL kernels read "
+                          "whole tables; use a backend that reads through sources (cpu, interp)"));
       c.buffer = make(t.bytes(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table");
       c.id = t.id;
       c.version = t.version;
@@ -446,14 +451,16 @@ class OpenClKernel : public Kernel {
     return runaway_loop(program_, *which, static_cast<std::uint64_t>(element), options_.max_loop_iterations);
   }
 
-  // Loops are numbered in the order the generator meets them.
+  // Loops are numbered in the order the generator meets them: a loop that
+  // tests last writes its test (the header) after its body and update.
   void find_loop(const ir::Block& b, cl_long wanted, int& n, const ir::Stmt*& out) const {
     for (const ir::Stmt& s : b) {
       if (auto* l = std::get_if<ir::Loop>(&s.node)) {
         if (++n == wanted) out = &s;
-        find_loop(l->header, wanted, n, out);
+        if (l->test_at_top) find_loop(l->header, wanted, n, out);
         find_loop(l->body, wanted, n, out);
         find_loop(l->update, wanted, n, out);
+        if (!l->test_at_top) find_loop(l->header, wanted, n, out);
       } else if (auto* i = std::get_if<ir::If>(&s.node)) {
         find_loop(i->then_body, wanted, n, out);
         find_loop(i->else_body, wanted, n, out);

@@ -39,7 +39,7 @@ Source generate(const ir::Program& program, const sh::Options& options, int lane
   if (lanes > 1) kernels += Generator(program, options, lanes, largest_buffer, prelude).run(kLanesKernelName);
   bool fp64 = needs_fp64(program, options);
   std::ostringstream head;
-  head << "// program " << program.name << ", generated from its optimised IR\n";
+  head << "// program " << comment_text(program.name) << ", generated from its optimised IR\n";
   if (fp64) head << "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n";
   if (options.math == MathMode::Precise) head << "#pragma OPENCL FP_CONTRACT OFF\n";
   if (adds_floats(program)) head << kAtomicAddFloat;

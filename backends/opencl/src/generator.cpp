@@ -221,7 +221,7 @@ void Generator::registers() {
     std::string decl = "  " + (scalar_register(static_cast<ir::VarId>(v)) ? std::string(type) : vec(type));
     for (int c = 0; c < var.type.width; ++c) decl += (c ? ", " : " ") + reg(static_cast<ir::VarId>(v), c) + " = 0";
     body_ << decl << ";";
-    if (!var.name.empty()) body_ << "  // " << var.name;
+    if (!var.name.empty()) body_ << "  // " << comment_text(var.name);
     body_ << "\n";
   }
 }
@@ -234,7 +234,7 @@ void Generator::array_registers(ir::VarId v) {
   std::string n = std::to_string(var.length);
   for (int c = 0; c < var.type.width; ++c) {
     body_ << "  " << type << " " << reg(v, c) << "[" << n << "];";
-    if (c == 0 && !var.name.empty()) body_ << "  // " << var.name;
+    if (c == 0 && !var.name.empty()) body_ << "  // " << comment_text(var.name);
     body_ << "\n  for (int k = 0; k < " << n << "; ++k) " << reg(v, c) << "[k] = (" << type << ")(0);\n";
   }
 }

@@ -21,6 +21,11 @@ namespace sh::opencl {
 inline constexpr char kComponent[] = "xyzw";
 inline constexpr char kLaneDigit[] = "0123456789abcdef";
 
+// A user's name as the text of a `//` comment: a backslash there would
+// continue the comment onto the next line, and a line break would end it,
+// so that the rest of the name became source; each is written '?'.
+std::string comment_text(const std::string& name);
+
 // What the kernels of one source share: the helper functions written once
 // before them, and whether the source needs double precision.
 struct Prelude {

@@ -219,7 +219,7 @@ cl_program build(const Device& device, const std::string& program_name, const st
   std::istringstream in(source);
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   std::set<int> cited;
-  std::regex where(R"(:(\d+):\d+:)");
+  std::regex where(R"(:(\d{1,9}):\d+:)");  // a longer number is no line of ours
   for (auto it = std::sregex_iterator(log.begin(), log.end(), where); it != std::sregex_iterator(); ++it)
     cited.insert(std::stoi((*it)[1]));
   std::string quoted;

@@ -223,4 +223,11 @@ std::string Generator::mask_of(const ir::Operand& o, int i) const {
   return "(" + read(o, i) + " > " + constant(p_.type_of(o.var).scalar, 0) + ")";
 }
 
+std::string comment_text(const std::string& name) {
+  std::string text = name;
+  for (char& c : text)
+    if (c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return text;
+}
+
 }  // namespace sh::opencl
