@@ -198,8 +198,14 @@ TEST(DiskCache, StoresKeepTheCacheNearItsLimit) {
   EXPECT_LE(entries_bytes(dir), (1u << 20) + 2 * (quarter.size() + 8));
   EXPECT_TRUE(fs::exists(dir / "passes-15"));
   EXPECT_FALSE(fs::exists(dir / "passes-0"));
-  setenv("SH_CACHE_LIMIT_MB", "-3", 1);
+  const std::string bad = fresh_name("-3");  // said once a process for each value
+  setenv("SH_CACHE_LIMIT_MB", bad.c_str(), 1);
+  testing::internal::CaptureStderr();
   EXPECT_EQ(detail::cache_limit_bytes(), std::uintmax_t{1024} << 20) << "a bad setting keeps the default";
+  EXPECT_EQ(detail::cache_limit_bytes(), std::uintmax_t{1024} << 20);
+  std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("SH_CACHE_LIMIT_MB='" + bad + "' is not a number of MiB"), std::string::npos) << said;
+  EXPECT_EQ(said.find(bad), said.rfind(bad)) << "said once: " << said;
   unsetenv("SH_CACHE_LIMIT_MB");
   fs::remove_all(dir);
 }

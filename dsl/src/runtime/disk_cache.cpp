@@ -35,14 +35,17 @@ constexpr const char* kScanStamp = ".sh-cache-scanned";
 // The checksum that ends every cache file: 8 bytes, this host's order.
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
 
-// Said once a process for each directory: a cache quietly off would leave
-// every run compiling cold with nothing to say why.
-void say_not_used(const std::string& dir, const std::string& why) {
+// Each message once a process: a cache quietly off, or a limit quietly
+// not the one asked for, would leave its user with nothing to say why.
+void say_once(const std::string& message) {
   static std::mutex said_mutex;
   static std::set<std::string> said;
   std::lock_guard lock(said_mutex);
-  if (!said.insert(dir).second) return;
-  std::fprintf(stderr, "sh: the kernel cache '%s' is not used: %s\n", dir.c_str(), why.c_str());
+  if (said.insert(message).second) std::fprintf(stderr, "sh: %s\n", message.c_str());
+}
+
+void say_not_used(const std::string& dir, const std::string& why) {
+  say_once("the kernel cache '" + dir + "' is not used: " + why);
 }
 
 // Why the directory cannot hold this user's machine code, or "".  Another
@@ -134,7 +137,11 @@ std::uintmax_t cache_limit_bytes() {
   if (const char* set = std::getenv("SH_CACHE_LIMIT_MB"); set && *set) {
     char* end = nullptr;
     unsigned long long read = std::strtoull(set, &end, 10);
-    if (*end == '\0' && set[0] != '-' && read > 0 && read < (1ull << 40)) mib = read;
+    if (*end == '\0' && set[0] != '-' && read > 0 && read < (1ull << 40))
+      mib = read;
+    else
+      say_once("SH_CACHE_LIMIT_MB='" + std::string(set) + "' is not a number of MiB from 1 to 2^40 - 1: the kernel " +
+               "cache is kept under " + std::to_string(kDefaultMiB) + " MiB");
   }
   return mib << 20;
 }
