@@ -14,6 +14,7 @@ inline std::atomic<int> calls{0};
 
 inline std::string fresh_name(const std::string& base) { return base + "_" + std::to_string(fresh_detail::calls++); }
 
-// A small whole number as a float (exact in arithmetic with other small
-// whole numbers), 1 or more.
-inline float fresh_constant() { return static_cast<float>(1 + fresh_detail::calls++ % (1 << 20)); }
+// A whole number as a float, exact in arithmetic with other small whole
+// numbers, and from 4097 on: not a constant other programs are likely to
+// hold.
+inline float fresh_constant() { return static_cast<float>(4097 + fresh_detail::calls++ % (1 << 20)); }

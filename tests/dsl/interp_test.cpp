@@ -110,6 +110,7 @@ TEST(RunErrors, EmptyProgramHandle) {
 TEST(Registry, DefaultBackendFollowsEnvironmentAndUseBackend) {
   std::vector<std::string> names = backend_names();
   EXPECT_NE(std::find(names.begin(), names.end(), "interp"), names.end());
+  const std::string style = GTEST_FLAG_GET(death_test_style);
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   auto sequence = [] {
     auto expect_default = [](const std::string& name, const char* why) {
@@ -132,6 +133,7 @@ TEST(Registry, DefaultBackendFollowsEnvironmentAndUseBackend) {
     std::exit(0);
   };
   EXPECT_EXIT(sequence(), testing::ExitedWithCode(0), "");
+  GTEST_FLAG_SET(death_test_style, style);
 }
 
 TEST(Precision, F64ComputesFloatsAsDouble) {

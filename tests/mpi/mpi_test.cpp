@@ -551,11 +551,20 @@ const bool seed_fails_once_registered = [] {
 // A run whose command could not be made (the refiner's seed threw) sent
 // nothing, so nothing may be taken as sent: the ranks were told of the
 // refiner in the next run (they answered "no refiner for this run" to
-// every later run), and tables and uniforms first sent then arrive too.
+// every later run), and a table another kernel had sent, which that
+// kernel then let go of, is sent again (the ranks read an empty table).
 TEST(Mpi, ARunThatFailedBeforeItsCommandWentOutLeavesNothingTakenAsSent) {
   ASSERT_TRUE(seed_fails_once_registered);
-  Table1D<Attrib1f> table(64);
+  Table1D<Attrib1f> table(64), other(64);
   table.assign(std::vector<float>(64, 3.0f));
+  other.assign(std::vector<float>(64, 5.0f));
+  auto reader = [](const Table1D<Attrib1f>& t) {
+    return SH_BEGIN_PROGRAM("reads_a_table") {  // one kernel, whichever table it reads
+      InputAttrib1i i;
+      OutputAttrib1f y;
+      y = t[i];
+    } SH_END;
+  };
   Attrib1f scale = 2.0f;
   Program p = SH_BEGIN_PROGRAM("after_a_failed_command") {
     InputAttrib1i i;
@@ -569,6 +578,8 @@ TEST(Mpi, ARunThatFailedBeforeItsCommandWentOutLeavesNothingTakenAsSent) {
   Waves waves{&refiner, 0, {}, 16};
   Channel<Attrib1i> requests;
   Channel<Attrib1f> out;
+  run(reader(table), {in}, {out}, backend("mpi"));
+  EXPECT_EQ(out.values(), std::vector<float>(3000, 3.0f));
   if (mpi::size() > 1) {  // one rank sends no seed
     try {
       run(p, {in}, {requests, out}, waves, backend("mpi"));
@@ -577,6 +588,8 @@ TEST(Mpi, ARunThatFailedBeforeItsCommandWentOutLeavesNothingTakenAsSent) {
       EXPECT_NE(std::string(e.what()).find("seed: not ready yet"), std::string::npos) << e.what();
     }
   }
+  run(reader(other), {in}, {out}, backend("mpi"));  // the reader's kernel lets go of `table`
+  EXPECT_EQ(out.values(), std::vector<float>(3000, 5.0f));
   for (int again = 0; again < 2; ++again) {
     run(p, {in}, {requests, out}, waves, backend("mpi"));
     EXPECT_EQ(out.values(), std::vector<float>(3000, 6.0f)) << "run " << again;

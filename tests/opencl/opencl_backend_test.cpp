@@ -365,9 +365,10 @@ TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
 }
 
 // Through the Kernel API: a run of no elements whose output has no memory
-// is nothing to do (the in-place path asked OpenCL to read 0 bytes into
+// is nothing to do (clEnqueueReadBuffer was asked to read 0 bytes into
 // null: CL_INVALID_VALUE), and a table read through a TableSource, which
 // an OpenCL kernel cannot call back into, is refused naming the table.
+// The views' table ids are far from those of the process's own tables.
 TEST(OpenClBackend, KernelRunsOfNothingAndTablesReadThroughSources) {
   Table1D<Attrib1f> table(4);
   table.name("lookup").assign(std::vector<float>{1, 2, 3, 4});
@@ -389,7 +390,7 @@ TEST(OpenClBackend, KernelRunsOfNothingAndTablesReadThroughSources) {
     view.dims = {4, 1, 1};
     std::vector<float> values{1, 2, 3, 4};
     view.data = values.data();
-    view.id = 1;
+    view.id = std::uint64_t{1} << 62;
     nothing.tables.push_back(view);
     RunStats stats;
     EXPECT_NO_THROW(kernel->run(nothing, stats)) << streams;
@@ -407,7 +408,44 @@ TEST(OpenClBackend, KernelRunsOfNothingAndTablesReadThroughSources) {
     through.outputs[0] = {ir.type_of(ir.outputs[0]), 1, out.data()};
     through.tables[0].data = nullptr;
     through.tables[0].source = &source;
-    through.tables[0].id = 2;
+    through.tables[0].id = (std::uint64_t{1} << 62) + 1;
     expect_error([&] { kernel->run(through, stats); }, {"table 'lookup'", "TableSource"});
   }
+}
+
+// A table's copy on the device goes with the table, whatever kernel read
+// it last: programs made, run and dropped one after another (each a kernel
+// of its own, kept for the process) each left their table's copy behind.
+TEST(OpenClBackend, ATablesCopyOnTheDeviceGoesWithTheTable) {
+  constexpr std::size_t kFloats = std::size_t{1} << 18;
+  constexpr std::size_t kBytes = kFloats * sizeof(float);
+  Table1D<Attrib1f> kept(4);
+  kept.assign(std::vector<float>(4, 1.0f));
+  Program probe = SH_BEGIN_PROGRAM("probe") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    y = kept[i];
+  } SH_END;
+  Channel<Attrib1i> at(std::vector<std::int32_t>{0, 3});
+  auto held = [&] {
+    Channel<Attrib1f> out;
+    RunStats s = run(probe, {at}, {out}, backend("opencl"));
+    return s.details_as<opencl::RunDetails>()->tables_held;
+  };
+  const std::size_t before = held();
+  for (int k = 0; k < 4; ++k) {
+    Table1D<Attrib1f> table(kFloats);
+    table.assign(std::vector<float>(kFloats, static_cast<float>(k)));
+    const float c = fresh_constant();  // a kernel of its own
+    Program p = SH_BEGIN_PROGRAM("reads_its_own") {
+      InputAttrib1i i;
+      OutputAttrib1f y;
+      y = table[i] + c;
+    } SH_END;
+    Channel<Attrib1f> out;
+    run(p, {at}, {out}, backend("opencl"));
+    EXPECT_EQ(out[1], static_cast<float>(k) + c);
+    EXPECT_EQ(held(), before + kBytes) << "held while its table lives, round " << k;
+  }
+  EXPECT_EQ(held(), before) << "the copies of the tables gone went with them";
 }

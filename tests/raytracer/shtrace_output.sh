@@ -93,7 +93,8 @@ if render --scene cornell --size 8x6 -o "$long" > long.txt 2>&1; then echo "a na
 grep -q "a file name of 250 bytes: at most" long.txt
 render --scene cornell --size 8x6 -o cornell > builtin.txt
 is_png cornell
-echo "an input (a scene file, a model it names), one file named twice and a name too long are refused before the render; a built-in scene's name is no file"
+echo "an input (a scene file, a model it names), one file named twice and a name too long are refused before the" \
+  "render; a built-in scene's name is no file"
 
 # A file-size limit (ulimit -f) fails the write, as a full disk would, and
 # leaves nothing behind, where its signal would end the process.

@@ -150,31 +150,42 @@ class Coordinator : public Kernel {
     forgotten().kernels.emplace_back(id_, std::move(slots_));
   }
 
-  // What the serving ranks hold once a run's command reaches them: noted
-  // only then, so that a command that fails to go out (memory, a refiner's
-  // seed that throws) is not taken for one they have.
-  struct Held {
-    std::vector<std::pair<std::size_t, std::uint64_t>> tables;  // slot, version
-    bool uniforms = false;
-    std::uint64_t refiner = 0;
+  // What rank 0 takes the serving ranks to hold, as it was before a run's
+  // command was made: put back where the command never goes out (memory, a
+  // refiner's seed that throws), so that nothing is taken as sent that was
+  // not (the ranks then read a table they never got, or lack a refiner).
+  struct Sending {
+    HeldTables<Sent> tables;
+    TableSlots slots;
+    std::vector<std::array<double, 4>> uniforms;
+    std::set<std::uint64_t> refiners;
   };
+
+  std::string command_for(const RunArgs& whole, const std::vector<bool>& split, const Waves* waves) {
+    Sending before{tables_sent(), slots_, uniforms_sent_, refiners_sent()};
+    try {
+      return run_command(whole, split, waves);
+    } catch (...) {
+      tables_sent() = std::move(before.tables);
+      slots_ = std::move(before.slots);
+      uniforms_sent_ = std::move(before.uniforms);
+      refiners_sent() = std::move(before.refiners);
+      throw;
+    }
+  }
 
   void spread(const RunArgs& whole, const Waves* waves, RunStats& stats) {
     check_thread(program_.name);
     if (ranks_ > 1) send_forgotten();
     Traffic t;
     std::vector<bool> split = which_split(whole);
-    Held held;
-    std::string command = ranks_ > 1 ? run_command(whole, split, waves, held) : std::string();
+    std::string command = ranks_ > 1 ? command_for(whole, split, waves) : std::string();
     // From the command on until their stats are in, the serving ranks wait
     // on rank 0: a failure meanwhile would leave them waiting for ever.
     bool ranks_waiting = ranks_ > 1;
     std::string error;
     try {
-      if (ranks_waiting) {
-        broadcast(command, t);
-        note_held(held, whole);
-      }
+      if (ranks_waiting) broadcast(command, t);
       error = coordinate(whole, split, waves, stats, t, ranks_waiting);
     } catch (const std::exception& e) {
       if (ranks_waiting) end_job(e.what());
@@ -190,12 +201,6 @@ class Coordinator : public Kernel {
                  program_.name.c_str(), why);
     MPI_Abort(MPI_COMM_WORLD, 3);
     std::abort();  // MPI_Abort does not return
-  }
-
-  void note_held(const Held& held, const RunArgs& args) {
-    for (auto [slot, version] : held.tables) tables_sent().hold(slots_, slot, args.tables[slot].id) = {version, true};
-    if (held.uniforms) uniforms_sent_ = args.uniforms;
-    if (held.refiner != 0) refiners_sent().insert(held.refiner);
   }
 
   // Hands out the run's chunks, computes rank 0's, and gathers results and
@@ -293,7 +298,9 @@ class Coordinator : public Kernel {
     part = u.get<PartStats>();
     if (u.get<bool>()) summary = u.text();
     for (const TableView& table : args.tables)
-      if (table.sums) add_sums(table, u.take(table.bytes()));
+      if (table.sums)  // each add atomic: runs on other threads may add into the same sums
+        detail::add_sums_from(table.element.scalar, table.sums, u.take(table.bytes()),
+                              table.bytes() / ir::storage_bytes(table.element.scalar));
     for (TableCacheStats& cache : details.caches) cache.counts += u.get<CacheCounts>();
   }
 
@@ -333,24 +340,6 @@ class Coordinator : public Kernel {
     }
   }
 
-  // Atomic adds: runs on other threads may add into the same sums meanwhile.
-  static void add_sums(const TableView& table, const char* theirs) {
-    std::size_t n = table.bytes() / ir::storage_bytes(table.element.scalar);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (ir::is_float(table.element.scalar))
-        detail::add_to_sum(table.element.scalar, table.sums, i, value_at<float>(theirs, i));
-      else
-        detail::add_to_sum(table.element.scalar, table.sums, i, value_at<std::int32_t>(theirs, i));
-    }
-  }
-
-  template <class T>
-  static T value_at(const char* bytes, std::size_t i) {
-    T x;
-    std::memcpy(&x, bytes + i * sizeof(T), sizeof(T));
-    return x;
-  }
-
   void compile_everywhere(const sh::Options& local) {
     send_forgotten();
     Packer p;
@@ -370,7 +359,7 @@ class Coordinator : public Kernel {
 
   // The command every serving rank receives: the kernel, and the tables
   // and uniforms that changed since they last got them.
-  std::string run_command(const RunArgs& args, const std::vector<bool>& split, const Waves* waves, Held& held) {
+  std::string run_command(const RunArgs& args, const std::vector<bool>& split, const Waves* waves) {
     Packer p;
     p.put(Command::Run).put(id_);
     // A table the program reads twice (a composed program's parts with two
@@ -393,12 +382,12 @@ class Coordinator : public Kernel {
         if (fresh) p.put(table).put(split_);
         continue;
       }
-      const Sent& sent = tables_sent().hold(slots_, i, table.id);
+      Sent& sent = tables_sent().hold(slots_, i, table.id);
       bool fresh = !sent.sent || sent.version != table.version;
       p.put(fresh);
       if (!fresh) continue;
       p.put(table.version).put(table).put(static_cast<std::uint64_t>(table.bytes())).raw(table.data, table.bytes());
-      held.tables.emplace_back(i, table.version);
+      sent = {table.version, true};
     }
     // Compared bit for bit: -0.0 == +0.0, but x / -0.0 is not x / +0.0.
     bool changed = args.uniforms.size() != uniforms_sent_.size() ||
@@ -407,23 +396,20 @@ class Coordinator : public Kernel {
     p.put(changed);
     if (changed)
       for (const auto& u : args.uniforms) p.put(u);
-    held.uniforms = changed;
+    uniforms_sent_ = args.uniforms;
     p.put(args.domain);
     p.put(waves != nullptr);
-    if (waves) pack_waves(p, *waves, held);
+    if (waves) pack_waves(p, *waves);
     return p.bytes();
   }
 
-  static void pack_waves(Packer& p, const Waves& w, Held& held) {
+  static void pack_waves(Packer& p, const Waves& w) {
     // Refiners' ids start at 1: 0 says there is none (a wavefront).
     std::uint64_t id = w.refiner ? w.refiner->id() : 0;
     p.put(id);
-    bool fresh = id != 0 && !refiners_sent().contains(id);
+    bool fresh = id != 0 && refiners_sent().insert(id).second;
     p.put(fresh);
-    if (fresh) {
-      p.put(w.refiner->kind()).put(w.refiner->seed());
-      held.refiner = id;
-    }
+    if (fresh) p.put(w.refiner->kind()).put(w.refiner->seed());
     p.put(w.request_output).put(w.max_waves).put(static_cast<std::uint64_t>(w.carried.size()));
     for (const auto& [out, in] : w.carried) p.put(out).put(in);
   }

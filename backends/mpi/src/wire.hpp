@@ -3,6 +3,7 @@
 // checked point-to-point and broadcast calls that count what they move.
 #include <mpi.h>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -32,6 +33,9 @@ class Packer {
     bytes_ += s;
     return *this;
   }
+  // A table's view goes without its pointers and owner, which mean nothing
+  // on another rank.
+  Packer& put(const TableView& t) { return put(t.element).put(t.rank).put(t.dims).put(t.id).put(t.version); }
   Packer& raw(const void* data, std::size_t n) {
     bytes_.append(static_cast<const char*>(data), n);
     return *this;
@@ -61,6 +65,17 @@ class Unpacker {
   const std::string& bytes_;
   std::size_t at_ = 0;
 };
+
+template <>
+inline TableView Unpacker::get<TableView>() {
+  TableView t;
+  t.element = get<ir::Type>();
+  t.rank = get<int>();
+  t.dims = get<std::array<int, 3>>();
+  t.id = get<std::uint64_t>();
+  t.version = get<std::uint64_t>();
+  return t;
+}
 
 // sh::Options (spelt out: sh::mpi::Options are the backend's own), each
 // backend's own options in their string form, parsed again on arrival.

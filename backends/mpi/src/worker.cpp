@@ -43,9 +43,9 @@ class Worker {
 
   // A compile or a chunk that fails is reported to rank 0, which goes on.
   // What fails outside them (memory for rank 0's message, its tables or a
-  // chunk's result on its way back)
-  // leaves this rank out of step with the others: it says why and ends
-  // the job, rather than leave the runtime's abort unexplained.
+  // chunk's result on its way back) leaves this rank out of step with the
+  // others: it says why and ends the job, rather than leave the runtime's
+  // abort unexplained.
   [[noreturn]] void serve() {
     for (;;) {
       try {

@@ -38,7 +38,13 @@ void stop_workers() {
 // ranks are stopped there (they would otherwise wait for rank 0, and rank
 // 0's MPI_Finalize for them).
 extern "C" int stop_at_finalize(MPI_Comm, int, void*, void*) {
-  if (world_rank == 0) stop_workers();
+  if (world_rank != 0) return MPI_SUCCESS;
+  try {  // nothing may leave through MPI's own frames
+    stop_workers();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sh: rank 0: mpi backend: stopping the serving ranks at MPI_Finalize: %s\n", e.what());
+    return MPI_ERR_OTHER;
+  }
   return MPI_SUCCESS;
 }
 
@@ -105,6 +111,11 @@ int ensure_started() {
 
 void check_thread(const std::string& program) {
   ensure_started();
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (finalized)
+    throw Error("program '" + program + "': mpi backend: MPI was finalized (MPI_Finalize): the mpi backend runs "
+                "nothing after it");
   if (std::this_thread::get_id() != mpi_thread)
     throw Error("program '" + program + "': mpi backend: compiles and runs only on the thread that started MPI "
                 "(it is started for one thread's calls); this is another thread");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "codegen.hpp"
+#include "device_tables.hpp"
 #include "runtime.hpp"
 #include "sh/detail/sums.hpp"
 #include "sh/error.hpp"
@@ -14,21 +15,6 @@
 
 namespace sh::opencl {
 namespace {
-
-// Releases an OpenCL buffer when it goes out of scope.
-struct Buffer {
-  cl_mem mem = nullptr;
-  Buffer() = default;
-  Buffer(const Buffer&) = delete;
-  Buffer(Buffer&& o) noexcept : mem(o.mem) { o.mem = nullptr; }
-  Buffer& operator=(Buffer&& o) noexcept {
-    std::swap(mem, o.mem);
-    return *this;
-  }
-  ~Buffer() {
-    if (mem) clReleaseMemObject(mem);
-  }
-};
 
 // -w: the source is generated, and its compiler's warnings (a truth value
 // or-ed with a constant the program wrote) are not the user's to act on;
@@ -62,7 +48,7 @@ class OpenClKernel : public Kernel {
       throw Error("program '" + p.name + "': needs double precision (f64), which OpenCL device '" + device_->name +
                   "' lacks (no cl_khr_fp64); use precision f32 and float values, or another device");
     cl_program_ = build(*device_, p.name, source_, build_options(o));
-    tables_.resize(p.tables.size());
+    table_slots_.assign(p.tables.size(), kNoTable);
     try {
       one_ = make_kernel(kKernelName, 1);
       if (lanes_ > 1) many_ = make_kernel(kLanesKernelName, lanes_);
@@ -126,6 +112,7 @@ class OpenClKernel : public Kernel {
     // the same sums meanwhile.
     std::vector<std::pair<const TableView*, cl_mem>> sums;
     std::vector<std::vector<char>> added;
+    std::vector<std::shared_ptr<const Buffer>> tables;  // held by this run, whatever other runs keep
     for (const TableView& t : args.tables) {
       if (t.sums) {
         added.emplace_back(t.bytes(), 0);  // zero bits: 0 in f32 and in i32
@@ -135,7 +122,8 @@ class OpenClKernel : public Kernel {
         moved->to_device += t.bytes();
         moved->from_device += t.bytes();
       } else {
-        set(arg++, sizeof(cl_mem), &table_buffer(static_cast<std::size_t>(&t - args.tables.data()), t, *moved));
+        tables.push_back(table_copy(static_cast<std::size_t>(&t - args.tables.data()), t, *moved));
+        set(arg++, sizeof(cl_mem), &tables.back()->mem);
       }
       for (int d = 0; d < 3; ++d) set(arg++, sizeof(cl_int), &t.dims[d]);
     }
@@ -164,32 +152,17 @@ class OpenClKernel : public Kernel {
       throw;
     }
     if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.element(static_cast<std::size_t>(status[1]))));
-    for (std::size_t k = 0; k < sums.size(); ++k) add_into(*sums[k].first, added[k]);
+    for (std::size_t k = 0; k < sums.size(); ++k)  // each add atomic: runs on other threads add too
+      detail::add_sums_from(sums[k].first->element.scalar, sums[k].first->sums, added[k].data(), added[k].size() / 4);
+    moved->tables_held = tables_on(*device_).bytes();
     stats.details = std::move(moved);
   }
 
   std::string listing() const override { return source_; }
 
  private:
-  // The run's adds into the accumulator's sums, each atomic
-  // (sh/detail/sums.hpp).
-  static void add_into(const TableView& t, const std::vector<char>& added) {
-    for (std::size_t i = 0; i < added.size() / 4; ++i) {
-      double value = 0;
-      if (t.element.scalar == ir::Scalar::F32) {
-        float a;
-        std::memcpy(&a, added.data() + 4 * i, 4);
-        value = a;
-      } else {
-        std::int32_t a;
-        std::memcpy(&a, added.data() + 4 * i, 4);
-        value = a;
-      }
-      detail::add_to_sum(t.element.scalar, t.sums, i, value);
-    }
-  }
-
   void release() {
+    tables_on(*device_).release(table_slots_);
     for (const Launcher* k : {&one_, &many_})
       if (k->kernel) clReleaseKernel(k->kernel);
     if (cl_program_) clReleaseProgram(cl_program_);
@@ -397,23 +370,19 @@ class OpenClKernel : public Kernel {
   }
 
   // Tables stay on the device between runs until their version changes,
-  // one for each table the program reads: a run with another table there
-  // (the same kernel for another scene) lets the last one go.
-  const cl_mem& table_buffer(std::size_t slot, const TableView& t, RunDetails& moved) {
-    Cached& c = tables_.at(slot);
-    if (!c.buffer.mem || c.id != t.id || c.version != t.version) {
-      if (!t.data)  // a TableSource's elements come as a kernel asks for them, which an OpenCL kernel cannot
-        throw Error(where("table '" + program_.tables.at(slot).name +
-                          "' is read through a TableSource (its elements are not in memory): OpenCL kernels read "
-                          "whole tables; use a backend that reads through sources (cpu, interp)"));
-      c.buffer = make(t.bytes(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table");
-      c.id = t.id;
-      c.version = t.version;
-      moved.to_device += t.bytes();
-    } else {
-      moved.tables_kept += t.bytes();
-    }
-    return c.buffer.mem;
+  // one copy of each for every kernel (device_tables.hpp): a run with
+  // another table in a slot (the same kernel for another scene) lets the
+  // last one go.
+  std::shared_ptr<const Buffer> table_copy(std::size_t slot, const TableView& t, RunDetails& moved) {
+    if (!t.data)  // a TableSource's elements come as a kernel asks for them, which an OpenCL kernel cannot
+      throw Error(where("table '" + program_.tables.at(slot).name +
+                        "' is read through a TableSource (its elements are not in memory): OpenCL kernels read "
+                        "whole tables; use a backend that reads through sources (cpu, interp)"));
+    DeviceTables::Copy copy = tables_on(*device_).hold(table_slots_, slot, t, [&] {
+      return make(t.bytes(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, const_cast<void*>(t.data), "a table");
+    });
+    (copy.made ? moved.to_device : moved.tables_kept) += t.bytes();
+    return copy.buffer;
   }
 
   // Both kernels take the same arguments.
@@ -471,11 +440,7 @@ class OpenClKernel : public Kernel {
   ir::Program program_;
   sh::Options options_;
   std::shared_ptr<Device> device_;
-  struct Cached {
-    Buffer buffer;
-    std::uint64_t id = 0, version = 0;
-  };
-  std::vector<Cached> tables_;  // by the program's table
+  TableSlots table_slots_;  // the table each of the program's last read here
   std::vector<std::pair<Buffer, std::size_t>> kept_;  // copied streams' buffers and sizes, by argument
   std::string source_;
   int lanes_;  // elements per work-item of many_

@@ -21,9 +21,10 @@ namespace sh::opencl {
 inline constexpr char kComponent[] = "xyzw";
 inline constexpr char kLaneDigit[] = "0123456789abcdef";
 
-// A user's name as the text of a `//` comment: a backslash there would
-// continue the comment onto the next line, and a line break would end it,
-// so that the rest of the name became source; each is written '?'.
+// A user's name as the text of a `//` comment: a backslash there (or the
+// trigraph ??/) would continue the comment onto the next line, and a line
+// break would end it, so that the rest of the name became source; each of
+// these characters, and '?', is written '_'.
 std::string comment_text(const std::string& name);
 
 // What the kernels of one source share: the helper functions written once

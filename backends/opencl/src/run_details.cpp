@@ -15,6 +15,7 @@ void RunDetails::add(const sh::RunDetails& more) {
   from_device += m->from_device;
   in_place += m->in_place;
   tables_kept += m->tables_kept;
+  tables_held = m->tables_held;
 }
 
 std::vector<std::string> RunDetails::describe() const {
@@ -22,8 +23,8 @@ std::vector<std::string> RunDetails::describe() const {
   char line[320];
   std::snprintf(line, sizeof line,
                 "%zu runs moved %.2f MiB to the device and %.2f MiB back; %.2f MiB of streams used in place, %.2f MiB of "
-                "tables already on the device",
-                runs, to_device / kMiB, from_device / kMiB, in_place / kMiB, tables_kept / kMiB);
+                "tables already on the device; %.2f MiB of tables held there",
+                runs, to_device / kMiB, from_device / kMiB, in_place / kMiB, tables_kept / kMiB, tables_held / kMiB);
   return {line};
 }
 

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sh::opencl {
@@ -14,6 +15,21 @@ namespace sh::opencl {
 // Throws sh::Error naming `what` and OpenCL's error code when err != CL_SUCCESS.
 void check(cl_int err, const std::string& what);
 const char* error_name(cl_int err);
+
+// Releases an OpenCL buffer when it goes out of scope.
+struct Buffer {
+  cl_mem mem = nullptr;
+  Buffer() = default;
+  Buffer(const Buffer&) = delete;
+  Buffer(Buffer&& o) noexcept : mem(o.mem) { o.mem = nullptr; }
+  Buffer& operator=(Buffer&& o) noexcept {
+    std::swap(mem, o.mem);
+    return *this;
+  }
+  ~Buffer() {
+    if (mem) clReleaseMemObject(mem);
+  }
+};
 
 struct Device {
   cl_platform_id platform = nullptr;

@@ -226,7 +226,7 @@ std::string Generator::mask_of(const ir::Operand& o, int i) const {
 std::string comment_text(const std::string& name) {
   std::string text = name;
   for (char& c : text)
-    if (c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    if (c == '\\' || c == '?' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '_';
   return text;
 }
 

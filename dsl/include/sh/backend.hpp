@@ -81,6 +81,9 @@ struct TableView {
   std::uint64_t id = 0;       // the table, unique in the process: with version, says whether it changed
   std::uint64_t version = 0;
   TableSource* source = nullptr;  // where data is null: the elements are read through this
+  // Expires with the table: a copy a backend keeps between runs (on a
+  // device) can go then.  Empty where the caller gives none.
+  std::weak_ptr<const void> owner{};
   std::size_t bytes() const {
     return static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] * element.width * ir::storage_bytes(element.scalar);
   }

@@ -214,7 +214,8 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
       throw Error("program '" + p.name + "': table " + std::to_string(t) +
                   (s.decl.name.empty() ? "" : " '" + s.decl.name + "'") + " was never filled");
     void* sums = s.decl.accumulator ? s.buffer.data() : nullptr;
-    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), sums, s.id, s.current_version()});
+    args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), sums, s.id, s.current_version(),
+                                    nullptr, program.tables()[t]});
   }
   return args;
 }

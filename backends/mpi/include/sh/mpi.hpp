@@ -17,9 +17,11 @@
 // Its library registers it when linked (sh::sh); this header is its API.
 //
 // Ranks other than 0 serve rank 0 from the first time they compile an mpi
-// kernel until rank 0 exits; call sh::mpi::start() at the top of main to
-// make them do so at once (they then never run the rest of main).  Run
-// without mpirun, it is one rank, and says so.
+// kernel until rank 0 exits, or ends MPI itself (MPI_Finalize, where it
+// started MPI); call sh::mpi::start() at the top of main to make them do
+// so at once (they then never run the rest of main).  Nothing runs on the
+// backend after MPI_Finalize.  Run without mpirun, it is one rank, and
+// says so.
 //
 // The local backend's own options travel with these in the same
 // sh::Options: o.set(sh::mpi::Options{...}).set(sh::cpu::Options{...}).

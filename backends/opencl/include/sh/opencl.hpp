@@ -46,7 +46,7 @@ std::vector<std::string> devices();
 // to.  Streams on a device that shares host memory are used in place;
 // elsewhere they are copied both ways, in pieces overlapped with the
 // kernel.  Tables stay on the device between runs until their contents
-// change.
+// change, or the table goes, or no kernel's last run read them.
 class RunDetails : public sh::RunDetails {
  public:
   std::size_t runs = 0;
@@ -54,6 +54,7 @@ class RunDetails : public sh::RunDetails {
   std::size_t from_device = 0;  // outputs, accumulators, the status
   std::size_t in_place = 0;     // streams the kernel read or wrote in host memory
   std::size_t tables_kept = 0;  // table bytes already on the device from an earlier run
+  std::size_t tables_held = 0;  // table bytes the device holds after the last run, for every kernel
 
   std::unique_ptr<sh::RunDetails> clone() const override;
   void add(const sh::RunDetails& more) override;

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "sh/ir/type.hpp"
 
@@ -16,6 +17,24 @@ inline void add_to_sum(ir::Scalar element, void* sums, std::size_t at, double va
   } else {
     auto add = static_cast<std::uint32_t>(static_cast<std::int32_t>(value));
     std::atomic_ref<std::uint32_t>(static_cast<std::uint32_t*>(sums)[at]).fetch_add(add);
+  }
+}
+
+// Adds `count` sums computed elsewhere (a device's, another rank's), given
+// as their bytes in the accumulator's type, into `sums`, each atomically.
+inline void add_sums_from(ir::Scalar element, void* sums, const char* theirs, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    double value = 0;
+    if (element == ir::Scalar::F32) {
+      float a;
+      std::memcpy(&a, theirs + sizeof a * i, sizeof a);
+      value = a;
+    } else {
+      std::int32_t a;
+      std::memcpy(&a, theirs + sizeof a * i, sizeof a);
+      value = a;
+    }
+    add_to_sum(element, sums, i, value);
   }
 }
 
