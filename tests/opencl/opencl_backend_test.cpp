@@ -10,6 +10,7 @@
 #include <sh/sh.hpp>
 
 #include "../../backends/opencl/src/runtime.hpp"
+#include "../../backends/opencl/src/stream_buffers.hpp"
 #include "../common/expect_error.hpp"
 #include "../common/fresh.hpp"
 
@@ -448,4 +449,42 @@ TEST(OpenClBackend, ATablesCopyOnTheDeviceGoesWithTheTable) {
     EXPECT_EQ(held(), before + kBytes) << "held while its table lives, round " << k;
   }
   EXPECT_EQ(held(), before) << "the copies of the tables gone went with them";
+}
+
+// Copied streams' buffers are lent to runs and given back to the device's
+// pool, where any kernel reuses one of its size and flags; idle ones are
+// kept under the pool's budget, those idle longest let go first (each
+// kernel kept its own for the process).
+TEST(OpenClBackend, IdleStreamBuffersAreReusedAndKeptUnderABudget) {
+  std::shared_ptr<opencl::Device> device = opencl::open_device("");
+  int made = 0;
+  auto maker = [&](std::size_t size) {
+    return [&made, &device, size] {
+      ++made;
+      opencl::Buffer b;
+      cl_int err = CL_SUCCESS;
+      b.mem = clCreateBuffer(device->context, CL_MEM_READ_ONLY, size, nullptr, &err);
+      EXPECT_EQ(err, CL_SUCCESS);
+      return b;
+    };
+  };
+  opencl::StreamBuffers pool(3 << 10);
+  {
+    opencl::Borrowed run(pool);
+    cl_mem a = run.take(1 << 10, CL_MEM_READ_ONLY, maker(1 << 10));
+    cl_mem b = run.take(1 << 10, CL_MEM_READ_ONLY, maker(1 << 10));
+    EXPECT_NE(a, b);
+  }
+  EXPECT_EQ(made, 2);
+  EXPECT_EQ(pool.idle_bytes(), 2u << 10) << "given back when the run ends";
+  {
+    opencl::Borrowed run(pool);
+    run.take(1 << 10, CL_MEM_READ_ONLY, maker(1 << 10));
+    EXPECT_EQ(made, 2) << "an idle buffer of the size lent again";
+    run.take(1 << 10, CL_MEM_WRITE_ONLY, maker(1 << 10));
+    EXPECT_EQ(made, 3) << "not one made with other flags";
+    run.take(2 << 10, CL_MEM_READ_ONLY, maker(2 << 10));
+    EXPECT_EQ(made, 4);
+  }
+  EXPECT_EQ(pool.idle_bytes(), 3u << 10) << "5 KiB given back, the longest idle let go down to the budget";
 }

@@ -7,6 +7,7 @@
 
 #include "codegen.hpp"
 #include "device_tables.hpp"
+#include "stream_buffers.hpp"
 #include "runtime.hpp"
 #include "sh/detail/sums.hpp"
 #include "sh/error.hpp"
@@ -66,6 +67,7 @@ class OpenClKernel : public Kernel {
     moved->runs = 1;
     std::vector<Buffer> buffers;
     buffers.reserve(args.inputs.size() + args.outputs.size() + args.tables.size() + 1);
+    Borrowed borrowed(stream_buffers_on(*device_));  // copied streams' buffers
     cl_uint arg = 0;
     cl_long base = 0;
     set(arg++, sizeof base, &base);
@@ -83,7 +85,7 @@ class OpenClKernel : public Kernel {
     for (const BufferView& b : args.inputs) {
       std::size_t size = bytes(b.type, b.count);
       if (copied) {
-        streams.push_back(kept(streams.size(), size, CL_MEM_READ_ONLY, "an input"));
+        streams.push_back(borrow(borrowed, size, CL_MEM_READ_ONLY, "an input"));
         set(arg++, sizeof(cl_mem), &streams.back());
         continue;  // counted piece by piece
       }
@@ -97,7 +99,7 @@ class OpenClKernel : public Kernel {
       in_place.push_back(!copied && !shared);
       std::size_t size = bytes(b.type, b.count);
       if (copied) {
-        streams.push_back(kept(streams.size(), size, CL_MEM_WRITE_ONLY, "an output"));
+        streams.push_back(borrow(borrowed, size, CL_MEM_WRITE_ONLY, "an output"));
         set(arg++, sizeof(cl_mem), &streams.back());
         continue;
       }
@@ -356,17 +358,10 @@ class OpenClKernel : public Kernel {
     return b;
   }
 
-  // A copied stream's device buffer, kept for the next run of the same size:
-  // a new buffer's first touch costs the device (and PoCL's host memory) a
-  // page fault per page, which made a copied run of 48 MiB take 145 ms.
-  cl_mem kept(std::size_t slot, std::size_t size, cl_mem_flags flags, const char* what) {
-    if (kept_.size() <= slot) kept_.resize(slot + 1);
-    auto& [buffer, kept_size] = kept_[slot];
-    if (!buffer.mem || kept_size != size) {
-      buffer = make(size, flags, nullptr, what);
-      kept_size = size;
-    }
-    return buffer.mem;
+  // A copied stream's device buffer, one used before where the device has
+  // one idle (stream_buffers.hpp).
+  cl_mem borrow(Borrowed& borrowed, std::size_t size, cl_mem_flags flags, const char* what) {
+    return borrowed.take(size, flags, [&] { return make(size, flags, nullptr, what); });
   }
 
   // Tables stay on the device between runs until their version changes,
@@ -441,7 +436,6 @@ class OpenClKernel : public Kernel {
   sh::Options options_;
   std::shared_ptr<Device> device_;
   TableSlots table_slots_;  // the table each of the program's last read here
-  std::vector<std::pair<Buffer, std::size_t>> kept_;  // copied streams' buffers and sizes, by argument
   std::string source_;
   int lanes_;  // elements per work-item of many_
   cl_program cl_program_ = nullptr;

@@ -85,6 +85,7 @@ T info(cl_device_id d, cl_device_info what) {
 void read_capabilities(cl_device_id id, Device& d) {
   d.fp64 = info<cl_device_fp_config>(id, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
   d.max_alloc = info<cl_ulong>(id, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+  d.global_memory = info<cl_ulong>(id, CL_DEVICE_GLOBAL_MEM_SIZE);
   d.unified = info<cl_bool>(id, CL_DEVICE_HOST_UNIFIED_MEMORY) == CL_TRUE;
   d.cpu = (info<cl_device_type>(id, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_CPU) != 0;
   d.compute_units = info<cl_uint>(id, CL_DEVICE_MAX_COMPUTE_UNITS);

@@ -39,6 +39,7 @@ struct Device {
   bool unified = false;  // shares the host's memory (a CPU device such as PoCL's)
   bool cpu = false;
   cl_ulong max_alloc = 0;
+  cl_ulong global_memory = 0;
   cl_uint compute_units = 0;
   std::size_t max_group = 0;  // work-items in a group
   cl_uint float_lanes = 1;    // the preferred float vector width

@@ -1,0 +1,60 @@
+#include "stream_buffers.hpp"
+
+#include <map>
+
+namespace sh::opencl {
+
+Buffer StreamBuffers::take(std::size_t size, cl_mem_flags flags, const std::function<Buffer()>& make) {
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = idle_.begin(); it != idle_.end(); ++it)
+      if (it->size == size && it->flags == flags) {
+        Buffer found = std::move(it->buffer);
+        idle_bytes_ -= size;
+        idle_.erase(it);
+        return found;
+      }
+  }
+  return make();
+}
+
+void StreamBuffers::give_back(Buffer buffer, std::size_t size, cl_mem_flags flags) {
+  std::list<Idle> let_go;  // released outside the lock
+  std::lock_guard lock(mutex_);
+  idle_.push_back({std::move(buffer), size, flags});
+  idle_bytes_ += size;
+  while (idle_bytes_ > budget_ && !idle_.empty()) {
+    idle_bytes_ -= idle_.front().size;
+    let_go.splice(let_go.end(), idle_, idle_.begin());
+  }
+}
+
+std::size_t StreamBuffers::idle_bytes() const {
+  std::lock_guard lock(mutex_);
+  return idle_bytes_;
+}
+
+StreamBuffers& stream_buffers_on(const Device& device) {
+  // Never destroyed: devices stay open, and kernels run in static
+  // destructors too.
+  struct Pools {
+    std::mutex mutex;
+    std::map<cl_device_id, StreamBuffers> of;
+  };
+  static Pools* pools = new Pools;
+  std::lock_guard lock(pools->mutex);
+  auto it = pools->of.find(device.id);
+  if (it == pools->of.end()) it = pools->of.try_emplace(device.id, device.global_memory / 4).first;
+  return it->second;
+}
+
+Borrowed::~Borrowed() {
+  for (Loan& loan : loans_) pool_.give_back(std::move(loan.buffer), loan.size, loan.flags);
+}
+
+cl_mem Borrowed::take(std::size_t size, cl_mem_flags flags, const std::function<Buffer()>& make) {
+  loans_.push_back({pool_.take(size, flags, make), size, flags});
+  return loans_.back().buffer.mem;
+}
+
+}  // namespace sh::opencl
