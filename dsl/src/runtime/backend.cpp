@@ -137,6 +137,25 @@ std::string describe_slot(const ir::Program& p, const char* what, std::size_t k)
 
 BufferView view_of(detail::Buffer& b) { return BufferView{b.type(), b.size(), b.data()}; }
 
+// An output in the memory of a table its program reads: the run would read
+// elements it had already written, in whatever order its backend runs them
+// (the interpreter's cascade, the cpu backend's batches of lanes).
+void refuse_outputs_over_tables(const ir::Program& p, const RunArgs& args) {
+  for (std::size_t k = 0; k < args.outputs.size(); ++k) {
+    const BufferView& out = args.outputs[k];
+    Bytes written = byte_range(out.data, out.count * ir::element_bytes(out.type));
+    for (std::size_t t = 0; t < args.tables.size(); ++t) {
+      const TableView& table = args.tables[t];
+      if (!table.data || !overlap(written, byte_range(table.data, table.bytes()))) continue;
+      const std::string& name = p.tables[t].name;
+      throw Error(describe_slot(p, "output channel", k) + " lies in the memory of table " + std::to_string(t) +
+                  (name.empty() ? "" : " '" + name + "'") + ", which the program reads: it would read elements the " +
+                  "run had already written, in an order each backend chooses; give the output memory of its own (an " +
+                  "InOut channel updates a stream in place)");
+    }
+  }
+}
+
 std::string describe_shape(const std::array<std::size_t, 3>& e) {
   return std::to_string(e[0]) + " x " + std::to_string(e[1]) + " x " + std::to_string(e[2]);
 }
@@ -217,6 +236,7 @@ RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr
     args.tables.push_back(TableView{s.decl.element, s.decl.rank, s.dims, s.buffer.data(), sums, s.id, s.current_version(),
                                     nullptr, program.tables()[t]});
   }
+  refuse_outputs_over_tables(p, args);
   return args;
 }
 

@@ -107,18 +107,6 @@ void check_grid(const ir::Program& c, const TableStorage& through, const LaunchD
                 std::to_string(domain.extent[1]) + " x " + std::to_string(domain.extent[2]));
 }
 
-// The bytes [first, second) of a block of memory.
-using Bytes = std::pair<std::uintptr_t, std::uintptr_t>;
-
-Bytes byte_range(const void* p, std::size_t bytes) {
-  auto at = reinterpret_cast<std::uintptr_t>(p);
-  return {at, at + bytes};
-}
-
-bool overlap(Bytes a, Bytes b) {
-  return a.first < b.second && b.first < a.second;
-}
-
 // Whether a table of either program, other than `besides`, lies in any
 // of `bytes`.
 bool a_table_in(Bytes bytes, const RunArgs& make, const RunArgs& use, const TableView* besides = nullptr) {

@@ -3,8 +3,10 @@
 // choice names, the kernel of a program (compiled or from the caches), and
 // a run's arguments bound from its channels and the program's tables.
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sh/backend.hpp"
@@ -20,5 +22,14 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
 RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr<Buffer>>& inputs,
                        const std::vector<std::shared_ptr<Buffer>>& outputs);
 double ms_since(std::chrono::steady_clock::time_point t0);
+
+// The bytes [first, second) of a block of memory, and whether two blocks
+// share any.
+using Bytes = std::pair<std::uintptr_t, std::uintptr_t>;
+inline Bytes byte_range(const void* p, std::size_t bytes) {
+  auto at = reinterpret_cast<std::uintptr_t>(p);
+  return {at, at + bytes};
+}
+inline bool overlap(Bytes a, Bytes b) { return a.first < b.second && b.first < a.second; }
 
 }  // namespace sh::detail
