@@ -373,10 +373,11 @@ TEST(OpenClBackend, RunsCountTheBytesTheyMoveAndTablesStayOnTheDevice) {
 TEST(OpenClBackend, KernelRunsOfNothingAndTablesReadThroughSources) {
   Table1D<Attrib1f> table(4);
   table.name("lookup").assign(std::vector<float>{1, 2, 3, 4});
+  const float added = fresh_constant();  // names no other test's kernel keeps
   Program p = SH_BEGIN_PROGRAM("api_edges") {
     InputAttrib1i i;
     OutputAttrib1f y;
-    y = table[i];
+    y = table[i] + added;
   } SH_END;
   for (const char* streams : {"auto", "copied"}) {
     Options o;
@@ -422,10 +423,11 @@ TEST(OpenClBackend, ATablesCopyOnTheDeviceGoesWithTheTable) {
   constexpr std::size_t kBytes = kFloats * sizeof(float);
   Table1D<Attrib1f> kept(4);
   kept.assign(std::vector<float>(4, 1.0f));
+  const float added = fresh_constant();  // a kernel of its own, shared with no other test's program
   Program probe = SH_BEGIN_PROGRAM("probe") {
     InputAttrib1i i;
     OutputAttrib1f y;
-    y = kept[i];
+    y = kept[i] + added;
   } SH_END;
   Channel<Attrib1i> at(std::vector<std::int32_t>{0, 3});
   auto held = [&] {
@@ -487,4 +489,49 @@ TEST(OpenClBackend, IdleStreamBuffersAreReusedAndKeptUnderABudget) {
     EXPECT_EQ(made, 4);
   }
   EXPECT_EQ(pool.idle_bytes(), 3u << 10) << "5 KiB given back, the longest idle let go down to the budget";
+}
+
+// Views the Kernel API's caller made, without an owner, are their slot's
+// alone, whatever ids they carry: two tables left at id 0 were one copy
+// (every slot read the first), and a view given another table's id read
+// that table.
+TEST(OpenClBackend, ViewsWithoutAnOwnerAreTheirSlotsAlone) {
+  Table1D<Attrib1f> a(4), b(4);
+  a.name("a").assign(std::vector<float>{1, 2, 3, 4});
+  b.name("b").assign(std::vector<float>{10, 20, 30, 40});
+  const float added = fresh_constant();
+  Program p = SH_BEGIN_PROGRAM("two_tables") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    y = a[i] + b[i] * 100.0f + added;
+  } SH_END;
+  Channel<Attrib1i> at(std::vector<std::int32_t>{0, 1, 2, 3});
+  Channel<Attrib1f> through_run;
+  run(p, {at}, {through_run}, backend("opencl"));  // the process's own tables, their ids, owned
+  std::shared_ptr<Kernel> kernel = kernel_for(p, backend("opencl"));
+  const ir::Program& ir = p.ir();
+  std::vector<std::int32_t> is{0, 1, 2, 3};
+  std::vector<float> first{1, 2, 3, 4}, second{10, 20, 30, 40}, out(4);
+  RunArgs args;
+  args.count = 4;
+  args.inputs.push_back({ir.type_of(ir.inputs[0]), 4, is.data()});
+  args.outputs.push_back({ir.type_of(ir.outputs[0]), 4, out.data()});
+  for (const ir::TableDecl& table : ir.tables) {
+    std::vector<float>* values = table.name == "a" ? &first : &second;
+    TableView view;
+    view.element = ir.tables[0].element;
+    view.dims = {4, 1, 1};
+    view.data = values->data();
+    args.tables.push_back(view);  // id 0, version 0, no owner: both
+  }
+  RunStats stats;
+  kernel->run(args, stats);
+  EXPECT_EQ(std::vector<float>(out.begin(), out.end()), through_run.values()) << "two slots at id 0";
+  second = {5, 6, 7, 8};
+  for (TableView& view : args.tables) {
+    view.id = 1;  // an id that may be one of the process's own tables'
+    view.version = view.data == second.data();
+  }
+  kernel->run(args, stats);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(out[k], first[k] + second[k] * 100.0f + added) << "element " << k;
 }

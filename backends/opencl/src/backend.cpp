@@ -164,7 +164,10 @@ class OpenClKernel : public Kernel {
 
  private:
   void release() {
-    tables_on(*device_).release(table_slots_);
+    // Only where a slot names a table: the device's set exists then, and
+    // nothing is allocated in a destructor.
+    if (std::any_of(table_slots_.begin(), table_slots_.end(), [](const TableKey& k) { return k != kNoTable; }))
+      tables_on(*device_).release(table_slots_);
     for (const Launcher* k : {&one_, &many_})
       if (k->kernel) clReleaseKernel(k->kernel);
     if (cl_program_) clReleaseProgram(cl_program_);

@@ -6,19 +6,22 @@ DeviceTables::Copy DeviceTables::hold(TableSlots& slots, std::size_t slot, const
                                       const std::function<Buffer()>& make) {
   std::lock_guard lock(mutex_);
   drop_orphans();
-  if (slots[slot] != t.id) {
+  // A table a run reads is alive, if it has an owner at all.
+  std::shared_ptr<const void> owner = t.owner.lock();
+  TableKey key{t.id, owner ? owner.get() : static_cast<const void*>(&slots.at(slot))};
+  if (slots[slot] != key) {
     let_go(slots[slot]);
-    slots[slot] = t.id;
-    ++kept_[t.id].holders;
+    slots[slot] = key;
+    ++kept_[key].holders;
   }
-  Kept& k = kept_[t.id];
+  Kept& k = kept_[key];
   Copy copy{k.buffer, false};
-  if (!k.buffer || k.version != t.version) {
+  if (!k.buffer || k.version != t.version || k.bytes != t.bytes()) {
     k.buffer = std::make_shared<const Buffer>(make());
     k.version = t.version;
     k.bytes = t.bytes();
     k.owner = t.owner;
-    k.owned = !t.owner.expired();  // a table a run reads is alive, if it has an owner at all
+    k.owned = owner != nullptr;
     copy = {k.buffer, true};
   }
   return copy;
@@ -26,9 +29,9 @@ DeviceTables::Copy DeviceTables::hold(TableSlots& slots, std::size_t slot, const
 
 void DeviceTables::release(TableSlots& slots) {
   std::lock_guard lock(mutex_);
-  for (std::uint64_t& id : slots) {
-    let_go(id);
-    id = kNoTable;
+  for (TableKey& key : slots) {
+    let_go(key);
+    key = kNoTable;
   }
 }
 
@@ -39,13 +42,14 @@ std::size_t DeviceTables::bytes() const {
   return total;
 }
 
-void DeviceTables::let_go(std::uint64_t id) {
-  auto it = kept_.find(id);
-  if (it != kept_.end() && --it->second.holders == 0) kept_.erase(it);
+void DeviceTables::let_go(const TableKey& key) {
+  auto it = kept_.find(key);
+  if (it != kept_.end() && --it->second.holders <= 0) kept_.erase(it);
 }
 
 // A table that is gone is read by no run again (its id is never reused),
-// however many slots still name it.
+// however many slots still name it: a slot that names it names a key no
+// view will have again.
 void DeviceTables::drop_orphans() {
   std::erase_if(kept_, [](const auto& entry) { return entry.second.owned && entry.second.owner.expired(); });
 }

@@ -6,11 +6,17 @@
 // the next table a run asks for on the device.  (Each kernel kept its last
 // tables' copies for as long as it lived, which is as long as the
 // process: programs made and dropped one after another each left theirs.)
+//
+// A table is known by its id and its owner (TableView::owner, the storage
+// of a table of the process's own): kernels share such a table's copy.  A
+// view without an owner (the Kernel API's, whose ids its caller chose) is
+// its slot's alone, as one kernel's copies were before.
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include "runtime.hpp"
@@ -18,8 +24,10 @@
 
 namespace sh::opencl {
 
-using TableSlots = std::vector<std::uint64_t>;  // table ids, kNoTable where none
-inline constexpr std::uint64_t kNoTable = ~std::uint64_t{0};
+// A table's id, and its owner's storage or, with none, the slot it is in.
+using TableKey = std::pair<std::uint64_t, const void*>;
+inline constexpr TableKey kNoTable{~std::uint64_t{0}, nullptr};
+using TableSlots = std::vector<TableKey>;
 
 class DeviceTables {
  public:
@@ -28,7 +36,7 @@ class DeviceTables {
     bool made = false;                     // made now, from the host's memory
   };
   // Slot `slot` now names table `t`: its copy, made by `make` where none is
-  // kept at its version.
+  // kept at its version and size.
   Copy hold(TableSlots& slots, std::size_t slot, const TableView& t, const std::function<Buffer()>& make);
   // The slots name nothing (their kernel is going).
   void release(TableSlots& slots);
@@ -43,11 +51,11 @@ class DeviceTables {
     bool owned = false;  // by a table of the process's own, which may go
     int holders = 0;
   };
-  void let_go(std::uint64_t id);
+  void let_go(const TableKey& key);
   void drop_orphans();
 
   mutable std::mutex mutex_;
-  std::map<std::uint64_t, Kept> kept_;
+  std::map<TableKey, Kept> kept_;
 };
 
 // The device's tables, one set for each device opened.

@@ -1,10 +1,14 @@
 #include "stream_buffers.hpp"
 
 #include <map>
+#include <new>
+
+#include "sh/error.hpp"
 
 namespace sh::opencl {
 
 Buffer StreamBuffers::take(std::size_t size, cl_mem_flags flags, const std::function<Buffer()>& make) {
+  std::list<Idle> let_go;  // released outside the lock
   {
     std::lock_guard lock(mutex_);
     for (auto it = idle_.begin(); it != idle_.end(); ++it)
@@ -15,15 +19,27 @@ Buffer StreamBuffers::take(std::size_t size, cl_mem_flags flags, const std::func
         return found;
       }
   }
-  return make();
+  try {
+    return make();
+  } catch (const Error&) {  // the device's memory is short: what lies idle goes first
+    {
+      std::lock_guard lock(mutex_);
+      let_go.swap(idle_);
+      idle_bytes_ = 0;
+    }
+    if (let_go.empty()) throw;
+    let_go.clear();
+    return make();
+  }
 }
 
 void StreamBuffers::give_back(Buffer buffer, std::size_t size, cl_mem_flags flags) {
-  std::list<Idle> let_go;  // released outside the lock
+  if (size > budget_) return;  // released here: it would push every idle one out and then go itself
+  std::list<Idle> let_go;      // released outside the lock
   std::lock_guard lock(mutex_);
   idle_.push_back({std::move(buffer), size, flags});
   idle_bytes_ += size;
-  while (idle_bytes_ > budget_ && !idle_.empty()) {
+  while (idle_bytes_ > budget_) {
     idle_bytes_ -= idle_.front().size;
     let_go.splice(let_go.end(), idle_, idle_.begin());
   }
@@ -49,7 +65,10 @@ StreamBuffers& stream_buffers_on(const Device& device) {
 }
 
 Borrowed::~Borrowed() {
-  for (Loan& loan : loans_) pool_.give_back(std::move(loan.buffer), loan.size, loan.flags);
+  for (Loan& loan : loans_) try {
+      pool_.give_back(std::move(loan.buffer), loan.size, loan.flags);
+    } catch (const std::bad_alloc&) {  // no room to keep it idle: it is released instead
+    }
 }
 
 cl_mem Borrowed::take(std::size_t size, cl_mem_flags flags, const std::function<Buffer()>& make) {
