@@ -227,6 +227,30 @@ TEST_P(Conformance, TheRunawayLoopIsNamedInsideADoUntilWhoseTestLoops) {
   EXPECT_EQ(named_loop(choice(o)), reference);
 }
 
+// Two programs of one structure under two names: each one's error names
+// it (they shared a kernel, and the second's error named the first).
+TEST_P(Conformance, ARunawayLoopsErrorNamesItsOwnProgram) {
+  auto endless = [](const std::string& name) {
+    return SH_BEGIN_PROGRAM(name) {
+      sh::Input<Attrib1f> x;
+      sh::Output<Attrib1f> r;
+      r = x;
+      SH_WHILE(r > 0.0f) { r += 1.0f; } SH_ENDWHILE;
+    } SH_END;
+  };
+  sh::Options o;
+  o.max_loop_iterations = 50;
+  for (const char* name : {"first_of_a_shape", "second_of_a_shape"}) {
+    sh::Channel<Attrib1f> in(std::vector<float>{1.0f}), out;
+    try {
+      sh::run(endless(name), {in}, {out}, choice(o));
+      ADD_FAILURE() << name << ": an endless loop must be an error";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + name + "'"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A loop whose every element leaves by a break in its last allowed pass
 // ran no more than the cap: no error, however many elements share a
 // batch (a masked loop once counted one more pass with no lane left).

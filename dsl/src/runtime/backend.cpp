@@ -82,7 +82,11 @@ ir::Program legal_program(const Program& program, const Options& options) {
 std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string& name, const Options& options,
                                       RunStats& stats) {
   Backend& b = find_backend(name);
-  std::string key = name + "|" + std::to_string(program.hash()) + "|" + options.key();
+  // The program's name too: a kernel's errors name its program and tables,
+  // and a program of the same structure under another name is another's.
+  std::string settings = options.key();
+  std::string key = name + "|" + std::to_string(program.hash()) + "|" + std::to_string(settings.size()) + ":" +
+                    settings + "|" + program.name();
   Registry& r = registry();
   // A promise (and its shared state) only where this thread compiles: a
   // kernel found costs a lookup.
