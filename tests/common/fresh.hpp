@@ -1,8 +1,9 @@
 #pragma once
 // Values no earlier call in this process gave.  A kernel is keyed by what
-// its program computes, not by its name, so a test that must miss the
-// process's own kernels records a program with a fresh constant in it; a
-// test that must meet a once-a-process message again uses a fresh name.
+// its program computes (and its name, which a test names fixed), so a test
+// that must miss the process's own kernels records a program with a fresh
+// constant in it; a test that must meet a once-a-process message again
+// uses a fresh name.
 // Either still holds when the test runs again (--gtest_repeat) or after
 // another test that recorded the same program.
 #include <atomic>
