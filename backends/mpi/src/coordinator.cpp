@@ -391,8 +391,8 @@ class Coordinator : public Kernel {
     }
     // Compared bit for bit: -0.0 == +0.0, but x / -0.0 is not x / +0.0.
     bool changed = args.uniforms.size() != uniforms_sent_.size() ||
-                   std::memcmp(args.uniforms.data(), uniforms_sent_.data(),
-                               args.uniforms.size() * sizeof(std::array<double, 4>)) != 0;
+                   (!args.uniforms.empty() && std::memcmp(args.uniforms.data(), uniforms_sent_.data(),
+                                                          args.uniforms.size() * sizeof(std::array<double, 4>)) != 0);
     p.put(changed);
     if (changed)
       for (const auto& u : args.uniforms) p.put(u);
