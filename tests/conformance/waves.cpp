@@ -248,8 +248,9 @@ TEST_P(Conformance, WavesRefuseTablesTheRefinerBoundWrongly) {
     request = values[at] * 0 - 1;
   } SH_END;
   sh::Channel<sh::Attrib1i> at(std::vector<std::int32_t>{1, 2, 3}), request;
-  const char* says[] = {"left 0 tables where the program reads 1", "left table 0 without its elements",
-                        "made table 0 0 elements along dimension 0", "made table 0 f32x4 of rank 1 where the program reads i32"};
+  const char* says[] = {"left 0 tables where the program reads 1", "made table 0 that has no elements",
+                        "made table 0 that has 0 elements along dimension 0",
+                        "made table 0 that is f32x4 of rank 1 where the program reads i32"};
   for (int fault = 0; fault < 4; ++fault) {
     BrokenBind refiner(fault);
     try {

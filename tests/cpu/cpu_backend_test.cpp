@@ -749,8 +749,12 @@ TEST(CpuBackend, StreamTailTouchesNothingPastTheEnd) {
 }
 
 TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
-  Table1D<Attrib1f> t(1);
-  Program p = read_at_input(t, "big_table");
+  Table2D<Attrib1f> t(1, 1);
+  Program p = SH_BEGIN_PROGRAM("big_table") {
+    InputAttrib1i i;
+    OutputAttrib1f y;
+    y = t[join(i, i)];
+  } SH_END;
   Options o;
   o.set(cpu::Options{.width = cpu::Width::Lanes8});
   std::shared_ptr<Kernel> kernel = kernel_for(p, backend("cpu", o));
@@ -761,7 +765,7 @@ TEST(CpuBackend, SpmdKernelRefusesATablePastThirtyTwoBitIndices) {
   args.inputs.push_back({ir::Type{ir::Scalar::I32, 1}, 1, &index});
   args.outputs.push_back({ir::Type{ir::Scalar::F32, 1}, 1, &one});
   // Described as 2^32 values; refused before any is read.
-  args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 1, {1 << 16, 1 << 16, 1}, &one, nullptr, 1, 1});
+  args.tables.push_back(TableView{ir::Type{ir::Scalar::F32, 1}, 2, {1 << 16, 1 << 16, 1}, &one, nullptr, 1, 1});
   RunStats stats;
   try {
     kernel->run(args, stats);

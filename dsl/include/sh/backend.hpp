@@ -294,7 +294,11 @@ int lanes_of(const BackendChoice& choice);
 RunStats run(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
              const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice = {});
 
-// The kernel run() would use (compiled or from the cache), e.g. to dump it.
+// The kernel run() would use (compiled or from the cache), e.g. to dump it
+// or to run it on RunArgs built by hand: each run's arguments are checked
+// against the program first (counts, types, lengths, memory, tables' ranks
+// and sizes, the launch domain), an sh::Error naming what is wrong.  A
+// kernel from Backend::compile itself trusts its arguments.
 std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& choice = {});
 
 }  // namespace sh

@@ -351,12 +351,10 @@ int lanes_of(const BackendChoice& choice) { return find_backend(resolve(choice))
 
 std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& choice) {
   RunStats ignored;
-  return cached_kernel(program, resolve(choice), choice.options, ignored);
+  return detail::checked(program.ir(), cached_kernel(program, resolve(choice), choice.options, ignored));
 }
 
-namespace {
-
-void check_waves(const ir::Program& p, const Waves& w) {
+void detail::check_waves(const ir::Program& p, const Waves& w) {
   if (w.max_waves < 0)
     throw Error("program '" + p.name + "': waves: max_waves must be 0 or more, not " + std::to_string(w.max_waves));
   if (ir::uses(p, ir::Op::Position))
@@ -380,13 +378,15 @@ void check_waves(const ir::Program& p, const Waves& w) {
   }
 }
 
+namespace {
+
 RunStats run_with(const Program& program, const std::vector<std::shared_ptr<detail::Buffer>>& inputs,
                   const std::vector<std::shared_ptr<detail::Buffer>>& outputs, const BackendChoice& choice,
                   const Waves* waves) {
   RunStats stats;
   stats.backend = resolve(choice);
   RunArgs args = bind_arguments(program, inputs, outputs);
-  if (waves) check_waves(program.ir(), *waves);
+  if (waves) detail::check_waves(program.ir(), *waves);
   std::shared_ptr<Kernel> kernel = cached_kernel(program, stats.backend, choice.options, stats);
   stats.elements = args.count;
   if (args.count == 0) return stats;

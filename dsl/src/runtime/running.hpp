@@ -11,6 +11,10 @@
 
 #include "sh/backend.hpp"
 
+namespace sh {
+struct Waves;
+}
+
 namespace sh::detail {
 
 std::string resolve(const BackendChoice& choice);
@@ -22,6 +26,14 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
 RunArgs bind_arguments(const Program& program, const std::vector<std::shared_ptr<Buffer>>& inputs,
                        const std::vector<std::shared_ptr<Buffer>>& outputs);
 double ms_since(std::chrono::steady_clock::time_point t0);
+
+// Waves' outputs and carried pairs as the program has them.
+void check_waves(const ir::Program& p, const Waves& w);
+// What is wrong with a table's view for a program's table of `element` and
+// `rank` ("" where nothing is): the phrase after "table k".
+std::string table_problem(ir::Type element, int rank, const TableView& view);
+// The kernel, checking each run's arguments against `program` first.
+std::shared_ptr<Kernel> checked(const ir::Program& program, std::shared_ptr<Kernel> kernel);
 
 // The bytes [first, second) of a block of memory, and whether two blocks
 // share any.

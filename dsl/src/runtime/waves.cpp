@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 
+#include "running.hpp"
 #include "sh/error.hpp"
 
 namespace sh {
@@ -151,15 +152,8 @@ void check_bound(const std::vector<TableView>& declared, const std::vector<Table
   if (bound.size() != declared.size())
     fail("left " + std::to_string(bound.size()) + " tables where the program reads " + std::to_string(declared.size()));
   for (std::size_t i = 0; i < bound.size(); ++i) {
-    const TableView &d = declared[i], &b = bound[i];
-    std::string table = "table " + std::to_string(i);
-    if (b.element != d.element || b.rank != d.rank)
-      fail("made " + table + " " + ir::type_name(b.element) + " of rank " + std::to_string(b.rank) +
-           " where the program reads " + ir::type_name(d.element) + " of rank " + std::to_string(d.rank));
-    for (int k = 0; k < b.rank; ++k)
-      if (int n = b.dims[static_cast<std::size_t>(k)]; n < 1)
-        fail("made " + table + " " + std::to_string(n) + " elements along dimension " + std::to_string(k));
-    if (!b.data && !b.source) fail("left " + table + " without its elements (no data and no source)");
+    if (std::string problem = detail::table_problem(declared[i].element, declared[i].rank, bound[i]); !problem.empty())
+      fail("made table " + std::to_string(i) + " that " + problem);
   }
 }
 
