@@ -4,27 +4,28 @@ namespace sh::opencl {
 
 DeviceTables::Copy DeviceTables::hold(TableSlots& slots, std::size_t slot, const TableView& t,
                                       const std::function<Buffer()>& make) {
-  std::lock_guard lock(mutex_);
-  drop_orphans();
   // A table a run reads is alive, if it has an owner at all.
   std::shared_ptr<const void> owner = t.owner.lock();
   TableKey key{t.id, owner ? owner.get() : static_cast<const void*>(&slots.at(slot))};
-  if (slots[slot] != key) {
-    let_go(slots[slot]);
-    slots[slot] = key;
-    ++kept_[key].holders;
+  auto current = [&](const Kept& k) { return k.buffer && k.version == t.version && k.bytes == t.bytes(); };
+  {
+    std::lock_guard lock(mutex_);
+    drop_orphans();
+    if (slots[slot] != key) {
+      let_go(slots[slot]);
+      slots[slot] = key;
+      ++kept_[key].holders;
+    }
+    if (const Kept& k = kept_[key]; current(k)) return {k.buffer, false};
   }
+  // Copied outside the lock: a large table's copy holds up no other
+  // kernel's run.  The slot's hold keeps the entry meanwhile.
+  auto made = std::make_shared<const Buffer>(make());
+  std::lock_guard lock(mutex_);
   Kept& k = kept_[key];
-  Copy copy{k.buffer, false};
-  if (!k.buffer || k.version != t.version || k.bytes != t.bytes()) {
-    k.buffer = std::make_shared<const Buffer>(make());
-    k.version = t.version;
-    k.bytes = t.bytes();
-    k.owner = t.owner;
-    k.owned = owner != nullptr;
-    copy = {k.buffer, true};
-  }
-  return copy;
+  if (current(k)) return {k.buffer, false};  // another run made it meanwhile
+  k = {t.version, t.bytes(), made, t.owner, owner != nullptr, k.holders};
+  return {made, true};
 }
 
 void DeviceTables::release(TableSlots& slots) {
