@@ -27,6 +27,9 @@ class Program {
   const std::string& name() const { return ir().name; }
   // Structural hash of the IR (names and uniform values left out).
   std::uint64_t hash() const { return hash_; }
+  // The same with every name in: what the process's kernels are keyed by,
+  // since a kernel's errors name its program, tables and variables.
+  std::uint64_t hash_with_names() const { return hash_with_names_; }
   // Parallel to ir().uniforms and ir().tables.
   const std::vector<std::shared_ptr<detail::VarNode>>& uniforms() const { return uniforms_; }
   const std::vector<std::shared_ptr<detail::TableStorage>>& tables() const { return tables_; }
@@ -36,7 +39,7 @@ class Program {
 
  private:
   std::shared_ptr<const ir::Program> ir_;
-  std::uint64_t hash_ = 0;
+  std::uint64_t hash_ = 0, hash_with_names_ = 0;
   std::vector<std::shared_ptr<detail::VarNode>> uniforms_;
   std::vector<std::shared_ptr<detail::TableStorage>> tables_;
 };

@@ -1,5 +1,6 @@
 #include "sh/program.hpp"
 
+#include "../fnv1a.hpp"
 #include "recorder.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/serialize.hpp"
@@ -12,6 +13,7 @@ Program::Program(ir::Program ir, std::vector<std::shared_ptr<detail::VarNode>> u
       uniforms_(std::move(uniforms)),
       tables_(std::move(tables)) {
   hash_ = ir::structural_hash(*ir_);
+  hash_with_names_ = detail::fnv1a(ir::serialize(*ir_));
 }
 
 const ir::Program& Program::ir() const {

@@ -82,11 +82,9 @@ ir::Program legal_program(const Program& program, const Options& options) {
 std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string& name, const Options& options,
                                       RunStats& stats) {
   Backend& b = find_backend(name);
-  // The program's name too: a kernel's errors name its program and tables,
-  // and a program of the same structure under another name is another's.
-  std::string settings = options.key();
-  std::string key = name + "|" + std::to_string(program.hash()) + "|" + std::to_string(settings.size()) + ":" +
-                    settings + "|" + program.name();
+  // Names too: a kernel's errors name its program, tables and variables,
+  // so a program of the same structure under other names is another's.
+  std::string key = name + "|" + std::to_string(program.hash_with_names()) + "|" + options.key();
   Registry& r = registry();
   // A promise (and its shared state) only where this thread compiles: a
   // kernel found costs a lookup.
@@ -153,9 +151,9 @@ void refuse_outputs_over_tables(const ir::Program& p, const RunArgs& args) {
       if (!table.data || !overlap(written, byte_range(table.data, table.bytes()))) continue;
       const std::string& name = p.tables[t].name;
       throw Error(describe_slot(p, "output channel", k) + " lies in the memory of table " + std::to_string(t) +
-                  (name.empty() ? "" : " '" + name + "'") + ", which the program reads: it would read elements the " +
-                  "run had already written, in an order each backend chooses; give the output memory of its own (an " +
-                  "InOut channel updates a stream in place)");
+                  (name.empty() ? "" : " '" + name + "'") + ", which the program reads (or adds into): it would " +
+                  "read elements the run had already written, in an order each backend chooses; give the output " +
+                  "memory of its own (an InOut channel updates a stream in place)");
     }
   }
 }
@@ -351,7 +349,7 @@ int lanes_of(const BackendChoice& choice) { return find_backend(resolve(choice))
 
 std::shared_ptr<Kernel> kernel_for(const Program& program, const BackendChoice& choice) {
   RunStats ignored;
-  return detail::checked(program.ir(), cached_kernel(program, resolve(choice), choice.options, ignored));
+  return detail::checked(program, cached_kernel(program, resolve(choice), choice.options, ignored));
 }
 
 void detail::check_waves(const ir::Program& p, const Waves& w) {

@@ -24,10 +24,8 @@ class Checks {
     counts("table", args_.tables.size(), p_.tables.size());
     for (std::size_t k = 0; k < args_.inputs.size(); ++k) stream("input", k, args_.inputs[k], p_.inputs[k]);
     for (std::size_t k = 0; k < args_.outputs.size(); ++k) stream("output", k, args_.outputs[k], p_.outputs[k]);
-    for (std::size_t k = 0; k < args_.tables.size(); ++k)
-      if (std::string problem = table_problem(p_.tables[k].element, p_.tables[k].rank, args_.tables[k]); !problem.empty())
-        fail("table " + std::to_string(k) + " " + problem);
-    domain();
+    for (std::size_t k = 0; k < args_.tables.size(); ++k) table(k);
+    if (args_.count > 0) domain();
   }
 
  private:
@@ -50,6 +48,17 @@ class Checks {
     if (!view.data && args_.count > 0) fail(which + " has no memory");
   }
 
+  void table(std::size_t k) const {
+    const ir::TableDecl& decl = p_.tables[k];
+    const TableView& view = args_.tables[k];
+    std::string which = "table " + std::to_string(k) + " ";
+    if (std::string problem = table_problem(decl.element, decl.rank, view); !problem.empty()) fail(which + problem);
+    // An accumulator's sums are its memory; a table read has none.
+    if (decl.accumulator && view.sums != view.data)
+      fail(which + "is an accumulator: its sums must be its memory (TableView::sums = data)");
+    if (!decl.accumulator && view.sums) fail(which + "is read, not added into: it has no sums (TableView::sums null)");
+  }
+
   // Every position a run reads lies in its grid: a domain of no rows (or no
   // layers) divided by zero.
   void domain() const {
@@ -69,18 +78,20 @@ class Checks {
   const RunArgs& args_;
 };
 
+// Holds the program (its IR shared, not copied: kernel_for is called
+// often), and so its tables, as long as the kernel is held.
 class CheckedKernel : public Kernel {
  public:
-  CheckedKernel(ir::Program program, std::shared_ptr<Kernel> kernel)
+  CheckedKernel(Program program, std::shared_ptr<Kernel> kernel)
       : program_(std::move(program)), kernel_(std::move(kernel)) {}
 
   void run(const RunArgs& args, RunStats& stats) override {
-    Checks(program_, args).all();
+    Checks(program_.ir(), args).all();
     kernel_->run(args, stats);
   }
   void run_waves(const RunArgs& args, const Waves& waves, RunStats& stats) override {
-    Checks(program_, args).all();
-    check_waves(program_, waves);
+    Checks(program_.ir(), args).all();
+    check_waves(program_.ir(), waves);
     kernel_->run_waves(args, waves, stats);
   }
   void run_tasks(std::size_t count, int threads, const std::function<void(std::size_t)>& task) override {
@@ -91,7 +102,7 @@ class CheckedKernel : public Kernel {
   double compile_cpu_ms_elsewhere() const override { return kernel_->compile_cpu_ms_elsewhere(); }
 
  private:
-  ir::Program program_;
+  Program program_;
   std::shared_ptr<Kernel> kernel_;
 };
 
@@ -109,7 +120,7 @@ std::string table_problem(ir::Type element, int rank, const TableView& view) {
   return "";
 }
 
-std::shared_ptr<Kernel> checked(const ir::Program& program, std::shared_ptr<Kernel> kernel) {
+std::shared_ptr<Kernel> checked(const Program& program, std::shared_ptr<Kernel> kernel) {
   return std::make_shared<CheckedKernel>(program, std::move(kernel));
 }
 

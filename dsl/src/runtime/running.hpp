@@ -33,7 +33,7 @@ void check_waves(const ir::Program& p, const Waves& w);
 // `rank` ("" where nothing is): the phrase after "table k".
 std::string table_problem(ir::Type element, int rank, const TableView& view);
 // The kernel, checking each run's arguments against `program` first.
-std::shared_ptr<Kernel> checked(const ir::Program& program, std::shared_ptr<Kernel> kernel);
+std::shared_ptr<Kernel> checked(const Program& program, std::shared_ptr<Kernel> kernel);
 
 // The bytes [first, second) of a block of memory, and whether two blocks
 // share any.
