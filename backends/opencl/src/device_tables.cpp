@@ -55,16 +55,6 @@ void DeviceTables::drop_orphans() {
   std::erase_if(kept_, [](const auto& entry) { return entry.second.owned && entry.second.owner.expired(); });
 }
 
-DeviceTables& tables_on(const Device& device) {
-  // Never destroyed: devices stay open, and kernels let go of their tables
-  // in static destructors too.
-  struct Sets {
-    std::mutex mutex;
-    std::map<cl_device_id, DeviceTables> of;
-  };
-  static Sets* sets = new Sets;
-  std::lock_guard lock(sets->mutex);
-  return sets->of[device.id];
-}
+DeviceTables& tables_on(const Device& device) { return one_per_device<DeviceTables>(device); }
 
 }  // namespace sh::opencl

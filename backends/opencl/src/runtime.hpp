@@ -5,7 +5,9 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,6 +49,20 @@ struct Device {
   cl_command_queue queue = nullptr;       // kernels
   cl_command_queue copy_queue = nullptr;  // copies of streams in pieces, beside the kernels
 };
+
+// One T for each device opened, made from `args` the first time, never
+// destroyed: devices stay open, and kernels use theirs in static
+// destructors too.
+template <class T, class... Args>
+T& one_per_device(const Device& device, Args&&... args) {
+  struct Each {
+    std::mutex mutex;
+    std::map<cl_device_id, T> of;
+  };
+  static Each* each = new Each;
+  std::lock_guard lock(each->mutex);
+  return each->of.try_emplace(device.id, std::forward<Args>(args)...).first->second;
+}
 
 // The device `choice` names ("P:D", a piece of a name, or empty for
 // SH_OPENCL_DEVICE or else the first device), with its context and queue.

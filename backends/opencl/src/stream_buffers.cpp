@@ -1,6 +1,5 @@
 #include "stream_buffers.hpp"
 
-#include <map>
 #include <new>
 
 #include "sh/error.hpp"
@@ -51,17 +50,7 @@ std::size_t StreamBuffers::idle_bytes() const {
 }
 
 StreamBuffers& stream_buffers_on(const Device& device) {
-  // Never destroyed: devices stay open, and kernels run in static
-  // destructors too.
-  struct Pools {
-    std::mutex mutex;
-    std::map<cl_device_id, StreamBuffers> of;
-  };
-  static Pools* pools = new Pools;
-  std::lock_guard lock(pools->mutex);
-  auto it = pools->of.find(device.id);
-  if (it == pools->of.end()) it = pools->of.try_emplace(device.id, device.global_memory / 4).first;
-  return it->second;
+  return one_per_device<StreamBuffers>(device, device.global_memory / 4);
 }
 
 Borrowed::~Borrowed() {
