@@ -117,4 +117,31 @@ TEST(Threads, ATablesMemoryAskedForByThreadsAtOnceIsOneMemory) {
   }
 }
 
+// Kernels on several threads at once share copies of a table the process
+// holds (the opencl backend keeps one set a device) while tables of their
+// own come and go: each run reads its own tables, whatever the others do.
+TEST(Threads, RunsOnThreadsReadTheirOwnTablesWhileOthersComeAndGo) {
+  Table1D<Attrib1f> shared(16);
+  shared.assign(std::vector<float>(16, 100.0f));
+  for (const std::string& name : backend_names()) {
+    if (name == "mpi") continue;
+    together(4, [&](int k) {
+      for (int round = 0; round < 20; ++round) {
+        Table1D<Attrib1f> own(16);
+        const float value = static_cast<float>(1000 * k + round);
+        own.assign(std::vector<float>(16, value));
+        Program p = SH_BEGIN_PROGRAM("own_and_shared") {
+          InputAttrib1i i;
+          OutputAttrib1f y;
+          y = own[i] + shared[i];
+        } SH_END;
+        Channel<Attrib1i> at(std::vector<std::int32_t>{0, 15});
+        Channel<Attrib1f> out;
+        run(p, {at}, {out}, backend(name));
+        ASSERT_EQ(out.values(), std::vector<float>(2, value + 100.0f)) << name << ", thread " << k << ", round " << round;
+      }
+    });
+  }
+}
+
 }  // namespace
