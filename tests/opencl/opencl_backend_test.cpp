@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 
 #include <sh/opencl.hpp>
 #include <sh/sh.hpp>
@@ -534,4 +535,28 @@ TEST(OpenClBackend, ViewsWithoutAnOwnerAreTheirSlotsAlone) {
   }
   kernel->run(args, stats);
   for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(out[k], first[k] + second[k] * 100.0f + added) << "element " << k;
+}
+
+// The device SH_OPENCL_DEVICE names is part of the process's kernel key: a
+// kernel made for one device was run after the variable named another (one
+// that does not exist, here, which a kernel of its own then reports).
+TEST(OpenClBackend, AKernelIsForTheDeviceTheEnvironmentNames) {
+  const float added = fresh_constant();
+  Program p = SH_BEGIN_PROGRAM("on_the_named_device") {
+    InputAttrib1f x;
+    OutputAttrib1f y;
+    y = x + added;
+  } SH_END;
+  Channel<Attrib1f> in(std::vector<float>{1.0f}), out;
+  const char* before = std::getenv("SH_OPENCL_DEVICE");
+  std::string kept = before ? before : "";
+  run(p, {in}, {out}, backend("opencl"));
+  setenv("SH_OPENCL_DEVICE", "no device is called this", 1);
+  expect_error([&] { run(p, {in}, {out}, backend("opencl")); }, {"no device is called this"});
+  if (before)
+    setenv("SH_OPENCL_DEVICE", kept.c_str(), 1);
+  else
+    unsetenv("SH_OPENCL_DEVICE");
+  EXPECT_FALSE(run(p, {in}, {out}, backend("opencl")).compiled) << "the first device's kernel again";
+  EXPECT_EQ(out[0], 1 + added);
 }

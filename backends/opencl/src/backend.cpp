@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <utility>
@@ -467,6 +468,11 @@ class OpenClBackend : public Backend {
     return {{"scalar", Options{.device = {}, .lanes = 1}}, {"w8", Options{.device = {}, .lanes = 8}}};
   }
   int lanes(const sh::Options& o) const override { return lanes_for(o, *open_device(o.get<Options>().device)); }
+  std::string environment_key(const sh::Options& o) const override {
+    if (!o.get<Options>().device.empty()) return {};  // the options name it
+    const char* chosen = std::getenv("SH_OPENCL_DEVICE");
+    return chosen ? chosen : "";
+  }
   std::vector<std::string> describe() const override {
     std::vector<std::string> lines;
     for (const std::string& d : list_devices()) lines.push_back("opencl: " + d);

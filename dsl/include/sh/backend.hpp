@@ -242,6 +242,15 @@ class Backend {
     return false;
   }
 
+  // What decides, beside the options, where a kernel compiled with them
+  // runs (the opencl backend's device, named by SH_OPENCL_DEVICE where the
+  // options name none): part of the process's key for the kernel, so that
+  // a kernel made for one device is not run where the choice is another.
+  virtual std::string environment_key(const Options& options) const {
+    (void)options;
+    return {};
+  }
+
   // Whether its kernels read and write in place, where RunArgs point in
   // this process's memory (no copy of a table kept between runs), and may
   // run on several threads at once for outputs that do not overlap: then

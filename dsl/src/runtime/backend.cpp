@@ -84,7 +84,9 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
   Backend& b = find_backend(name);
   // Names too: a kernel's errors name its program, tables and variables,
   // so a program of the same structure under other names is another's.
-  std::string key = name + "|" + std::to_string(program.hash_with_names()) + "|" + options.key();
+  std::string around = b.environment_key(options);
+  std::string key = name + "|" + std::to_string(program.hash_with_names()) + "|" + std::to_string(around.size()) + ":" +
+                    around + "|" + options.key();
   Registry& r = registry();
   // A promise (and its shared state) only where this thread compiles: a
   // kernel found costs a lookup.
