@@ -548,15 +548,18 @@ TEST(OpenClBackend, AKernelIsForTheDeviceTheEnvironmentNames) {
     y = x + added;
   } SH_END;
   Channel<Attrib1f> in(std::vector<float>{1.0f}), out;
-  const char* before = std::getenv("SH_OPENCL_DEVICE");
-  std::string kept = before ? before : "";
   run(p, {in}, {out}, backend("opencl"));
-  setenv("SH_OPENCL_DEVICE", "no device is called this", 1);
-  expect_error([&] { run(p, {in}, {out}, backend("opencl")); }, {"no device is called this"});
-  if (before)
-    setenv("SH_OPENCL_DEVICE", kept.c_str(), 1);
-  else
-    unsetenv("SH_OPENCL_DEVICE");
+  {
+    // The caller's choice put back however the block ends: a bogus one
+    // left set would fail every later OpenCL test in the process.
+    struct Named {
+      const char* before = std::getenv("SH_OPENCL_DEVICE");
+      std::string kept = before ? before : "";
+      Named() { setenv("SH_OPENCL_DEVICE", "no device is called this", 1); }
+      ~Named() { before ? setenv("SH_OPENCL_DEVICE", kept.c_str(), 1) : unsetenv("SH_OPENCL_DEVICE"); }
+    } named;
+    expect_error([&] { run(p, {in}, {out}, backend("opencl")); }, {"no device is called this"});
+  }
   EXPECT_FALSE(run(p, {in}, {out}, backend("opencl")).compiled) << "the first device's kernel again";
   EXPECT_EQ(out[0], 1 + added);
 }

@@ -52,16 +52,21 @@ struct Device {
 
 // One T for each device opened, made from `args` the first time, never
 // destroyed: devices stay open, and kernels use theirs in static
-// destructors too.
+// destructors too.  The set is T's alone, whatever arguments make one.
+template <class T>
+struct PerDevice {
+  std::mutex mutex;
+  std::map<cl_device_id, T> of;
+  static PerDevice& set() {
+    static auto* each = new PerDevice;
+    return *each;
+  }
+};
 template <class T, class... Args>
 T& one_per_device(const Device& device, Args&&... args) {
-  struct Each {
-    std::mutex mutex;
-    std::map<cl_device_id, T> of;
-  };
-  static Each* each = new Each;
-  std::lock_guard lock(each->mutex);
-  return each->of.try_emplace(device.id, std::forward<Args>(args)...).first->second;
+  PerDevice<T>& each = PerDevice<T>::set();
+  std::lock_guard lock(each.mutex);
+  return each.of.try_emplace(device.id, std::forward<Args>(args)...).first->second;
 }
 
 // The device `choice` names ("P:D", a piece of a name, or empty for
