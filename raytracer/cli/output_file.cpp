@@ -83,6 +83,14 @@ void make_parent(const fs::path& path) {
     throw sh::Error(path.string() + ": cannot make its directory " + path.parent_path().string() + ": " + failed.message());
 }
 
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code missing, failed;
+  if (fs::equivalent(a, b, missing)) return true;  // one file under two names (a hard link too)
+  fs::path ca = fs::weakly_canonical(fs::absolute(a, failed), failed);
+  fs::path cb = fs::weakly_canonical(fs::absolute(b, failed), failed);
+  return !failed && ca == cb;
+}
+
 // Moves `staged` to `first`, or the first of its numbered names not taken.
 std::string claim_free_name(const std::string& staged, const fs::path& first) {
   for (int n = 1; n <= kMostNumbered; ++n) {
@@ -129,22 +137,20 @@ void check_output_path(const std::string& path) {
 }
 
 void check_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
-  auto same = [](const std::string& a, const std::string& b) {
-    std::error_code missing, failed;
-    if (fs::equivalent(a, b, missing)) return true;  // one file under two names (a hard link too)
-    fs::path ca = fs::weakly_canonical(fs::absolute(a, failed), failed);
-    fs::path cb = fs::weakly_canonical(fs::absolute(b, failed), failed);
-    return !failed && ca == cb;
-  };
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     check_output_path(outputs[i]);
     for (std::size_t j = 0; j < i; ++j)
-      if (same(outputs[i], outputs[j]))
+      if (same_file(outputs[i], outputs[j]))
         throw sh::Error(outputs[i] + ": named for two outputs (" + outputs[j] + "): name each its own file");
-    for (const std::string& input : inputs)
-      if (std::error_code missing; fs::exists(input, missing) && same(outputs[i], input))  // a built-in scene: no file
-        throw sh::Error(outputs[i] + ": is an input of this command (" + input + "): name another output");
   }
+  check_not_inputs(outputs, inputs);
+}
+
+void check_not_inputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  for (const std::string& output : outputs)
+    for (const std::string& input : inputs)
+      if (std::error_code missing; fs::exists(input, missing) && same_file(output, input))  // a built-in scene: no file
+        throw sh::Error(output + ": is an input of this command (" + input + "): name another output");
 }
 
 std::string temp_name(const std::string& path) { return path + "." + std::to_string(::getpid()) + ".tmp"; }

@@ -32,6 +32,9 @@ void check_output_path(const std::string& path);
 // Each output (empty ones left out by the caller) checked so, and none
 // named twice or the same file as one of the command's inputs.
 void check_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
+// No output the same file as one of `inputs` (those found once a scene is
+// read: the models its file names).
+void check_not_inputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
 
 // Writing past the process's file-size limit (ulimit -f) then fails as a
 // full disk does, with the temporary removed, where the signal it raises

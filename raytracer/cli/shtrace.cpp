@@ -260,7 +260,7 @@ int render_command(const Common& c, const std::string& backend_name, const std::
     for (const char* suffix : {"_distance.pfm", "_triangle.pfm"}) outputs.push_back(aov + suffix);
   shtrace::check_outputs(outputs, {c.scene});
   Scene scene = scene_for(c);
-  shtrace::check_outputs(outputs, scene.files);  // the models a scene file names are inputs too
+  shtrace::check_not_inputs(outputs, scene.files);  // the models a scene file names are inputs too
   if (!eye.empty()) scene.camera.eye = parse_vec3("--eye", eye);
   if (!look_at.empty()) scene.camera.look_at = parse_vec3("--look-at", look_at);
   if (!up.empty()) scene.camera.up = parse_vec3("--up", up);

@@ -3,6 +3,10 @@
 // around, as a tiled texture, however far outside they are; zero gives 0.
 // Read at scattered coordinates, by [0, 1] coordinates, and as a stencil
 // whose runs of consecutive coordinates cross the table's edges mid-batch.
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+
 #include "harness.hpp"
 
 namespace conformance {
@@ -158,6 +162,33 @@ TEST_P(Conformance, StencilRunWrappingPastTheIntRangeReadsEachLanesOwnEdge) {
               << sh::ir::edge_name(edge) << " offset " << offset << " at " << x << ", " << y;
         }
     }
+}
+
+// A tap INT_MAX elements along the row, each edge mode: the reach of the
+// taps, worked out on the host, passed what an int holds and crashed the
+// opencl backend's host process.
+TEST_P(Conformance, StencilTapAtTheLargestOffsetIsReadAtTheEdge) {
+  const int w = 37, h = 5;
+  const int far = std::numeric_limits<std::int32_t>::max();
+  for (sh::Edge edge : {sh::Edge::Clamp, sh::Edge::Zero, sh::Edge::Repeat}) {
+    sh::Table2D<Attrib1f> image = pixels(w, h, edge);
+    sh::Program p = SH_BEGIN_PROGRAM("far_tap") {
+      sh::Output<Attrib1f> out;
+      out = image[sh::position<2>() + sh::ConstAttrib2i(far, 0)];
+    } SH_END;
+    sh::Channel<Attrib1f> out;
+    out.shape(static_cast<std::size_t>(w), h);
+    run(p, {}, {out});
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        // int32 arithmetic: past x = 0 the sum wraps below zero.
+        auto at = static_cast<std::int32_t>(static_cast<std::uint32_t>(x) + static_cast<std::uint32_t>(far));
+        float want = edge == sh::Edge::Clamp  ? pixel(std::clamp(at, 0, w - 1), y)
+                     : edge == sh::Edge::Zero ? (at >= 0 && at < w ? pixel(at, y) : 0.0f)
+                                              : pixel(((at % w) + w) % w, y);
+        ASSERT_EQ(out[static_cast<std::size_t>(y * w + x)], want) << "edge " << static_cast<int>(edge) << " at " << x;
+      }
+  }
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-// The host API from several threads at once: runs that share an empty
-// output channel size it once, and tables whose memory several threads ask
-// for hand every one the same memory.
+// The host API from several threads at once: shared output channels,
+// accumulators, kernels asked for before they are compiled, tables'
+// memory, and tables read while others come and go.
 #include <gtest/gtest.h>
 
 #include <atomic>

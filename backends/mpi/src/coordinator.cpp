@@ -299,8 +299,7 @@ class Coordinator : public Kernel {
     if (u.get<bool>()) summary = u.text();
     for (const TableView& table : args.tables)
       if (table.sums)  // each add atomic: runs on other threads may add into the same sums
-        detail::add_sums_from(table.element.scalar, table.sums, u.take(table.bytes()),
-                              table.bytes() / ir::storage_bytes(table.element.scalar));
+        detail::add_sums_from(table.element.scalar, table.sums, u.take(table.bytes()), table.bytes());
     for (TableCacheStats& cache : details.caches) cache.counts += u.get<CacheCounts>();
   }
 

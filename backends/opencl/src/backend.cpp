@@ -8,8 +8,8 @@
 
 #include "codegen.hpp"
 #include "device_tables.hpp"
-#include "stream_buffers.hpp"
 #include "runtime.hpp"
+#include "stream_buffers.hpp"
 #include "sh/detail/sums.hpp"
 #include "sh/error.hpp"
 #include "sh/ir/printer.hpp"
@@ -156,7 +156,7 @@ class OpenClKernel : public Kernel {
     }
     if (status[0] != 0) throw runaway(status[0], static_cast<cl_long>(args.element(static_cast<std::size_t>(status[1]))));
     for (std::size_t k = 0; k < sums.size(); ++k)  // each add atomic: runs on other threads add too
-      detail::add_sums_from(sums[k].first->element.scalar, sums[k].first->sums, added[k].data(), added[k].size() / 4);
+      detail::add_sums_from(sums[k].first->element.scalar, sums[k].first->sums, added[k].data(), added[k].size());
     moved->tables_held = tables_on(*device_).bytes();
     stats.details = std::move(moved);
   }

@@ -7,7 +7,6 @@
 namespace sh::opencl {
 
 Buffer StreamBuffers::take(std::size_t size, cl_mem_flags flags, const std::function<Buffer()>& make) {
-  std::list<Idle> let_go;  // released outside the lock
   {
     std::lock_guard lock(mutex_);
     for (auto it = idle_.begin(); it != idle_.end(); ++it)
@@ -21,6 +20,7 @@ Buffer StreamBuffers::take(std::size_t size, cl_mem_flags flags, const std::func
   try {
     return make();
   } catch (const Error&) {  // the device's memory is short: what lies idle goes first
+    std::list<Idle> let_go;  // released outside the lock
     {
       std::lock_guard lock(mutex_);
       let_go.swap(idle_);

@@ -20,10 +20,10 @@ inline void add_to_sum(ir::Scalar element, void* sums, std::size_t at, double va
   }
 }
 
-// Adds `count` sums computed elsewhere (a device's, another rank's), given
-// as their bytes in the accumulator's type, into `sums`, each atomically.
-inline void add_sums_from(ir::Scalar element, void* sums, const char* theirs, std::size_t count) {
-  for (std::size_t i = 0; i < count; ++i) {
+// Adds sums computed elsewhere (a device's, another rank's), `bytes` of
+// them in the accumulator's type, into `sums`, each atomically.
+inline void add_sums_from(ir::Scalar element, void* sums, const char* theirs, std::size_t bytes) {
+  for (std::size_t i = 0; i < bytes / ir::storage_bytes(element); ++i) {
     double value = 0;
     if (element == ir::Scalar::F32) {
       float a;
