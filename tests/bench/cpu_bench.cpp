@@ -28,6 +28,14 @@ constexpr int kMandelbrotSize = 512;
 constexpr std::size_t kRays = 1 << 16;
 constexpr int kBlurSize = 2048;
 
+// The C++ forms' arrays come from the allocator of the DSL's tables and
+// channels: each starts a cache line, so that a store of a vector at a
+// multiple of its lanes is never split across two lines, and a large one
+// starts at another place in its page than the one before, so that a
+// store and the next loads do not share the low 12 bits of their
+// addresses (which made a load wait for the store: BENCHMARKS.md, issue 25).
+using Floats = std::vector<float, detail::CacheLineAllocator<float>>;
+
 // Floating-point operations per Mandelbrot iteration as recorded: z*z's
 // three products and two sums, 2*x*y + c's two products and a sum, the
 // loop test's |z|^2 (two products, a sum) and the counter's increment.
@@ -86,7 +94,7 @@ void BM_saxpy_dsl(benchmark::State& state) {
 }
 
 void BM_saxpy_cpp(benchmark::State& state) {
-  std::vector<float> x(kSaxpyN, 1.0f), y(kSaxpyN, 2.0f), r(kSaxpyN);
+  Floats x(kSaxpyN, 1.0f), y(kSaxpyN, 2.0f), r(kSaxpyN);
   for (auto _ : state) {
     hand_parallel(static_cast<int>(state.range(0)), kSaxpyN,
                   [&](std::size_t b, std::size_t e) { bench::saxpy_cpp(2.5f, x.data(), y.data(), r.data(), b, e); });
@@ -142,22 +150,24 @@ void BM_triangles_cpp(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
 }
 
-// ---- the AVX-512 forms of saxpy, Mandelbrot and the triangles ---------------------
+// ---- the hand-vectorised forms of saxpy, Mandelbrot and the triangles ------------
 
 // The hand form against the compiler's: the compiler may fuse a multiply
 // and an add (GCC's default contraction), so values agree to rounding, and
 // a Mandelbrot pixel at the set's edge may take another iteration count.
-void check_close(benchmark::State& state, const std::vector<float>& simd, const std::vector<float>& cpp,
-                 double largest_relative, double share_off) {
+template <class Simd>
+void check_close(benchmark::State& state, const Simd& simd, const std::vector<float>& cpp, double largest_relative,
+                 double share_off) {
   std::size_t off = 0;
   for (std::size_t i = 0; i < simd.size(); ++i)
     off += std::fabs(simd[i] - cpp[i]) > largest_relative * std::max(1.0f, std::fabs(cpp[i]));
   if (static_cast<double>(off) > share_off * static_cast<double>(simd.size()))
-    state.SkipWithError("the AVX-512 form differs from the compiler's");
+    state.SkipWithError("the hand-vectorised form differs from the compiler's");
 }
 
 void BM_saxpy_simd(benchmark::State& state) {
-  std::vector<float> x(kSaxpyN), y(kSaxpyN), r(kSaxpyN), expected(kSaxpyN);
+  Floats x(kSaxpyN), y(kSaxpyN), r(kSaxpyN);
+  std::vector<float> expected(kSaxpyN);
   for (std::size_t i = 0; i < kSaxpyN; ++i) x[i] = 0.001f * static_cast<float>(i % 1000), y[i] = 2.0f;
   bench::saxpy_cpp(2.5f, x.data(), y.data(), expected.data(), 0, kSaxpyN);
   auto saxpy = [&] {
@@ -208,11 +218,6 @@ void BM_triangles_simd(benchmark::State& state) {
 }
 
 // ---- the 5 x 5 blur over a 2048 x 2048 image -----------------------------------
-
-// The C++ forms' images start a cache line, as the DSL's tables and
-// channels do: a store of 16 floats at a multiple of 16 pixels is then
-// never split across two lines, for either.
-using Floats = std::vector<float, detail::CacheLineAllocator<float>>;
 
 struct BlurImages {
   Floats in = aligned(bench::blur_image(kBlurSize, kBlurSize));

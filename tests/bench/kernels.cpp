@@ -1,11 +1,10 @@
 #include "kernels.hpp"
 
-#include <immintrin.h>
+#include "simd.hpp"
 
 #include <algorithm>
 #include <cstdint>
 #include <random>
-#include <utility>
 
 namespace bench {
 
@@ -275,49 +274,22 @@ void blur_fused_cpp(const Image& im, int y0, int y1) {
   }
 }
 
-// AVX-512: sixteen pixels per step.  The direct blur reads each row's
-// taps from two unaligned loads, of the sixteen elements from its first
-// tap and the sixteen after them, each tap a lane shift of the two
-// (`valignd`), as the cpu backend shares a row's loads too: five loads a
-// row, four of them across a cache line, left the load port the
-// bottleneck.  The passes load
-// each tap.  The edges and the row's last partial step as the C++ form.
-#if defined(__AVX512F__)
+// The widest vectors the host has (simd.hpp), a vector of pixels per step.
+// The direct blur reads each row's taps as the cpu backend does: with
+// AVX-512 from two unaligned loads, of the vector from its first tap and
+// the vector after it, each tap a lane shift of the two (five loads a row,
+// most of them across a cache line, left the load port the bottleneck);
+// with AVX2 a load a tap.  The passes load each tap.  The edges and the
+// row's last partial step as the C++ form.
+#if defined(BENCH_HAND_SIMD)
 namespace {
 
-// Lanes K .. K + 15 of first:next.
-template <int K>
-__m512 lanes_from(__m512 first, __m512 next) {
-  if constexpr (K == 0)
-    return first;
-  else
-    // The masked form: GCC 12's unmasked one reads an undefined vector.
-    return _mm512_castsi512_ps(_mm512_mask_alignr_epi32(_mm512_castps_si512(first), 0xFFFF, _mm512_castps_si512(next),
-                                                        _mm512_castps_si512(first), K));
-}
+using simd::F;
+using simd::kLanes;
 
-// Sixteen results at `to`: past the cache where they start a line, as the
-// cpu backend writes an output too large for it (the benchmark's all are),
-// so that a line is not read before it is written.  A pass ends with a
-// fence that orders them, as the kernel does.
-void store_out(float* to, __m512 v) {
-  if (reinterpret_cast<std::uintptr_t>(to) % 64 == 0)
-    _mm512_stream_ps(to, v);
-  else
-    _mm512_storeu_ps(to, v);
-}
-
-// Where the steps of sixteen start: the first x on a line at or after
+// Where the steps start: the first x on a vector's boundary at or after
 // `from` (the image's rows start on one).
-int on_a_line(int from) { return (from + 15) / 16 * 16; }
-
-// The row's taps added to `sum` in order, left to right.
-static_assert(kTaps <= 16, "a row's taps lie in two vectors");
-template <std::size_t... K>
-__m512 add_row(__m512 sum, __m512 first, __m512 next, std::index_sequence<K...>) {
-  ((sum = _mm512_add_ps(sum, lanes_from<static_cast<int>(K)>(first, next))), ...);
-  return sum;
-}
+int on_a_vector(int from) { return (from + kLanes - 1) / kLanes * kLanes; }
 
 }  // namespace
 
@@ -326,14 +298,11 @@ void blur_simd(const Image& im, int y0, int y1) {
     const float* r[kTaps];
     for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
     int x = 0;
-    for (; x < std::min(on_a_line(interior_lo(im)), im.w); ++x) out[x] = box_at(im, y, x);
-    for (; x + 16 <= interior_hi(im); x += 16) {
-      __m512 sum = _mm512_setzero_ps();
-      for (int k = 0; k < kTaps; ++k) {
-        const float* from = r[k] + x - kBlurRadius;
-        sum = add_row(sum, _mm512_loadu_ps(from), _mm512_loadu_ps(from + 16), std::make_index_sequence<kTaps>{});
-      }
-      store_out(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kBoxWeight)));
+    for (; x < std::min(on_a_vector(interior_lo(im)), im.w); ++x) out[x] = box_at(im, y, x);
+    for (; x + kLanes <= interior_hi(im); x += kLanes) {
+      F sum = simd::zero();
+      for (int k = 0; k < kTaps; ++k) sum = simd::add_row_taps<kTaps>(sum, r[k] + x - kBlurRadius);
+      simd::store_out(out + x, simd::mul(sum, simd::splat(kBoxWeight)));
     }
     for (; x < im.w; ++x) out[x] = box_at(im, y, x);
   });
@@ -349,11 +318,11 @@ void blur_rows_simd(const Image& im, int y0, int y1) {
       return sum * kLineWeight;
     };
     int x = 0;
-    for (; x < std::min(on_a_line(interior_lo(im)), im.w); ++x) out[x] = at(x);
-    for (; x + 16 <= interior_hi(im); x += 16) {
-      __m512 sum = _mm512_setzero_ps();
-      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r + x + dx));
-      store_out(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
+    for (; x < std::min(on_a_vector(interior_lo(im)), im.w); ++x) out[x] = at(x);
+    for (; x + kLanes <= interior_hi(im); x += kLanes) {
+      F sum = simd::zero();
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum = simd::add(sum, simd::load(r + x + dx));
+      simd::store_out(out + x, simd::mul(sum, simd::splat(kLineWeight)));
     }
     for (; x < im.w; ++x) out[x] = at(x);
   });
@@ -365,10 +334,10 @@ void blur_columns_simd(const Image& im, int y0, int y1) {
     const float* r[kTaps];
     for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
     int x = 0;
-    for (; x + 16 <= im.w; x += 16) {
-      __m512 sum = _mm512_setzero_ps();
-      for (int k = 0; k < kTaps; ++k) sum = _mm512_add_ps(sum, _mm512_loadu_ps(r[k] + x));
-      store_out(out + x, _mm512_mul_ps(sum, _mm512_set1_ps(kLineWeight)));
+    for (; x + kLanes <= im.w; x += kLanes) {
+      F sum = simd::zero();
+      for (int k = 0; k < kTaps; ++k) sum = simd::add(sum, simd::load(r[k] + x));
+      simd::store_out(out + x, simd::mul(sum, simd::splat(kLineWeight)));
     }
     for (; x < im.w; ++x) {
       float sum = 0;
@@ -379,7 +348,7 @@ void blur_columns_simd(const Image& im, int y0, int y1) {
   _mm_sfence();
 }
 #else
-// Without AVX-512 the hand form is the compiler's.
+// Without AVX2 the hand form is the compiler's.
 void blur_simd(const Image& im, int y0, int y1) { blur_cpp(im, y0, y1); }
 void blur_rows_simd(const Image& im, int y0, int y1) { blur_rows_cpp(im, y0, y1); }
 void blur_columns_simd(const Image& im, int y0, int y1) { blur_columns_cpp(im, y0, y1); }
@@ -397,92 +366,88 @@ std::vector<float> blur_image(int w, int h) {
 
 namespace bench {
 
-#if defined(__AVX512F__)
+#if defined(BENCH_HAND_SIMD)
 void saxpy_simd(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end) {
-  __m512 av = _mm512_set1_ps(a);
-  std::size_t i = std::min(end, begin + (64 - reinterpret_cast<std::uintptr_t>(r + begin) % 64) % 64 / sizeof(float));
+  F av = simd::splat(a);
+  std::size_t i =
+      std::min(end, begin + (sizeof(F) - reinterpret_cast<std::uintptr_t>(r + begin) % sizeof(F)) % sizeof(F) / sizeof(float));
   saxpy_cpp(a, x, y, r, begin, i);
-  for (; i + 16 <= end; i += 16)
-    store_out(r + i, _mm512_add_ps(_mm512_mul_ps(av, _mm512_loadu_ps(x + i)), _mm512_loadu_ps(y + i)));
+  for (; i + kLanes <= end; i += kLanes)
+    simd::store_out(r + i, simd::add(simd::mul(av, simd::load(x + i)), simd::load(y + i)));
   _mm_sfence();
   saxpy_cpp(a, x, y, r, i, end);
 }
 
-// Sixteen pixels iterate together while any is inside; each counts only
-// while it is.
+// A vector of pixels iterates together while any is inside; each counts
+// only while it is.
 void mandelbrot_simd(const float* c, float* shade, std::size_t begin, std::size_t end) {
-  const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
-  const __m512i odd = _mm512_add_epi32(even, _mm512_set1_epi32(1));
+  const F four = simd::splat(4.0f), two = simd::splat(2.0f), one = simd::splat(1.0f);
+  const F limit = simd::splat(static_cast<float>(kMandelbrotIterations));
   std::size_t p = begin;
-  for (; p + 16 <= end; p += 16) {
-    __m512 lo = _mm512_loadu_ps(c + 2 * p), hi = _mm512_loadu_ps(c + 2 * p + 16);
-    __m512 cx = _mm512_permutex2var_ps(lo, even, hi), cy = _mm512_permutex2var_ps(lo, odd, hi);
-    __m512 zx = _mm512_setzero_ps(), zy = _mm512_setzero_ps(), i = _mm512_setzero_ps();
-    const __m512 four = _mm512_set1_ps(4.0f), two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f);
-    const __m512 limit = _mm512_set1_ps(static_cast<float>(kMandelbrotIterations));
+  for (; p + kLanes <= end; p += kLanes) {
+    F cx, cy;
+    simd::split_pairs(c + 2 * p, cx, cy);
+    F zx = simd::zero(), zy = simd::zero(), i = simd::zero();
     for (;;) {
-      __m512 r2 = _mm512_add_ps(_mm512_mul_ps(zx, zx), _mm512_mul_ps(zy, zy));
-      __mmask16 inside = _mm512_cmp_ps_mask(i, limit, _CMP_LT_OQ) & _mm512_cmp_ps_mask(r2, four, _CMP_LT_OQ);
-      if (!inside) break;
-      __m512 nx = _mm512_add_ps(_mm512_sub_ps(_mm512_mul_ps(zx, zx), _mm512_mul_ps(zy, zy)), cx);
-      __m512 ny = _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(two, zx), zy), cy);
-      zx = _mm512_mask_mov_ps(zx, inside, nx);
-      zy = _mm512_mask_mov_ps(zy, inside, ny);
-      i = _mm512_mask_add_ps(i, inside, i, one);
+      F r2 = simd::add(simd::mul(zx, zx), simd::mul(zy, zy));
+      simd::Mask inside = simd::both(simd::compare<_CMP_LT_OQ>(i, limit), simd::compare<_CMP_LT_OQ>(r2, four));
+      if (simd::none(inside)) break;
+      F nx = simd::add(simd::sub(simd::mul(zx, zx), simd::mul(zy, zy)), cx);
+      F ny = simd::add(simd::mul(simd::mul(two, zx), zy), cy);
+      zx = simd::choose(inside, nx, zx);
+      zy = simd::choose(inside, ny, zy);
+      i = simd::choose(inside, simd::add(i, one), i);
     }
-    _mm512_storeu_ps(shade + p, i);
+    simd::store(shade + p, i);
   }
   mandelbrot_cpp(c, shade, p, end);
 }
 
-// Sixteen rays against each triangle, the rays' coordinates gathered from
-// their 3-float records, the triangle's broadcast.
+// A vector of rays against each triangle, the rays' coordinates gathered
+// from their 3-float records, the triangle's broadcast.
 void triangles_simd(const TriangleScene& s, float* out, std::size_t begin, std::size_t end) {
   const float* V = s.vertices.data();
-  const __m512i stride = _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
-                                            _mm512_set1_epi32(3));
-  auto sub = [](__m512 a, __m512 b) { return _mm512_sub_ps(a, b); };
-  auto mul = [](__m512 a, __m512 b) { return _mm512_mul_ps(a, b); };
-  auto dot = [&](const __m512* a, const __m512* b) {
-    return _mm512_add_ps(_mm512_add_ps(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
-  };
-  auto cross = [&](const __m512* a, const __m512* b, __m512* r) {
+  using simd::mul;
+  using simd::sub;
+  auto dot = [&](const F* a, const F* b) { return simd::add(simd::add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2])); };
+  auto cross = [&](const F* a, const F* b, F* r) {
     r[0] = sub(mul(a[1], b[2]), mul(a[2], b[1]));
     r[1] = sub(mul(a[2], b[0]), mul(a[0], b[2]));
     r[2] = sub(mul(a[0], b[1]), mul(a[1], b[0]));
   };
   std::size_t r = begin;
-  for (; r + 16 <= end; r += 16) {
-    __m512 o[3], d[3];
+  for (; r + kLanes <= end; r += kLanes) {
+    F o[3], d[3];
     for (int k = 0; k < 3; ++k) {
-      o[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, stride, &s.origins[3 * r + k], 4);
-      d[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, stride, &s.directions[3 * r + k], 4);
+      o[k] = simd::every_third(&s.origins[3 * r + k]);
+      d[k] = simd::every_third(&s.directions[3 * r + k]);
     }
-    __m512 nearest = _mm512_set1_ps(1e30f);
+    F nearest = simd::splat(1e30f);
     for (int t = 0; t < kTriangles; ++t) {
       const float* v = V + 9 * t;
-      __m512 v0[3], e1[3], e2[3], p[3], sv[3], q[3];
+      F v0[3], e1[3], e2[3], p[3], sv[3], q[3];
       for (int k = 0; k < 3; ++k) {
-        v0[k] = _mm512_set1_ps(v[k]);
-        e1[k] = _mm512_set1_ps(v[3 + k] - v[k]);
-        e2[k] = _mm512_set1_ps(v[6 + k] - v[k]);
+        v0[k] = simd::splat(v[k]);
+        e1[k] = simd::splat(v[3 + k] - v[k]);
+        e2[k] = simd::splat(v[6 + k] - v[k]);
         sv[k] = sub(o[k], v0[k]);
       }
       cross(d, e2, p);
-      __m512 det = dot(e1, p);
-      __m512 inv = _mm512_div_ps(_mm512_set1_ps(1.0f), det);
-      __m512 u = mul(dot(sv, p), inv);
+      F det = dot(e1, p);
+      F inv = simd::div(simd::splat(1.0f), det);
+      F u = mul(dot(sv, p), inv);
       cross(sv, e1, q);
-      __m512 vv = mul(dot(d, q), inv);
-      __m512 tt = mul(dot(e2, q), inv);
-      __mmask16 hit = _mm512_cmp_ps_mask(_mm512_abs_ps(det), _mm512_set1_ps(1e-8f), _CMP_GT_OQ) &
-                      _mm512_cmp_ps_mask(u, _mm512_setzero_ps(), _CMP_GE_OQ) &
-                      _mm512_cmp_ps_mask(vv, _mm512_setzero_ps(), _CMP_GE_OQ) &
-                      _mm512_cmp_ps_mask(_mm512_add_ps(u, vv), _mm512_set1_ps(1.0f), _CMP_LE_OQ) &
-                      _mm512_cmp_ps_mask(tt, _mm512_set1_ps(1e-6f), _CMP_GT_OQ) & _mm512_cmp_ps_mask(tt, nearest, _CMP_LT_OQ);
-      nearest = _mm512_mask_mov_ps(nearest, hit, tt);
+      F vv = mul(dot(d, q), inv);
+      F tt = mul(dot(e2, q), inv);
+      simd::Mask hit = simd::compare<_CMP_GT_OQ>(simd::abs(det), simd::splat(1e-8f));
+      hit = simd::both(hit, simd::compare<_CMP_GE_OQ>(u, simd::zero()));
+      hit = simd::both(hit, simd::compare<_CMP_GE_OQ>(vv, simd::zero()));
+      hit = simd::both(hit, simd::compare<_CMP_LE_OQ>(simd::add(u, vv), simd::splat(1.0f)));
+      hit = simd::both(hit, simd::compare<_CMP_GT_OQ>(tt, simd::splat(1e-6f)));
+      hit = simd::both(hit, simd::compare<_CMP_LT_OQ>(tt, nearest));
+      nearest = simd::choose(hit, tt, nearest);
     }
-    _mm512_storeu_ps(out + r, nearest);
+    simd::store(out + r, nearest);
   }
   triangles_cpp(s, out, r, end);
 }

@@ -14,8 +14,9 @@ inline constexpr int kTriangles = 32;
 
 sh::Program saxpy_program(sh::Attrib1f& a);
 void saxpy_cpp(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end);
-// The AVX-512 forms of saxpy, Mandelbrot and the triangles, sixteen
-// elements per step (the compiler's own form where the host lacks it).
+// The hand-vectorised forms of saxpy, Mandelbrot and the triangles, in
+// the widest vectors the host has: AVX-512 or AVX2 (simd.hpp; the
+// compiler's own form where the host has neither).
 void saxpy_simd(float a, const float* x, const float* y, float* r, std::size_t begin, std::size_t end);
 
 sh::Program mandelbrot_program();
@@ -37,7 +38,7 @@ void triangles_simd(const TriangleScene& s, float* t, std::size_t begin, std::si
 // separable (5 along rows into a W x H image, then 5 down its columns).
 // The C++ forms cover rows [y0, y1): the plain loop (every tap clamped, as
 // the DSL program reads), the same loop written for the auto-vectoriser (a
-// clamp-free inner loop for the image's interior), and an AVX-512 form.
+// clamp-free inner loop for the image's interior), and a hand-vectorised form.
 // All add their taps in the same order, so every form gives the same bits.
 inline constexpr int kBlurRadius = 2;
 sh::Program blur_program(const sh::Table2D<sh::Attrib1f>& image);

@@ -802,9 +802,13 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
 // batch apart; the taps between are shuffles of the two (one `valignd` or
 // `vpermt2ps` each), which freed a 5 x 5 blur's load port for 22 % of its
 // time in a C++ scratch program on a Zen 4 host; an Intel host with one
-// shuffle port showed no gain (BENCHMARKS.md, issue 25).  A wider
-// element's two runs are deinterleaved once, not once a tap.
+// shuffle port showed no gain (BENCHMARKS.md, issue 25).  Without AVX-512
+// a shuffle across a vector's 128-bit halves is two instructions
+// (`vperm2f128`, then `vpalignr`), eight micro-operations on Zen 1, and a
+// load a tap is faster: a third of the direct blur's time on such a host.
+// A wider element's two runs are deinterleaved once, not once a tap.
 void Lowering::load_tap_rows() {
+  if (!avx512_) return;
   std::map<std::tuple<int, int, int>, std::pair<int, int>> spans;  // ordered: the loads in one order every time
   for (const auto& [read, access] : access_) {
     if (!access.proven_run || !access.offset) continue;
