@@ -68,7 +68,8 @@ F add_row_taps(F sum, const float* from) {
 inline F every_third(const float* p) {
   const __m512i at = _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
                                         _mm512_set1_epi32(3));
-  return _mm512_i32gather_ps(at, p, 4);
+  // The masked form: GCC 12's unmasked one reads an undefined vector.
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xFFFF, at, p, 4);
 }
 
 // The even and odd floats of p[0 .. 2 * kLanes).
