@@ -221,14 +221,21 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
 // Fetched a row ahead, at this batch's x, it is there when the next row of
 // batches comes; the hardware's prefetcher, which stops at a page's end,
 // left the first load of each new row waiting on memory (5 % of a 5 x 5
-// blur's samples).  A prefetch past the table's end never faults.
+// blur's samples).  Where that row lies past the table's last, the batch
+// asks for its own highest row instead, which it reads anyway: a prefetch
+// never faults, but one past the memory a table holds cost a Zen 1 host a
+// page walk each, about 50 us for each of run_fused's strips, whose
+// consumer's table holds only the strip's rows (BENCHMARKS.md, issue 25).
 void Lowering::prefetch_next_rows() {
   llvm::Type* i64 = b_.getInt64Ty();
   for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
     const ir::TableDecl& table = p_.tables[t];
     if (!tap_spans_[t] || table.rank != 2) continue;
     Value* x = b_.CreateAdd(batch_place_[0], b_.getInt64(tap_spans_[t]->low[0]));
-    Value* y = b_.CreateAdd(batch_place_[1], b_.getInt64(std::int64_t{tap_spans_[t]->high[1]} + 1));
+    Value* highest = b_.CreateAdd(batch_place_[1], b_.getInt64(tap_spans_[t]->high[1]));
+    Value* next = b_.CreateAdd(highest, b_.getInt64(1));
+    Value* past_table = b_.CreateICmpSGE(next, b_.CreateZExt(table_dims_[t][1], i64));
+    Value* y = b_.CreateSelect(past_table, highest, next);
     prefetch_element(static_cast<int>(t), b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64))));
   }
 }

@@ -208,7 +208,11 @@ class Strips {
     c.count = static_cast<std::size_t>(end - first) * width_;
     c.domain.first = static_cast<std::size_t>(first) * width_;
     for (BufferView& out : c.outputs) out = out.part(c.domain.first, c.count);
-    c.tables[through_at_].data = shifted_back(buffer.data(), static_cast<std::size_t>(low) * row_bytes_);
+    // Rows [low, high) lie in the buffer: the view ends at its end, so that
+    // nothing the kernel asks for (a prefetch of the next row) lies past it.
+    TableView& through = c.tables[through_at_];
+    through.data = shifted_back(buffer.data(), static_cast<std::size_t>(low) * row_bytes_);
+    through.dims[1] = static_cast<int>(high);
     use.run(c, used);
   }
 
