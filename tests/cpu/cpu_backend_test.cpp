@@ -16,6 +16,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 
 #include "../common/fresh.hpp"
@@ -76,6 +79,35 @@ std::string blocks(const std::string& ir, const std::string& prefix) {
     if (in) out += line + "\n";
   }
   return out;
+}
+
+// The instructions a value of the listing is computed from, its own
+// first: each definition's line, following its operands (`%name` defined
+// by `%name = ...`) back to the phis, whose own operands (a loop's values
+// from the iteration before) are not followed.
+std::vector<std::string> computed_from(const std::string& ir, const std::string& value) {
+  const std::regex definition(R"(^\s*(%[\w.]+) = )"), operand(R"(%[\w.]+)");
+  std::map<std::string, std::string> defined;
+  std::istringstream lines(ir);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, definition)) defined[m[1]] = line;
+  }
+  std::vector<std::string> chain;
+  std::set<std::string> seen;
+  std::vector<std::string> todo{value};
+  while (!todo.empty()) {
+    std::string name = todo.back();
+    todo.pop_back();
+    auto found = defined.find(name);
+    if (!seen.insert(name).second || found == defined.end()) continue;
+    chain.push_back(found->second);
+    if (found->second.find("= phi ") != std::string::npos) continue;
+    std::string rhs = found->second.substr(found->second.find('=') + 1);
+    for (std::sregex_iterator op(rhs.begin(), rhs.end(), operand), end; op != end; ++op)
+      todo.push_back(op->str());
+  }
+  return chain;
 }
 
 // A gather is the hardware's where it has a fast one (AVX-512); elsewhere
@@ -184,6 +216,13 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
       << "the block is a loop (one of its predecessors): " << ir;
   EXPECT_EQ(count(inside, "@llvm.masked"), 0u) << ir;
   EXPECT_EQ(count(inside, "call void @llvm.prefetch"), 1u) << "the row the next row of batches reads first: " << ir;
+  // That row, or where it lies past the table the batch's own last row: a
+  // choice of the two, made before the loop.
+  std::smatch asked;
+  ASSERT_TRUE(std::regex_search(inside, asked, std::regex(R"(@llvm\.prefetch\.p0\(ptr (%[\w.]+))"))) << inside;
+  std::vector<std::string> row = computed_from(ir, asked[1]);
+  EXPECT_TRUE(std::any_of(row.begin(), row.end(), [](const std::string& d) { return d.find("= select i1") != std::string::npos; }))
+      << "the prefetched row is always the next one: " << ir;
   EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), permutes_16_lanes() ? 2u : 4u) << ir;
   EXPECT_EQ(permutes(ir), permutes_16_lanes() ? 2u : 0u) << ir;
   // Beside each permute, a gather for a run whose x wraps past INT_MAX.
