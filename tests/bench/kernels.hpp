@@ -38,7 +38,8 @@ void triangles_simd(const TriangleScene& s, float* t, std::size_t begin, std::si
 // separable (5 along rows into a W x H image, then 5 down its columns).
 // The C++ forms cover rows [y0, y1): the plain loop (every tap clamped, as
 // the DSL program reads), the same loop written for the auto-vectoriser (a
-// clamp-free inner loop for the image's interior), and a hand-vectorised form.
+// clamp-free inner loop for the image's interior), and a hand-vectorised
+// form.
 // All add their taps in the same order, so every form gives the same bits.
 inline constexpr int kBlurRadius = 2;
 sh::Program blur_program(const sh::Table2D<sh::Attrib1f>& image);

@@ -81,10 +81,10 @@ std::string blocks(const std::string& ir, const std::string& prefix) {
   return out;
 }
 
-// The instructions a value of the listing is computed from, its own
-// first: each definition's line, following its operands (`%name` defined
-// by `%name = ...`) back to the phis, whose own operands (a loop's values
-// from the iteration before) are not followed.
+// The instructions a value of a listing of one function is computed from,
+// its own first: each definition's line, following its operands (`%name`
+// defined by `%name = ...`) back to the phis, whose own operands (a loop's
+// values from the iteration before) are not followed.
 std::vector<std::string> computed_from(const std::string& ir, const std::string& value) {
   const std::regex definition(R"(^\s*(%[\w.]+) = )"), operand(R"(%[\w.]+)");
   std::map<std::string, std::string> defined;
