@@ -156,8 +156,11 @@ TEST(CpuBackend, ARowOfTapsIsTwoLoadsAndShufflesWhereAvx512ShiftsLanes) {
 
 // A prefetch is one prefetch instruction where the lanes agree on the
 // coordinates (a walk's node) and one a lane where they may differ; scalar
-// code asks once; a table the kernel fetches (mpi's tables split across
-// ranks) is not in this process's memory, so nothing is asked.
+// code asks once an element; a table the kernel fetches (mpi's tables
+// split across ranks) is not in this process's memory, so nothing is asked.
+// LLVM may unroll the scalar loop, by a factor that depends on the host
+// CPU (eight on a Zen 4, none on a Zen 1), so scalar code is counted
+// against its copies of the element's one read of the table.
 TEST(CpuBackend, PrefetchesOneALaneOrOneForLanesThatAgree) {
   Table1D<Attrib1f> t(64);
   t.assign(std::vector<float>(64, 1.0f));
@@ -169,14 +172,20 @@ TEST(CpuBackend, PrefetchesOneALaneOrOneForLanesThatAgree) {
     t.prefetch(shared * 2);
     out = t[i];
   } SH_END;
-  auto asked = [&](cpu::Width width, cpu::Tables tables) {
+  auto listing = [&](cpu::Width width, cpu::Tables tables) {
     Options o;
     o.set(cpu::Options{.width = width, .tables = tables});
-    return count(kernel_for(asks, backend("cpu", o))->listing(), "call void @llvm.prefetch");
+    return kernel_for(asks, backend("cpu", o))->listing();
+  };
+  auto asked = [&](cpu::Width width, cpu::Tables tables) {
+    return count(listing(width, tables), "call void @llvm.prefetch");
   };
   EXPECT_EQ(asked(cpu::Width::Lanes8, cpu::Tables::Memory), 8u + 1u);
   EXPECT_EQ(asked(cpu::Width::Lanes16, cpu::Tables::Memory), 16u + 1u);
-  EXPECT_EQ(asked(cpu::Width::Scalar, cpu::Tables::Memory), 2u);
+  std::string scalar = listing(cpu::Width::Scalar, cpu::Tables::Memory);
+  std::size_t elements = count(scalar, "load float, ptr");
+  ASSERT_GE(elements, 1u) << scalar;
+  EXPECT_EQ(count(scalar, "call void @llvm.prefetch"), 2u * elements) << scalar;
   EXPECT_EQ(asked(cpu::Width::Lanes16, cpu::Tables::Fetched), 0u);
 }
 
