@@ -67,7 +67,7 @@ void run_kernel(benchmark::State& state, const std::string& kernel, const std::s
 void build_cold(benchmark::State& state, const std::string& kernel, const std::string& backend_name) {
   Case c = make_case(kernel);
   Backend& b = find_backend(backend_name);
-  for (auto _ : state) benchmark::DoNotOptimize(b.compile(optimize(c.program.ir()), Options{}));
+  for (auto _ : state) benchmark::DoNotOptimize(bench::compile_cold(b, c.program, Options{}));
 }
 
 void build_cached(benchmark::State& state, const std::string& kernel, const std::string& backend_name) {

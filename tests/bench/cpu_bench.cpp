@@ -377,11 +377,11 @@ void BM_blur_dsl_against_cpp(benchmark::State& state) {
   state.counters["cpp_over_dsl"] = median(cpp_ms) / median(dsl_ms);
 }
 
-// Optimisation passes + lowering + LLVM O3 + machine code, uncached.
+// Optimisation passes + lowering + LLVM + machine code, uncached.
 void compile_latency(benchmark::State& state, const Program& p) {
   Backend& cpu = find_backend("cpu");
   Options o = with_lanes(state.range(0));
-  for (auto _ : state) benchmark::DoNotOptimize(cpu.compile(optimize(p.ir()), o));
+  for (auto _ : state) benchmark::DoNotOptimize(bench::compile_cold(cpu, p, o));
 }
 
 void BM_compile_saxpy(benchmark::State& state) {

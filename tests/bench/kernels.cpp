@@ -4,11 +4,37 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <random>
+#include <string>
 
 namespace bench {
 
 using namespace sh;
+
+namespace {
+
+// $SH_CACHE_DIR is "off" while one lives, and as it was after.
+class KernelCacheOff {
+ public:
+  KernelCacheOff() : was_set_(std::getenv("SH_CACHE_DIR") != nullptr), was_(was_set_ ? std::getenv("SH_CACHE_DIR") : "") {
+    ::setenv("SH_CACHE_DIR", "off", 1);
+  }
+  KernelCacheOff(const KernelCacheOff&) = delete;
+  KernelCacheOff& operator=(const KernelCacheOff&) = delete;
+  ~KernelCacheOff() { was_set_ ? ::setenv("SH_CACHE_DIR", was_.c_str(), 1) : ::unsetenv("SH_CACHE_DIR"); }
+
+ private:
+  bool was_set_;
+  std::string was_;
+};
+
+}  // namespace
+
+std::unique_ptr<Kernel> compile_cold(Backend& backend, const Program& p, const Options& options) {
+  KernelCacheOff off;
+  return backend.compile(passes::legalize(optimize(p.ir())), options);
+}
 
 Program saxpy_program(Attrib1f& a) {
   return SH_BEGIN_PROGRAM("saxpy") {

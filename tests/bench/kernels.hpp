@@ -3,11 +3,18 @@
 // hand-written C++ it should match.  Shared by the backend benchmarks.
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <sh/sh.hpp>
 
 namespace bench {
+
+// A backend's compile of `p` from nothing: the passes and legalize (what a
+// backend is always given), then its compile with the kernel cache off, so
+// that no compile after the first loads the first's object.  (PoCL's own
+// cache is set when PoCL starts: a benchmark turns it off in its main.)
+std::unique_ptr<sh::Kernel> compile_cold(sh::Backend& backend, const sh::Program& p, const sh::Options& options);
 
 inline constexpr int kMandelbrotIterations = 256;
 inline constexpr int kTriangles = 32;
