@@ -352,6 +352,7 @@ int bench_command(const Common& c, std::vector<std::string> backends, bool phase
               "intersect Mrays/s", "max error", "PSNR dB");
   // Each backend in each of its variants (cpu: scalar and every SPMD width).
   double default_cpu = 0;
+  std::string default_cpu_accel;
   for (const std::string& b : backends) {
     if (b == "mpi") {
       std::printf("mpi: left out (bench runs in one process; mpirun -np N shtrace render --backend mpi renders on ranks)\n");
@@ -373,8 +374,14 @@ int bench_command(const Common& c, std::vector<std::string> backends, bool phase
                   second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img));
       if (phases) print_phases(first);
     }
-    if (b == "cpu") default_cpu = intersect_rate(reference, BackendChoice{"cpu", settings_for(c, "cpu").options}, origins,
-                                                 directions, 5);
+    // The default cpu renderer's own accelerator (`auto` chooses by the
+    // backend's lanes), not the interp reference's.
+    if (b == "cpu") {
+      RenderSettings s = settings_for(c, "cpu");
+      Renderer r(scene, s);
+      default_cpu = intersect_rate(r, BackendChoice{"cpu", s.options}, origins, directions, 5);
+      default_cpu_accel = sh::rt::accel_name(r.accel());
+    }
   }
   std::vector<std::pair<int, double>> embree;
   sh::rt::EmbreeScene embree_scene(scene);
@@ -388,8 +395,8 @@ int bench_command(const Common& c, std::vector<std::string> backends, bool phase
   if (default_cpu > 0)
     for (auto [packet, rate] : embree)
       if (rate > 0)
-        std::printf("cpu (default width) intersector / Embree rtcIntersect%d on the same %zu primary rays: %.3fx\n", packet,
-                    origins.size() / 3, default_cpu / rate);
+        std::printf("cpu (default width, %s) intersector / Embree rtcIntersect%d on the same %zu primary rays: %.3fx\n",
+                    default_cpu_accel.c_str(), packet, origins.size() / 3, default_cpu / rate);
   return 0;
 }
 

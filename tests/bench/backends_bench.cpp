@@ -1,7 +1,11 @@
 // The benchmark kernels on every backend that can run them at speed (cpu,
 // opencl), all threads, in one run: elements per second, plus each
 // backend's cold build time (no cache of any kind) and cached build time
-// (the in-process kernel cache).  Ratios go in BENCHMARKS.md.
+// (the in-process kernel cache).  Ratios go in BENCHMARKS.md.  The cold
+// build is Backend::compile: for cpu the machine code; for opencl
+// clBuildProgram and clCreateKernel, while PoCL makes a kernel's
+// work-group function and machine code at its first launch, which the
+// untimed first run of each `run/` benchmark pays and this leaves out.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>

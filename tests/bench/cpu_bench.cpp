@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "kernels.hpp"
 
@@ -83,12 +84,42 @@ void hand_parallel(int threads, std::size_t n, F body) {
   });
 }
 
+// A form's results against the C++ form's: the compiler may fuse a
+// multiply and an add (GCC's default contraction) where the DSL's precise
+// f32 does not, so values agree to rounding, and a Mandelbrot pixel at the
+// set's edge may take another iteration count.  A NaN is a difference.
+template <class Values>
+void check_close(benchmark::State& state, const Values& got, const std::vector<float>& cpp, double largest_relative,
+                 double share_off, const char* form) {
+  std::size_t off = got.size() == cpp.size() ? 0 : got.size() + cpp.size();
+  for (std::size_t i = 0; i < std::min(got.size(), cpp.size()); ++i)
+    off += !(std::fabs(got[i] - cpp[i]) <= largest_relative * std::max(1.0f, std::fabs(cpp[i])));
+  if (static_cast<double>(off) > share_off * static_cast<double>(cpp.size()))
+    state.SkipWithError((std::string(form) + " differs from the C++ form's").c_str());
+}
+
+// saxpy's inputs: x varies, so that a wrong element shows.
+template <class V>
+void saxpy_inputs(V& x, V& y) {
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.001f * static_cast<float>(i % 1000), y[i] = 2.0f;
+}
+
+template <class V>
+std::vector<float> saxpy_expected(const V& x, const V& y) {
+  std::vector<float> r(x.size());
+  bench::saxpy_cpp(2.5f, x.data(), y.data(), r.data(), 0, r.size());
+  return r;
+}
+
 void BM_saxpy_dsl(benchmark::State& state) {
   Attrib1f a = 2.5f;
   Program p = bench::saxpy_program(a);
-  Channel<Attrib1f> x(std::vector<float>(kSaxpyN, 1.0f)), y(std::vector<float>(kSaxpyN, 2.0f)), r(kSaxpyN);
+  std::vector<float> xs(kSaxpyN), ys(kSaxpyN);
+  saxpy_inputs(xs, ys);
+  Channel<Attrib1f> x(xs), y(ys), r(kSaxpyN);
   BackendChoice cpu = cpu_with(state);
   run(p, {x, y}, {r}, cpu);
+  check_close(state, r.values(), saxpy_expected(xs, ys), 1e-6, 0, "the DSL kernel");
   for (auto _ : state) run(p, {x, y}, {r}, cpu);
   state.SetItemsProcessed(state.iterations() * kSaxpyN);
 }
@@ -109,20 +140,24 @@ void BM_mandelbrot_dsl(benchmark::State& state) {
   Channel<Attrib1f> shade;
   BackendChoice cpu = cpu_with(state);
   run(p, {c}, {shade}, cpu);
+  std::vector<float> expected(shade.size());
+  bench::mandelbrot_cpp(c.values().data(), expected.data(), 0, expected.size());
+  check_close(state, shade.values(), expected, 0, 0.01, "the DSL kernel");
   for (auto _ : state) run(p, {c}, {shade}, cpu);
   state.SetItemsProcessed(state.iterations() * kMandelbrotSize * kMandelbrotSize);
   count_mandelbrot_flops(state, shade.values());
 }
 
 void BM_mandelbrot_cpp(benchmark::State& state) {
-  std::vector<float> c = bench::mandelbrot_coordinates(kMandelbrotSize), shade(c.size() / 2);
+  std::vector<float> coordinates = bench::mandelbrot_coordinates(kMandelbrotSize);
+  Floats c(coordinates.begin(), coordinates.end()), shade(c.size() / 2);
   for (auto _ : state) {
     hand_parallel(static_cast<int>(state.range(0)), shade.size(),
                   [&](std::size_t b, std::size_t e) { bench::mandelbrot_cpp(c.data(), shade.data(), b, e); });
     benchmark::DoNotOptimize(shade.data());
   }
   state.SetItemsProcessed(state.iterations() * shade.size());
-  count_mandelbrot_flops(state, shade);
+  count_mandelbrot_flops(state, std::vector<float>(shade.begin(), shade.end()));
 }
 
 void BM_triangles_dsl(benchmark::State& state) {
@@ -135,13 +170,16 @@ void BM_triangles_dsl(benchmark::State& state) {
   Channel<Attrib1f> t;
   BackendChoice cpu = cpu_with(state);
   run(p, {o, d}, {t}, cpu);
+  std::vector<float> expected(kRays);
+  bench::triangles_cpp(s, expected.data(), 0, kRays);
+  check_close(state, t.values(), expected, 1e-4, 0.001, "the DSL kernel");
   for (auto _ : state) run(p, {o, d}, {t}, cpu);
   state.SetItemsProcessed(state.iterations() * kRays * bench::kTriangles);
 }
 
 void BM_triangles_cpp(benchmark::State& state) {
   bench::TriangleScene s = bench::triangle_scene(kRays);
-  std::vector<float> t(kRays);
+  Floats t(kRays);
   for (auto _ : state) {
     hand_parallel(static_cast<int>(state.range(0)), kRays,
                   [&](std::size_t b, std::size_t e) { bench::triangles_cpp(s, t.data(), b, e); });
@@ -152,30 +190,16 @@ void BM_triangles_cpp(benchmark::State& state) {
 
 // ---- the hand-vectorised forms of saxpy, Mandelbrot and the triangles ------------
 
-// The hand form against the compiler's: the compiler may fuse a multiply
-// and an add (GCC's default contraction), so values agree to rounding, and
-// a Mandelbrot pixel at the set's edge may take another iteration count.
-template <class Simd>
-void check_close(benchmark::State& state, const Simd& simd, const std::vector<float>& cpp, double largest_relative,
-                 double share_off) {
-  std::size_t off = 0;
-  for (std::size_t i = 0; i < simd.size(); ++i)
-    off += std::fabs(simd[i] - cpp[i]) > largest_relative * std::max(1.0f, std::fabs(cpp[i]));
-  if (static_cast<double>(off) > share_off * static_cast<double>(simd.size()))
-    state.SkipWithError("the hand-vectorised form differs from the compiler's");
-}
-
 void BM_saxpy_simd(benchmark::State& state) {
   Floats x(kSaxpyN), y(kSaxpyN), r(kSaxpyN);
-  std::vector<float> expected(kSaxpyN);
-  for (std::size_t i = 0; i < kSaxpyN; ++i) x[i] = 0.001f * static_cast<float>(i % 1000), y[i] = 2.0f;
-  bench::saxpy_cpp(2.5f, x.data(), y.data(), expected.data(), 0, kSaxpyN);
+  saxpy_inputs(x, y);
+  std::vector<float> expected = saxpy_expected(x, y);
   auto saxpy = [&] {
     hand_parallel(static_cast<int>(state.range(0)), kSaxpyN,
                   [&](std::size_t b, std::size_t e) { bench::saxpy_simd(2.5f, x.data(), y.data(), r.data(), b, e); });
   };
   saxpy();
-  check_close(state, r, expected, 1e-6, 0);
+  check_close(state, r, expected, 1e-6, 0, "the hand-vectorised form");
   for (auto _ : state) {
     saxpy();
     benchmark::DoNotOptimize(r.data());
@@ -191,7 +215,7 @@ void BM_mandelbrot_simd(benchmark::State& state) {
                   [&](std::size_t b, std::size_t e) { bench::mandelbrot_simd(c.data(), shade.data(), b, e); });
   };
   mandelbrot();
-  check_close(state, shade, expected, 0, 0.01);
+  check_close(state, shade, expected, 0, 0.01, "the hand-vectorised form");
   for (auto _ : state) {
     mandelbrot();
     benchmark::DoNotOptimize(shade.data());
@@ -209,7 +233,7 @@ void BM_triangles_simd(benchmark::State& state) {
                   [&](std::size_t b, std::size_t e) { bench::triangles_simd(s, t.data(), b, e); });
   };
   triangles();
-  check_close(state, t, expected, 1e-4, 0.001);
+  check_close(state, t, expected, 1e-4, 0.001, "the hand-vectorised form");
   for (auto _ : state) {
     triangles();
     benchmark::DoNotOptimize(t.data());

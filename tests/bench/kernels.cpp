@@ -286,7 +286,10 @@ void blur_columns_cpp(const Image& im, int y0, int y1) {
 }
 
 void blur_fused_cpp(const Image& im, int y0, int y1) {
-  std::vector<float> strip(static_cast<std::size_t>(kFusedRows + 2 * kBlurRadius) * im.w);
+  // The thread's strip, kept for its next call as the DSL's strips keep
+  // theirs: neither allocates nor clears one in the timed calls.
+  thread_local std::vector<float> strip;
+  strip.resize(static_cast<std::size_t>(kFusedRows + 2 * kBlurRadius) * im.w);
   for (int first = y0; first < y1; first += kFusedRows) {
     int end = std::min(y1, first + kFusedRows);
     int low = clamped(first - kBlurRadius, im.h), high = clamped(end - 1 + kBlurRadius, im.h) + 1;
