@@ -29,6 +29,9 @@ void check_comparable(const CompareRequest& r) {
   if (r.settings.bidirectional)
     throw Error("compare: --bidirectional renders in two passes (the light pass first), so one kernel is not the render; "
                 "compare without it");
+  if (r.settings.wavefront)
+    throw Error("compare: --wavefront traces one bounce a run, so one run of the kernel is not the render; compare "
+                "without it");
   if (r.kernel != "render" && r.kernel != "intersect")
     throw Error("compare: --kernel must be render or intersect, not '" + r.kernel + "'");
 }

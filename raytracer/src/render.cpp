@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <unistd.h>
 
@@ -331,6 +333,18 @@ double psnr(const Image& a, const Image& b) {
   }
   double mse = sum / std::max<std::size_t>(a.rgb.size(), 1);
   return mse == 0 ? INFINITY : 10 * std::log10(1.0 / mse);
+}
+
+float max_difference(const Image& a, const Image& b) {
+  if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");
+  float largest = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    float d = std::fabs(std::clamp(a.rgb[i], 0.f, 1.f) - std::clamp(b.rgb[i], 0.f, 1.f));
+    // std::max would pass over a NaN, which the clamp keeps.
+    if (std::isnan(d)) return INFINITY;
+    largest = std::max(largest, d);
+  }
+  return largest;
 }
 
 }  // namespace sh::rt

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -103,6 +104,25 @@ TEST(Images, NanPixelsAreCountedAndTheFirstFound) {
   sh::rt::NanPixels nan = sh::rt::nan_pixels(img);
   EXPECT_EQ(nan.count, 2u);
   EXPECT_EQ(nan.first, 5);
+}
+
+// The largest difference and the PSNR compare the colours a PNG holds
+// (clamped to [0, 1]); a NaN is an infinite difference, where the largest
+// of the others would hide it.
+TEST(Images, DifferencesAreOfTheClampedColoursAndANanIsInfinite) {
+  sh::rt::Image a;
+  a.width = 2;
+  a.height = 1;
+  a.rgb.assign(6, 0.5f);
+  sh::rt::Image b = a;
+  EXPECT_EQ(sh::rt::max_difference(a, b), 0.0f);
+  EXPECT_EQ(sh::rt::psnr(a, b), INFINITY);
+  b.rgb[0] = 0.75f;
+  b.rgb[1] = 7.0f;  // 1 once clamped
+  EXPECT_FLOAT_EQ(sh::rt::max_difference(a, b), 0.5f);
+  b.rgb[4] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(sh::rt::max_difference(a, b), INFINITY);
+  EXPECT_EQ(sh::rt::max_difference(b, a), INFINITY);
 }
 
 // Written under a name of their own, then renamed: a file of the user's

@@ -22,6 +22,12 @@ test "$(head -c 4 "$out.png" | tail -c 3)" = PNG
 awk -F, 'NR > 1 && $1 !~ /^#/ { ms[NR] = $8; e[NR] = $9; p[NR] = $12 }
          END { for (i in e) for (j in e) if (i != j && p[i] && p[j] && e[j] <= e[i] * 1.01 && e[j] >= e[i] * 0.99) {
                  print "both on the front though their errors differ by under 1 %: rows " i ", " j; exit 1 } }' "$out.csv"
+# Every setting runs on the backends asked for, the ones varied one at a
+# time around 16 samples too (they ran on cpu whatever was asked).
+"$shtrace" tradeoff --size 8x6 --backends interp --out "$dir/interp/tradeoff" > /dev/null 2>&1
+awk -F, 'NR > 1 && $1 !~ /^#/ && $1 != "interp" { print "a setting on " $1 ": " $0; bad = 1 } END { exit bad }' \
+  "$dir/interp/tradeoff.csv"
+test "$(grep -c '^interp,' "$dir/interp/tradeoff.csv")" = 16
 # An output that cannot be put in place (its name is a directory) is an
 # error that says why, and leaves no temporary file.
 blocked="$dir/blocked/tradeoff"

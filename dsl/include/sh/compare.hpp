@@ -42,7 +42,7 @@ struct OutputDifference {
   double max_ulps = 0;  // the same in units in the last place of the output's type (integers: the difference)
   std::size_t differing = 0;       // components that differ from the reference (NaN equals NaN)
   std::size_t nan_mismatches = 0;  // of those, where one side is NaN and the other is not
-  std::size_t worst_element = 0;   // the element of the largest difference
+  std::size_t worst_element = 0;   // the element of the largest difference in ULPs (max_ulps')
 };
 
 struct CompareRow {

@@ -184,10 +184,13 @@ std::vector<float> pixel_centres_in_tiles(int width, int height, int tile = 4);
 void write_png(const std::string& path, const Image& image);
 void write_pfm(const std::string& path, int width, int height, const std::vector<float>& values);
 
-// Share of pixels whose channels all differ by at most `tolerance`, and
-// the peak signal-to-noise ratio (dB) of b against a.
+// Share of pixels whose channels all differ by at most `tolerance`, the
+// peak signal-to-noise ratio (dB) of b against a, and the largest
+// difference of any channel: each on the colours as a PNG holds them,
+// clamped to [0, 1].  A NaN against anything is an infinite difference.
 double share_within(const Image& a, const Image& b, float tolerance);
 double psnr(const Image& a, const Image& b);
+float max_difference(const Image& a, const Image& b);
 
 // Pixels with a NaN channel, and the first of them (row-major index; -1
 // where there is none).
