@@ -73,6 +73,9 @@ int compare_accelerators(AccelOptions o) {
     std::printf("%-12s %10zu %10.2f %11.1f %11.1f %12.1f %12zu %9zu %9.1f%%\n", accel_name(a), nodes,
                 r.accelerator_bytes() / 1048576.0, build_ms, first_ms, warm.render_ms, second, first.waves,
                 100 * visible_share(image, o.scene.mesh.triangles()));
+    if (first.compile_from_disk)
+      std::printf("  first ms: the kernels' machine code loaded from the disk cache, not compiled (SH_CACHE_DIR=off "
+                  "compiles)\n");
     if (a == Accel::LazyOctree) print_lazy_builds(first);
   }
   return 0;

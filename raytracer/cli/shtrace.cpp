@@ -300,8 +300,9 @@ int render_command(const Common& c, const std::string& backend_name, const std::
       shtrace::write_image(aov + suffix, c.scene,
                            [&](const std::string& path) { write_pfm(path, image.width, image.height, *values); });
   }
-  std::printf("rendered %dx%d on %s: compile %.1f ms, render %.1f ms%s (%.2f Mrays/s primary, %.2f fps)\nimage: %s\n",
-              image.width, image.height, report.backend.c_str(), report.compile_ms, report.render_ms,
+  std::printf("rendered %dx%d on %s: compile %.1f ms%s, render %.1f ms%s (%.2f Mrays/s primary, %.2f fps)\nimage: %s\n",
+              image.width, image.height, report.backend.c_str(), report.compile_ms,
+              report.compile_from_disk ? " (loaded from the disk cache)" : "", report.render_ms,
               frames > 1 ? " (best warm frame)" : "", report.rays / (report.render_ms * 1e3), 1000.0 / report.render_ms,
               std::filesystem::absolute(written).c_str());
   if (phases && report.compile_ms > 0) print_phases(report);
@@ -368,8 +369,9 @@ int bench_command(const Common& c, std::vector<std::string> backends, bool phase
       float max_error = max_difference(ref, img);
       double rate = intersect_rate(r, BackendChoice{b, s.options}, origins, directions, b == "interp" ? 1 : 5);
       std::string name = v.name.empty() ? b : b + ":" + v.name;
-      std::printf("%-11s %11.1f %11.1f %15.2f %17.2f %11.5f %9.1f\n", name.c_str(), first.compile_ms, second.render_ms,
-                  second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img));
+      std::printf("%-11s %11.1f %11.1f %15.2f %17.2f %11.5f %9.1f%s\n", name.c_str(), first.compile_ms, second.render_ms,
+                  second.rays / (second.render_ms * 1e3), rate, max_error, psnr(ref, img),
+                  first.compile_from_disk ? "  compile: loaded from the disk cache" : "");
       if (phases) print_phases(first);
     }
     // The default cpu renderer's own accelerator (`auto` chooses by the

@@ -933,6 +933,8 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   EXPECT_EQ(objects, 1u);
   auto second = cpu.compile(ir, sh::Options{});
   EXPECT_NE(second->listing().find("loaded from the object cache"), std::string::npos);
+  EXPECT_FALSE(first->loaded_from_disk());
+  EXPECT_TRUE(second->loaded_from_disk());
   auto names = [](const sh::Kernel& k) {
     std::vector<std::string> out;
     for (const sh::CompilePhase& phase : k.compile_phases()) out.push_back(phase.name);
@@ -999,6 +1001,34 @@ TEST(CpuObjectCache, SecondCompileLoadsMachineCodeAndABadFileIsRecompiled) {
   run_with(*fourth, y1);
   EXPECT_EQ(y1[1], 17.f) << "an unreadable cache entry is compiled afresh";
   close(in_the_way);
+  unsetenv("SH_CACHE_DIR");
+  fs::remove_all(dir);
+}
+
+// A run that made its kernel says whether it compiled it or loaded its
+// machine code from the disk cache: a program of another name, the same
+// computation, misses this process's kernels but finds the first's object.
+TEST(CpuObjectCache, ARunSaysItsKernelCameFromTheDisk) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(testing::TempDir()) / fresh_name("sh_from_disk_test");
+  fs::remove_all(dir);
+  setenv("SH_CACHE_DIR", dir.c_str(), 1);
+  float constant = fresh_constant();
+  auto program = [&](const std::string& name) {
+    return SH_BEGIN_PROGRAM(name) {
+      sh::InputAttrib1f x;
+      sh::OutputAttrib1f y;
+      y = x * constant;
+    } SH_END;
+  };
+  sh::Channel<sh::Attrib1f> x(std::vector<float>{1, 2}), y1, y2;
+  sh::RunStats made = sh::run(program("made"), {x}, {y1}, sh::backend("cpu"));
+  sh::RunStats loaded = sh::run(program("loaded"), {x}, {y2}, sh::backend("cpu"));
+  EXPECT_TRUE(made.compiled);
+  EXPECT_FALSE(made.from_disk);
+  EXPECT_TRUE(loaded.compiled) << "another name: not this process's kernel";
+  EXPECT_TRUE(loaded.from_disk);
+  EXPECT_EQ(y2[1], 2 * constant);
   unsetenv("SH_CACHE_DIR");
   fs::remove_all(dir);
 }

@@ -240,6 +240,30 @@ TEST(Compare, NanAgainstANumberCountsAsADifferenceEitherWay) {
   EXPECT_NE(table.find("2 (2 NaN)"), std::string::npos) << table;
 }
 
+// A row whose kernel was loaded from the disk cache says so beside its
+// time; a compiled one gives the time alone, one this process had, cached.
+TEST(Compare, TheTableSaysWhichCompileWasALoadFromTheDisk) {
+  Comparison c;
+  c.program = "p";
+  c.reference.backend = "interp";
+  c.reference.compiled = true;
+  auto row = [](const std::string& variant, bool compiled, bool from_disk, double ms) {
+    CompareRow r;
+    r.backend = "cpu";
+    r.variant = variant;
+    r.compiled = compiled;
+    r.from_disk = from_disk;
+    r.compile_ms = ms;
+    return r;
+  };
+  c.rows = {row("w4", true, true, 4.5), row("w8", true, false, 120.0), row("w16", false, false, 0)};
+  std::string table = to_string(c);
+  EXPECT_NE(table.find("4.5 disk"), std::string::npos) << table;
+  EXPECT_NE(table.find("120.0 "), std::string::npos) << table;
+  EXPECT_EQ(table.find("120.0 disk"), std::string::npos) << table;
+  EXPECT_NE(table.find("cached"), std::string::npos) << table;
+}
+
 TEST(Compare, EveryLinkedBackendAndVariantGivesTheExactProgramsBits) {
   std::vector<std::string> linked;
   for (const std::string& name : backend_names())

@@ -114,6 +114,7 @@ class CpuKernel : public Kernel {
   std::string listing() const override { return jitted_.llvm_ir(); }
   std::vector<CompilePhase> compile_phases() const override { return jitted_.phases(); }
   double compile_cpu_ms_elsewhere() const override { return jitted_.cpu_ms_elsewhere(); }
+  bool loaded_from_disk() const override { return jitted_.from_cache(); }
 
  private:
   // Whether the outputs' memory together is too large to stay in the

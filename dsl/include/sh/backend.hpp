@@ -145,6 +145,9 @@ struct CompilePhase {
 struct RunStats {
   std::string backend;
   bool compiled = false;   // this run compiled the kernel (not cached)
+  // Where compiled: its machine code came from the kernel cache on disk
+  // (Kernel::loaded_from_disk), so compile_ms is a load, not a compile.
+  bool from_disk = false;
   double compile_ms = 0;
   double compile_cpu_ms = 0;  // CPU time: the compiling thread's and what it had other threads do
   std::vector<CompilePhase> compile_phases;  // where compile_ms went, where compiled
@@ -195,6 +198,9 @@ class Kernel {
   virtual std::vector<CompilePhase> compile_phases() const { return {}; }
   // CPU time its compile spent on threads other than the caller's.
   virtual double compile_cpu_ms_elsewhere() const { return 0; }
+  // Whether its machine code was loaded from a cache on disk that this
+  // backend keeps (cpu: ~/.cache/sh) rather than compiled.
+  virtual bool loaded_from_disk() const { return false; }
 };
 
 class Backend {

@@ -52,6 +52,7 @@ struct CompareRow {
   Precision precision = Precision::F32;
   std::string error;      // what the backend threw; then nothing else is measured
   bool compiled = false;  // false: the kernel came from the process's cache (compile_ms 0)
+  bool from_disk = false; // compiled from the disk cache's machine code (RunStats::from_disk)
   double compile_ms = 0, run_ms = 0;
   std::vector<OutputDifference> outputs;  // empty where this row or the reference failed
   std::vector<std::string> notes;         // the backend's own figures (RunStats::details)

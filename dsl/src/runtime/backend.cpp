@@ -122,6 +122,7 @@ std::shared_ptr<Kernel> cached_kernel(const Program& program, const std::string&
     std::shared_ptr<Kernel> kernel = b.compile(ir, options);
     for (const CompilePhase& phase : kernel->compile_phases()) stats.compile_phases.push_back(phase);
     stats.compiled = true;
+    stats.from_disk = kernel->loaded_from_disk();
     stats.compile_ms = ms_since(t0);
     stats.compile_cpu_ms = detail::thread_cpu_ms() - cpu0 + kernel->compile_cpu_ms_elsewhere();
     done([&] {

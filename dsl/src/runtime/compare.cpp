@@ -163,6 +163,7 @@ CompareRow run_row(const Program& program, const Buffers& inputs, CompareRow row
   try {
     RunStats first = run_once();
     row.compiled = first.compiled;
+    row.from_disk = first.from_disk;
     row.compile_ms = first.compile_ms;
     row.run_ms = first.run_ms;
     if (first.details) row.notes = first.details->describe();

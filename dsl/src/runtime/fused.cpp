@@ -143,6 +143,8 @@ std::shared_ptr<Buffer> table_as_output(TableStorage& through, const LaunchDomai
 }
 
 void add_run(RunStats& total, const RunStats& one) {
+  // From the disk where every kernel made was loaded from it.
+  if (one.compiled) total.from_disk = (total.compiled ? total.from_disk : true) && one.from_disk;
   total.compiled = total.compiled || one.compiled;
   total.compile_ms += one.compile_ms;
   total.compile_cpu_ms += one.compile_cpu_ms;

@@ -69,6 +69,9 @@ struct RenderReport {
   std::string backend;
   double record_ms = 0;   // recording the kernels (C++ to IR), once, when the renderer was made
   double compile_ms = 0;  // zero when the kernel came from the cache
+  // A kernel was made, and every one made was loaded from the disk cache
+  // (RunStats::from_disk): compile_ms is a load, not a compile.
+  bool compiled = false, compile_from_disk = false;
   double compile_cpu_ms = 0;
   std::vector<CompilePhase> compile_phases;  // where compile_ms went
   double render_ms = 0;
