@@ -147,8 +147,7 @@ Image Renderer::render(RenderReport* report) {
 
 void Renderer::count(const RunStats& s, RenderReport& r) const {
   r.backend = s.backend;
-  if (s.compiled) r.compile_from_disk = (r.compiled ? r.compile_from_disk : true) && s.from_disk;
-  r.compiled = r.compiled || s.compiled;
+  add_compiled(r.compiled, r.compile_from_disk, s);
   r.compile_ms += s.compile_ms;
   r.compile_cpu_ms += s.compile_cpu_ms;
   add_phases(r.compile_phases, s.compile_phases);

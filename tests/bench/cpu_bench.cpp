@@ -44,7 +44,8 @@ constexpr double kMandelbrotFlopsPerIteration = 11;
 
 // The rate of Mandelbrot's floating-point operations over the benchmark's
 // iterations, from the per-pixel iteration counts one run produced.
-void count_mandelbrot_flops(benchmark::State& state, const std::vector<float>& shade) {
+template <class Shades>
+void count_mandelbrot_flops(benchmark::State& state, const Shades& shade) {
   double iterations = 0;
   for (float i : shade) iterations += i;
   state.counters["flops"] = benchmark::Counter(kMandelbrotFlopsPerIteration * iterations * static_cast<double>(state.iterations()),
@@ -157,7 +158,7 @@ void BM_mandelbrot_cpp(benchmark::State& state) {
     benchmark::DoNotOptimize(shade.data());
   }
   state.SetItemsProcessed(state.iterations() * shade.size());
-  count_mandelbrot_flops(state, std::vector<float>(shade.begin(), shade.end()));
+  count_mandelbrot_flops(state, shade);
 }
 
 void BM_triangles_dsl(benchmark::State& state) {

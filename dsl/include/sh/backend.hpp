@@ -176,6 +176,11 @@ void add_phases(std::vector<CompilePhase>& total, const std::vector<CompilePhase
 // Adds a run's details into `total` (a copy of them where total is empty).
 void add_details(std::shared_ptr<RunDetails>& total, const std::shared_ptr<RunDetails>& more);
 
+// Counts a run's compile into a total of runs (run_fused's two programs, a
+// render's bands): `compiled` where any made its kernel, `from_disk` where
+// every kernel made was loaded from the disk cache.
+void add_compiled(bool& compiled, bool& from_disk, const RunStats& one);
+
 struct Waves;
 
 class Kernel {

@@ -253,6 +253,12 @@ using detail::describe_slot;
 using detail::ms_since;
 using detail::resolve;
 
+void add_compiled(bool& compiled, bool& from_disk, const RunStats& one) {
+  if (!one.compiled) return;
+  from_disk = (compiled ? from_disk : true) && one.from_disk;
+  compiled = true;
+}
+
 void add_phases(std::vector<CompilePhase>& total, const std::vector<CompilePhase>& more) {
   for (const CompilePhase& phase : more) {
     auto same = std::find_if(total.begin(), total.end(), [&](const CompilePhase& p) { return p.name == phase.name; });

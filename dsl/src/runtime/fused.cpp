@@ -143,9 +143,7 @@ std::shared_ptr<Buffer> table_as_output(TableStorage& through, const LaunchDomai
 }
 
 void add_run(RunStats& total, const RunStats& one) {
-  // From the disk where every kernel made was loaded from it.
-  if (one.compiled) total.from_disk = (total.compiled ? total.from_disk : true) && one.from_disk;
-  total.compiled = total.compiled || one.compiled;
+  add_compiled(total.compiled, total.from_disk, one);
   total.compile_ms += one.compile_ms;
   total.compile_cpu_ms += one.compile_cpu_ms;
   add_phases(total.compile_phases, one.compile_phases);
