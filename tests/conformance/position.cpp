@@ -258,5 +258,71 @@ TEST_P(Conformance, StencilAlongLongRowsSplitBetweenCallsReadsEveryNeighbour) {
   }
 }
 
+// Stencils whose taps reach several rows, over rows that a run on one
+// thread and on two splits between calls mid-row, a call holding a few
+// rows (the cpu backend's SPMD kernels run two rows of batches at a time
+// where both lie in a call, and a call may end among them or start
+// mid-row), in layers of an odd number of rows (a layer's last row has
+// none below it to go with), reading a table of one and one of three
+// components; a table of a layer that reads zero past its edges.
+TEST_P(Conformance, StencilRowsSplitBetweenCallsAndLayersGiveEveryElementItsTaps) {
+  const int w = 100, h = 33, d = 3;
+  auto value = [](int x, int y, int z, int c) {
+    return static_cast<float>(1 + (x * 5 + y * 31 + z * 97) % 211 + c * 1000);
+  };
+  sh::Table2D<Attrib1f> image(w, h);
+  sh::Table2D<Attrib3f> colour(w, h);
+  sh::Table3D<Attrib1f> volume(w, h, d);
+  volume.edge(sh::Edge::Zero);
+  std::vector<float> image_values, colour_values, volume_values;
+  for (int z = 0; z < d; ++z)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        volume_values.push_back(value(x, y, z, 0));
+        if (z > 0) continue;
+        image_values.push_back(value(x, y, 0, 0));
+        for (int c = 0; c < 3; ++c) colour_values.push_back(value(x, y, 0, c));
+      }
+  image.assign(image_values);
+  colour.assign(colour_values);
+  volume.assign(volume_values);
+  sh::Program p = SH_BEGIN_PROGRAM("rows_together") {
+    sh::Output<Attrib1f> box, layer;
+    sh::Output<Attrib3f> column;
+    Attrib3i at = sh::position<3>();
+    box = 0.0f;
+    for (int dy = -2; dy <= 1; ++dy)
+      for (int dx = -3; dx <= 2; ++dx) box += image[at(0, 1) + sh::ConstAttrib2i(dx, dy)];
+    column = colour[at(0, 1) + sh::ConstAttrib2i(0, -1)] + colour[at(0, 1) + sh::ConstAttrib2i(1, 1)];
+    layer = volume[at + sh::ConstAttrib3i(-1, -1, 0)] + volume[at + sh::ConstAttrib3i(1, 1, 0)];
+  } SH_END;
+  auto clamp = [](int v, int n) { return std::min(std::max(v, 0), n - 1); };
+  auto in_layer = [&](int x, int y, int z) { return x < 0 || x >= w || y < 0 || y >= h ? 0.0f : value(x, y, z, 0); };
+  for (int threads : {1, 2}) {
+    sh::Channel<Attrib1f> box, layer;
+    sh::Channel<Attrib3f> column;
+    box.shape(w, h, d);
+    sh::Options o;
+    o.threads = threads;
+    sh::run(p, {}, {box, layer, column}, choice(o));
+    for (int z = 0; z < d; ++z)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          std::size_t e = static_cast<std::size_t>(x + w * (y + h * z));
+          std::string where = std::to_string(threads) + " threads, at " + std::to_string(x) + ", " +
+                              std::to_string(y) + ", " + std::to_string(z);
+          float want = 0;
+          for (int dy = -2; dy <= 1; ++dy)
+            for (int dx = -3; dx <= 2; ++dx) want += value(clamp(x + dx, w), clamp(y + dy, h), 0, 0);
+          ASSERT_EQ(box[e], want) << where;
+          for (int c = 0; c < 3; ++c)
+            ASSERT_EQ(column[3 * e + c],
+                      value(x, clamp(y - 1, h), 0, c) + value(clamp(x + 1, w), clamp(y + 1, h), 0, c))
+                << where << " component " << c;
+          ASSERT_EQ(layer[e], in_layer(x - 1, y - 1, z) + in_layer(x + 1, y + 1, z)) << where;
+        }
+  }
+}
+
 }  // namespace
 }  // namespace conformance

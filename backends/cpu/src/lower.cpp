@@ -1,5 +1,6 @@
 #include "lower.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -17,6 +18,15 @@ namespace sh::cpu {
 using llvm::BasicBlock;
 using llvm::Value;
 
+namespace {
+
+// Whether a stencil's taps reach more than one row of some table.
+bool taps_rows(const std::vector<std::optional<analysis::TapSpan>>& spans) {
+  return std::any_of(spans.begin(), spans.end(), [](const auto& s) { return s && s->high[1] > s->low[1]; });
+}
+
+}  // namespace
+
 Lowering::Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::LLVMContext& ctx)
     : p_(p), o_(o), width_(width), ctx_(ctx), module_(std::make_unique<llvm::Module>(p.name, ctx)), b_(ctx) {
   ir::verify_legal(p);
@@ -25,6 +35,8 @@ Lowering::Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::
     facts_ = analysis::analyse_spmd(p);
     access_ = analysis::table_access(p);
     tap_spans_ = analysis::tap_spans(p, access_);
+    pairs_rows_ = !fetches_tables(o) && taps_rows(tap_spans_) &&
+                  std::none_of(p.tables.begin(), p.tables.end(), [](const ir::TableDecl& t) { return t.accumulator; });
   }
   reads_position_ = ir::uses(p, ir::Op::Position);
   streams_ = kernel_streams(p, o);
@@ -132,6 +144,12 @@ void Lowering::function() {
     table_dims_.push_back(dims);
   }
   if (reads_position_) start_place(begin, domain);
+  if (pairs_rows_) {
+    skip_at_ = b_.CreateAlloca(i64, nullptr, "pairs.skip_at");
+    skip_last_at_ = b_.CreateAlloca(i64, nullptr, "pairs.skip_last_at");
+    skip_last_x_ = b_.CreateAlloca(i64, nullptr, "pairs.skip_last_x");
+    b_.CreateStore(b_.getInt64(-1), skip_at_);
+  }
   allocate_registers();
   b_.CreateBr(head);
 
@@ -157,99 +175,6 @@ void Lowering::function() {
   b_.SetInsertPoint(exit);
   order_streamed_stores();
   b_.CreateRetVoid();
-}
-
-// Where the program reads tables at position() plus constants (a
-// stencil's taps), full batches whose taps all lie inside their tables run
-// in a loop of their own along the row, the body lowered a second time for
-// them: each tap one vector load with no test and no mask, and one test
-// per batch, whether the next batch is such a batch too.  Rows are long and
-// taps short, so nearly every batch runs here; the stream loop's body,
-// every tap tested, takes the rows' edges and the stream's tail.
-void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
-  Value* inside = batch_inside();
-  if (!inside) return;
-  llvm::Type* i64 = b_.getInt64Ty();
-  Value* count = batch_count_;
-  Value* first_x = batch_place_[0];
-  BasicBlock* from = b_.GetInsertBlock();
-  BasicBlock* run = BasicBlock::Create(ctx_, "batches.inside", fn_);
-  BasicBlock* leave = BasicBlock::Create(ctx_, "batches.left", fn_);
-  BasicBlock* edge = BasicBlock::Create(ctx_, "batch.edge", fn_);
-  Value* step = b_.getInt64(width_);
-  batch_count_ = step;
-  Value* last_x = last_batch_x(e, end, first_x);
-  b_.CreateCondBr(b_.CreateAnd(inside, b_.CreateICmpEQ(count, step)), run, edge);
-
-  b_.SetInsertPoint(run);
-  llvm::PHINode* at = b_.CreatePHI(i64, 2);
-  llvm::PHINode* x = b_.CreatePHI(i64, 2);
-  at->addIncoming(e, from);
-  x->addIncoming(first_x, from);
-  b_.CreateStore(at, element_);
-  set_batch_x(x);
-  prefetch_next_rows();
-  store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
-  load_tap_rows();
-  clear_registers();
-  load_inputs(at, nullptr);
-  batch_inside_ = true;
-  block(p_.body);
-  batch_inside_ = false;
-  tap_rows_.clear();
-  store_outputs(at, nullptr);
-  Value* next = b_.CreateNSWAdd(at, step);
-  Value* next_x = b_.CreateNSWAdd(x, step);
-  at->addIncoming(next, b_.GetInsertBlock());
-  x->addIncoming(next_x, b_.GetInsertBlock());
-  b_.CreateCondBr(b_.CreateICmpSLE(next_x, last_x), run, leave);
-
-  b_.SetInsertPoint(leave);
-  b_.CreateStore(x, place_[0]);
-  advance_place(step);
-  b_.CreateStore(next, element_);
-  b_.CreateBr(head);
-
-  b_.SetInsertPoint(edge);
-  batch_count_ = count;
-  set_batch_x(first_x);
-}
-
-// The row that the batch under this one (at y + 1) will read first, for
-// each two-dimensional table a stencil reads: its taps' lowest row moves
-// down by one, so only the row past their highest is new to the cache.
-// Fetched a row ahead, at this batch's x, it is there when the next row of
-// batches comes; the hardware's prefetcher, which stops at a page's end,
-// left the first load of each new row waiting on memory (5 % of a 5 x 5
-// blur's samples).  Where that row lies past the table's last, the batch
-// asks for its own highest row instead, which it reads anyway: a prefetch
-// never faults, but one past the memory a table holds cost a Zen 1 host a
-// page walk each, about 50 us for each of run_fused's strips, whose
-// consumer's table holds only the strip's rows (BENCHMARKS.md, issue 25).
-void Lowering::prefetch_next_rows() {
-  llvm::Type* i64 = b_.getInt64Ty();
-  for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
-    const ir::TableDecl& table = p_.tables[t];
-    if (!tap_spans_[t] || table.rank != 2) continue;
-    Value* x = b_.CreateAdd(batch_place_[0], b_.getInt64(tap_spans_[t]->low[0]));
-    Value* highest = b_.CreateAdd(batch_place_[1], b_.getInt64(tap_spans_[t]->high[1]));
-    Value* next = b_.CreateAdd(highest, b_.getInt64(1));
-    Value* past_table = b_.CreateICmpSGE(next, b_.CreateZExt(table_dims_[t][1], i64));
-    Value* y = b_.CreateSelect(past_table, highest, next);
-    prefetch_element(static_cast<int>(t), b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64))));
-  }
-}
-
-// The x of the last batch along this row, from the one at first_x
-// (element e), that is full, in the row and the call, and has its taps
-// inside: each batch starts past the one before, so only their ends along
-// the row can leave.
-Value* Lowering::last_batch_x(Value* e, Value* end, Value* first_x) {
-  Value* step = b_.getInt64(width_);
-  Value* in_row = b_.CreateSub(row_, step);
-  Value* in_call = b_.CreateAdd(first_x, b_.CreateSub(b_.CreateSub(end, e), step));
-  Value* last = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, in_row, in_call);
-  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last, last_inside_x());
 }
 
 void Lowering::set_batch_x(Value* x) {
@@ -483,25 +408,39 @@ void Lowering::load_inputs(Value* e, Value* tail) {
 }
 
 void Lowering::store_outputs(Value* e, Value* tail) {
-  std::vector<Batch> full;
+  if (spmd() && !tail) return store_full_batches(full_batches(e));
   for (std::size_t o = 0; o < p_.outputs.size(); ++o) {
     ir::VarId v = p_.outputs[o];
     ir::Type t = p_.type_of(v);
     llvm::Type* scalar = storage_scalar(t.scalar);
     Value* at = element_pointer(output_base_[o], t, e);
-    std::array<Value*, 4> components{};
-    for (int c = 0; c < t.width; ++c)
-      components[c] = to_storage(b_.CreateLoad(var_type(v), slots_[v][c]), t.scalar);
+    std::array<Value*, 4> components = output_components(v);
     if (!spmd()) {
       for (int c = 0; c < t.width; ++c)
         b_.CreateStore(components[c], b_.CreateConstInBoundsGEP1_64(scalar, at, static_cast<std::uint64_t>(c)));
       continue;
     }
-    Value* block = interleave(components, t.width);
-    if (tail) b_.CreateMaskedStore(block, at, alignment(scalar), spread(tail, t.width));
-    else full.push_back({block, at, alignment(scalar)});
+    b_.CreateMaskedStore(interleave(components, t.width), at, alignment(scalar), spread(tail, t.width));
   }
-  store_full_batches(full);
+}
+
+std::vector<Lowering::Batch> Lowering::full_batches(Value* e) {
+  std::vector<Batch> full;
+  for (std::size_t o = 0; o < p_.outputs.size(); ++o) {
+    ir::VarId v = p_.outputs[o];
+    ir::Type t = p_.type_of(v);
+    Value* block = interleave(output_components(v), t.width);
+    full.push_back({block, element_pointer(output_base_[o], t, e), alignment(storage_scalar(t.scalar))});
+  }
+  return full;
+}
+
+// Output v's components, as they are stored.
+std::array<Value*, 4> Lowering::output_components(ir::VarId v) {
+  ir::Type t = p_.type_of(v);
+  std::array<Value*, 4> components{};
+  for (int c = 0; c < t.width; ++c) components[c] = to_storage(b_.CreateLoad(var_type(v), slots_[v][c]), t.scalar);
+  return components;
 }
 
 // Full batches of the outputs: past the cache where the run asks for it

@@ -1,8 +1,9 @@
 #pragma once
-// The state of one IR -> LLVM IR lowering, shared by its three parts:
-// lower.cpp (the stream loop, registers, inputs and outputs), flow.cpp
-// (statements and control flow), operations.cpp (assignments, arithmetic
-// and table reads) and arrays.cpp (local arrays).
+// The state of one IR -> LLVM IR lowering, shared by its parts: lower.cpp
+// (the stream loop, registers, inputs and outputs), stencil_rows.cpp (a
+// stencil's batches along a row), flow.cpp (statements and control flow),
+// operations.cpp (assignments, arithmetic and table reads) and arrays.cpp
+// (local arrays).
 //
 // Lanes: with width 1 every register is a scalar and control flow is
 // branches.  With width W > 1 the kernel is SPMD: a varying register is a
@@ -62,11 +63,13 @@ class Lowering {
   void clear_registers();
   void load_inputs(Value* e, Value* tail);
   void store_outputs(Value* e, Value* tail);
+  std::array<Value*, 4> output_components(ir::VarId v);
   struct Batch {  // a full batch of an output, as it is stored
     Value* block;
     Value* at;
     llvm::Align natural;
   };
+  std::vector<Batch> full_batches(Value* e);
   void store_full_batches(const std::vector<Batch>& batches);
   void order_streamed_stores();
   void full_or_tail(Value* count, const std::function<void(Value* tail)>& emit);
@@ -80,10 +83,18 @@ class Lowering {
   void start_place(Value* begin, Value* domain);
   Value* place_batch(Value* count);
   void advance_place(Value* step);
+  void set_batch_x(Value* x);
+  void set_batch_y(Value* y);
+
+  // ---- a stencil's batches along a row (stencil_rows.cpp) -------------------
   void inside_batches(Value* e, Value* end, BasicBlock* head);
+  std::vector<Batch> inside_batch(Value* at);
+  void leave_run(Value* x, Value* next, BasicBlock* head);
+  void paired_batches(Value* e, Value* first_x, Value* last_x, BasicBlock* head);
+  Value* pair_below(Value* e, Value* end, Value* first_x, Value* last_x);
+  void skip_paired_run(Value* e, Value* first_x, BasicBlock* head);
   Value* last_batch_x(Value* e, Value* end, Value* first_x);
   void prefetch_next_rows();
-  void set_batch_x(Value* x);
   Value* position(int k, bool vary);
 
   // ---- statements and control flow (flow.cpp) ------------------------------
@@ -222,6 +233,12 @@ class Lowering {
   llvm::Intrinsic::ID lane_permute_ = llvm::Intrinsic::not_intrinsic;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   std::map<std::tuple<int, int, int>, TapRow> tap_rows_;  // spmd, inside: by table and the row's y and z offsets
+  // spmd: taps on more than one row of a table, no accumulator: rows'
+  // runs of inside batches may run together (paired_batches), which then
+  // leaves where the next row's run starts (-1: none), where the last
+  // row's does, and the x of their last batch
+  bool pairs_rows_ = false;
+  llvm::AllocaInst *skip_at_ = nullptr, *skip_last_at_ = nullptr, *skip_last_x_ = nullptr;
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
   // must keep their values, innermost last.
   std::vector<VarSet> keep_;

@@ -1,0 +1,227 @@
+// The stream loop's path for a stencil's batches (lowering.hpp): along a
+// row, the batches whose taps all lie inside their tables, alone or two
+// rows at a time.
+#include "lowering.hpp"
+
+namespace sh::cpu {
+
+using llvm::BasicBlock;
+using llvm::Value;
+
+namespace {
+
+// The rows whose runs of inside batches go together (paired_batches).
+constexpr int kRowsTogether = 2;
+
+}  // namespace
+
+// Where the program reads tables at position() plus constants (a
+// stencil's taps), full batches whose taps all lie inside their tables run
+// in a loop of their own along the row, the body lowered a second time for
+// them: each tap one vector load with no test and no mask, and one test
+// per batch, whether the next batch is such a batch too.  Rows are long and
+// taps short, so nearly every batch runs here; the stream loop's body,
+// every tap tested, takes the rows' edges and the stream's tail.  Where
+// the row below is in the call too, the two rows run together
+// (paired_batches).
+void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
+  Value* inside = batch_inside();
+  if (!inside) return;
+  Value* count = batch_count_;
+  Value* first_x = batch_place_[0];
+  Value* step = b_.getInt64(width_);
+  Value* last_x = last_batch_x(e, end, first_x);
+  Value* full_inside = b_.CreateAnd(inside, b_.CreateICmpEQ(count, step));
+  BasicBlock* edge = BasicBlock::Create(ctx_, "batch.edge", fn_);
+  batch_count_ = step;
+  if (pairs_rows_) {
+    skip_paired_run(e, first_x, head);
+    BasicBlock* pairs = BasicBlock::Create(ctx_, "pairs.inside", fn_);
+    BasicBlock* alone = BasicBlock::Create(ctx_, "batches.alone", fn_);
+    b_.CreateCondBr(b_.CreateAnd(full_inside, pair_below(e, end, first_x, last_x)), pairs, alone);
+    b_.SetInsertPoint(pairs);
+    paired_batches(e, first_x, last_x, head);
+    b_.SetInsertPoint(alone);
+  }
+  BasicBlock* from = b_.GetInsertBlock();
+  BasicBlock* run = BasicBlock::Create(ctx_, "batches.inside", fn_);
+  BasicBlock* leave = BasicBlock::Create(ctx_, "batches.left", fn_);
+  b_.CreateCondBr(full_inside, run, edge);
+
+  b_.SetInsertPoint(run);
+  llvm::PHINode* at = b_.CreatePHI(b_.getInt64Ty(), 2);
+  llvm::PHINode* x = b_.CreatePHI(b_.getInt64Ty(), 2);
+  at->addIncoming(e, from);
+  x->addIncoming(first_x, from);
+  set_batch_x(x);
+  prefetch_next_rows();
+  store_full_batches(inside_batch(at));
+  Value* next = b_.CreateNSWAdd(at, step);
+  Value* next_x = b_.CreateNSWAdd(x, step);
+  at->addIncoming(next, b_.GetInsertBlock());
+  x->addIncoming(next_x, b_.GetInsertBlock());
+  b_.CreateCondBr(b_.CreateICmpSLE(next_x, last_x), run, leave);
+
+  b_.SetInsertPoint(leave);
+  leave_run(x, next, head);
+
+  b_.SetInsertPoint(edge);
+  batch_count_ = count;
+  set_batch_x(first_x);
+}
+
+// The body of element `at`'s batch, every lane live and every tap inside:
+// its outputs' full batches, not yet stored.
+std::vector<Lowering::Batch> Lowering::inside_batch(Value* at) {
+  b_.CreateStore(at, element_);
+  store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
+  load_tap_rows();
+  clear_registers();
+  load_inputs(at, nullptr);
+  batch_inside_ = true;
+  block(p_.body);
+  batch_inside_ = false;
+  tap_rows_.clear();
+  return full_batches(at);
+}
+
+// Past a run along the row whose last batch is at x: the stream loop goes
+// on at element `next`.
+void Lowering::leave_run(Value* x, Value* next, BasicBlock* head) {
+  b_.CreateStore(x, place_[0]);
+  advance_place(b_.getInt64(width_));
+  b_.CreateStore(next, element_);
+  b_.CreateBr(head);
+}
+
+// Rows of a stencil read the rows between them alike: a 5 x 5 blur's
+// batches at (x, y) and (x, y + 1) read six rows, not ten.  So where the
+// run's batches of the kRowsTogether - 1 rows below lie in the call, with
+// their taps inside, each trip lowers the body for each row, every load of
+// every row before any row's stores (an output may lie in a table's
+// memory), and LLVM's value numbering shares what the rows read alike:
+// their loads and their taps' shuffles.  A hand-written form of the blur
+// took a fifth less time two rows at a time (BENCHMARKS.md, issue 25).
+// The runs of the rows below are then done: skip_paired_run passes over
+// each when the stream loop comes to it.
+void Lowering::paired_batches(Value* e, Value* first_x, Value* last_x, BasicBlock* head) {
+  Value* step = b_.getInt64(width_);
+  BasicBlock* from = b_.GetInsertBlock();
+  BasicBlock* run = BasicBlock::Create(ctx_, "pairs.run", fn_);
+  BasicBlock* leave = BasicBlock::Create(ctx_, "pairs.left", fn_);
+  b_.CreateBr(run);
+
+  b_.SetInsertPoint(run);
+  llvm::PHINode* at = b_.CreatePHI(b_.getInt64Ty(), 2);
+  llvm::PHINode* x = b_.CreatePHI(b_.getInt64Ty(), 2);
+  at->addIncoming(e, from);
+  x->addIncoming(first_x, from);
+  set_batch_x(x);
+  const std::array<Value*, 3> place = batch_place_, position = position_;
+  Value* y = batch_place_[1];
+  // The rows the next trip's rows read and this trip's do not: as many
+  // as it has rows, past the highest this trip reads.
+  for (int below = 1; below <= kRowsTogether; ++below) {
+    set_batch_y(b_.CreateNSWAdd(y, b_.getInt64(kRowsTogether - 2 + below)));
+    prefetch_next_rows();
+  }
+  std::vector<Batch> stored;
+  for (int below = 0; below < kRowsTogether; ++below) {
+    set_batch_y(b_.CreateNSWAdd(y, b_.getInt64(below)));
+    std::vector<Batch> row = inside_batch(b_.CreateNSWAdd(at, b_.CreateNSWMul(row_, b_.getInt64(below))));
+    stored.insert(stored.end(), row.begin(), row.end());
+  }
+  batch_place_ = place, position_ = position;
+  store_full_batches(stored);
+  Value* next = b_.CreateNSWAdd(at, step);
+  Value* next_x = b_.CreateNSWAdd(x, step);
+  at->addIncoming(next, b_.GetInsertBlock());
+  x->addIncoming(next_x, b_.GetInsertBlock());
+  b_.CreateCondBr(b_.CreateICmpSLE(next_x, last_x), run, leave);
+
+  b_.SetInsertPoint(leave);
+  b_.CreateStore(b_.CreateAdd(e, row_), skip_at_);
+  b_.CreateStore(b_.CreateAdd(e, b_.CreateMul(row_, b_.getInt64(kRowsTogether - 1))), skip_last_at_);
+  b_.CreateStore(x, skip_last_x_);
+  leave_run(x, next, head);
+}
+
+// Whether the rows below the batch at first_x (element e) can run beside
+// this run: they are in the domain's layer, their batches up to last_x
+// are in the call, and their taps lie inside.  And whether the stream
+// loop will come to their runs' starts: it lays each row's batches from
+// its x = 0 on, so a run starting elsewhere (a call that starts inside
+// the row) would be done again.
+Value* Lowering::pair_below(Value* e, Value* end, Value* first_x, Value* last_x) {
+  Value* y = batch_place_[1];
+  Value* lowest = b_.CreateAdd(y, b_.getInt64(kRowsTogether - 1));
+  Value* in_layer = b_.CreateICmpSLT(lowest, rows_);
+  Value* run_end = b_.CreateAdd(b_.CreateAdd(e, b_.CreateMul(row_, b_.getInt64(kRowsTogether - 1))),
+                                b_.CreateAdd(b_.CreateSub(last_x, first_x), b_.getInt64(width_)));
+  Value* in_call = b_.CreateICmpSLE(run_end, end);
+  Value* met = b_.CreateICmpEQ(b_.CreateAnd(first_x, b_.getInt64(width_ - 1)), b_.getInt64(0));
+  const std::array<Value*, 3> place = batch_place_, position = position_;
+  set_batch_y(lowest);
+  Value* inside = batch_inside();
+  batch_place_ = place, position_ = position;
+  return b_.CreateAnd(b_.CreateAnd(in_layer, in_call), b_.CreateAnd(met, inside));
+}
+
+// The batch at element e starts a run paired_batches did with a row
+// above: the stream loop goes on past that run's last batch, and looks
+// for the next row's run where there is one.
+void Lowering::skip_paired_run(Value* e, Value* first_x, BasicBlock* head) {
+  llvm::Type* i64 = b_.getInt64Ty();
+  BasicBlock* done = BasicBlock::Create(ctx_, "pairs.done", fn_);
+  BasicBlock* go_on = BasicBlock::Create(ctx_, "pairs.not_done", fn_);
+  b_.CreateCondBr(b_.CreateICmpEQ(e, b_.CreateLoad(i64, skip_at_)), done, go_on);
+  b_.SetInsertPoint(done);
+  Value* last_row = b_.CreateICmpEQ(e, b_.CreateLoad(i64, skip_last_at_));
+  b_.CreateStore(b_.CreateSelect(last_row, b_.getInt64(-1), b_.CreateAdd(e, row_)), skip_at_);
+  Value* last_x = b_.CreateLoad(i64, skip_last_x_);
+  leave_run(last_x, b_.CreateAdd(e, b_.CreateAdd(b_.CreateSub(last_x, first_x), b_.getInt64(width_))), head);
+  b_.SetInsertPoint(go_on);
+}
+
+// The row that the batch under this one (at y + 1) will read first, for
+// each two-dimensional table a stencil reads: its taps' lowest row moves
+// down by one, so only the row past their highest is new to the cache.
+// Fetched a row ahead, at this batch's x, it is there when the next row of
+// batches comes; the hardware's prefetcher, which stops at a page's end,
+// left the first load of each new row waiting on memory (5 % of a 5 x 5
+// blur's samples).  Where that row lies past the table's last, the batch
+// asks for the last row instead: a prefetch never faults, but one past the
+// memory a table holds cost a Zen 1 host a page walk each, about 50 us for
+// each of run_fused's strips, whose consumer's table holds only the
+// strip's rows (BENCHMARKS.md, issue 25).
+void Lowering::prefetch_next_rows() {
+  llvm::Type* i64 = b_.getInt64Ty();
+  for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
+    const ir::TableDecl& table = p_.tables[t];
+    if (!tap_spans_[t] || table.rank != 2) continue;
+    Value* x = b_.CreateAdd(batch_place_[0], b_.getInt64(tap_spans_[t]->low[0]));
+    Value* next = b_.CreateAdd(batch_place_[1], b_.getInt64(std::int64_t{tap_spans_[t]->high[1]} + 1));
+    Value* last = b_.CreateSub(b_.CreateZExt(table_dims_[t][1], i64), b_.getInt64(1));
+    Value* y = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, next, last);
+    prefetch_element(static_cast<int>(t), b_.CreateAdd(x, b_.CreateMul(y, b_.CreateZExt(table_dims_[t][0], i64))));
+  }
+}
+
+// The x of the last batch along this row, from the one at first_x
+// (element e), that is full, in the row and the call, and has its taps
+// inside: each batch starts past the one before, so only their ends along
+// the row can leave.
+Value* Lowering::last_batch_x(Value* e, Value* end, Value* first_x) {
+  Value* step = b_.getInt64(width_);
+  Value* in_row = b_.CreateSub(row_, step);
+  Value* in_call = b_.CreateAdd(first_x, b_.CreateSub(b_.CreateSub(end, e), step));
+  Value* last = b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, in_row, in_call);
+  return b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, last, last_inside_x());
+}
+
+void Lowering::set_batch_y(Value* y) {
+  batch_place_[1] = y;
+  position_[1] = b_.CreateTrunc(y, b_.getInt32Ty());
+}
+
+}  // namespace sh::cpu
