@@ -35,14 +35,17 @@ Lowering::Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::
     facts_ = analysis::analyse_spmd(p);
     access_ = analysis::table_access(p);
     tap_spans_ = analysis::tap_spans(p, access_);
-    pairs_rows_ = !fetches_tables(o) && taps_rows(tap_spans_) &&
-                  std::none_of(p.tables.begin(), p.tables.end(), [](const ir::TableDecl& t) { return t.accumulator; });
   }
   reads_position_ = ir::uses(p, ir::Op::Position);
   streams_ = kernel_streams(p, o);
   unwritten_reads_ = analysis::unwritten_reads(p);
   llvm::StringMap<bool> features = isa_features(o);
   avx512_ = features.lookup("avx512f");
+  // Two rows' taps held at once need AVX-512's 32 vector registers: with
+  // AVX2's 16 the code generator folds each load into its add again, and
+  // the blur ran slower (BENCHMARKS.md, issue 25).
+  pairs_rows_ = spmd() && avx512_ && !fetches_tables(o) && taps_rows(tap_spans_) &&
+                std::none_of(p.tables.begin(), p.tables.end(), [](const ir::TableDecl& t) { return t.accumulator; });
   if (width_ == 16 && avx512_)
     lane_permute_ = llvm::Intrinsic::x86_avx512_permvar_sf_512;
   else if (width_ == 8 && features.lookup("avx2"))

@@ -233,10 +233,10 @@ class Lowering {
   llvm::Intrinsic::ID lane_permute_ = llvm::Intrinsic::not_intrinsic;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
   std::map<std::tuple<int, int, int>, TapRow> tap_rows_;  // spmd, inside: by table and the row's y and z offsets
-  // spmd: taps on more than one row of a table, no accumulator: rows'
-  // runs of inside batches may run together (paired_batches), which then
-  // leaves where the next row's run starts (-1: none), where the last
-  // row's does, and the x of their last batch
+  // spmd with AVX-512, taps on more than one row of a table, no
+  // accumulator: rows' runs of inside batches may run together
+  // (paired_batches), which then leaves where the next row's run starts
+  // (-1: none), where the last row's does, and the x of their last batch
   bool pairs_rows_ = false;
   llvm::AllocaInst *skip_at_ = nullptr, *skip_last_at_ = nullptr, *skip_last_x_ = nullptr;
   // spmd, inside masked ifs and loops: the variables whose inactive lanes
