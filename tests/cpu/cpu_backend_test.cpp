@@ -285,7 +285,7 @@ TEST(CpuBackend, StencilRowsRunTwoAtATimeAndShareTheirLoads) {
   Options o;
   o.set(sixteen);
   std::string ir = kernel_for(box_of(3), backend("cpu", o))->listing();
-  std::string pairs = blocks(ir, "pairs.run:");
+  std::string pairs = blocks(ir, "pairs.inside:");
   ASSERT_FALSE(pairs.empty()) << ir;
   EXPECT_EQ(count(blocks(ir, "batches.inside:"), "load <16 x float>"), 6u) << ir;
   EXPECT_EQ(count(pairs, "load <16 x float>"), 8u) << ir;

@@ -117,7 +117,7 @@ void Lowering::function() {
     fn_->addFnAttr("prefer-vector-width", bits);
   }
   auto arg = fn_->arg_begin();
-  Value *begin = arg++, *end = arg++;
+  Value *begin = call_begin_ = arg++, *end = arg++;
   inputs_ = arg++;
   outputs_ = arg++;
   uniforms_ = arg++;

@@ -91,6 +91,12 @@ class Lowering {
   std::vector<Batch> inside_batch(Value* at);
   void leave_run(Value* x, Value* next, BasicBlock* head);
   void paired_batches(Value* e, Value* first_x, Value* last_x, BasicBlock* head);
+  struct RowLoop {
+    Value* x;     // the last batch's
+    Value* next;  // the element past it
+  };
+  RowLoop along_row(Value* e, Value* first_x, Value* last_x, const std::string& name,
+                    const std::function<void(Value* at)>& trip);
   Value* pair_below(Value* e, Value* end, Value* first_x, Value* last_x);
   void skip_paired_run(Value* e, Value* first_x, BasicBlock* head);
   Value* last_batch_x(Value* e, Value* end, Value* first_x);
@@ -214,6 +220,7 @@ class Lowering {
   // spmd on x86, no loops, stores not set to cached: the kernel can write
   // outputs past the cache
   bool streams_ = false;
+  Value* call_begin_ = nullptr;  // the call's first element
   llvm::AllocaInst* element_ = nullptr;
   bool reads_position_ = false;
   Value *row_ = nullptr, *rows_ = nullptr;       // the launch domain's (signature.hpp)

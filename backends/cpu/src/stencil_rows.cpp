@@ -36,34 +36,21 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   batch_count_ = step;
   if (pairs_rows_) {
     skip_paired_run(e, first_x, head);
-    BasicBlock* pairs = BasicBlock::Create(ctx_, "pairs.inside", fn_);
-    BasicBlock* alone = BasicBlock::Create(ctx_, "batches.alone", fn_);
-    b_.CreateCondBr(b_.CreateAnd(full_inside, pair_below(e, end, first_x, last_x)), pairs, alone);
+    BasicBlock* pairs = BasicBlock::Create(ctx_, "pairs.enter", fn_);
+    BasicBlock* not_paired = BasicBlock::Create(ctx_, "pairs.not_taken", fn_);
+    b_.CreateCondBr(b_.CreateAnd(full_inside, pair_below(e, end, first_x, last_x)), pairs, not_paired);
     b_.SetInsertPoint(pairs);
     paired_batches(e, first_x, last_x, head);
-    b_.SetInsertPoint(alone);
+    b_.SetInsertPoint(not_paired);
   }
-  BasicBlock* from = b_.GetInsertBlock();
-  BasicBlock* run = BasicBlock::Create(ctx_, "batches.inside", fn_);
-  BasicBlock* leave = BasicBlock::Create(ctx_, "batches.left", fn_);
-  b_.CreateCondBr(full_inside, run, edge);
-
-  b_.SetInsertPoint(run);
-  llvm::PHINode* at = b_.CreatePHI(b_.getInt64Ty(), 2);
-  llvm::PHINode* x = b_.CreatePHI(b_.getInt64Ty(), 2);
-  at->addIncoming(e, from);
-  x->addIncoming(first_x, from);
-  set_batch_x(x);
-  prefetch_next_rows();
-  store_full_batches(inside_batch(at));
-  Value* next = b_.CreateNSWAdd(at, step);
-  Value* next_x = b_.CreateNSWAdd(x, step);
-  at->addIncoming(next, b_.GetInsertBlock());
-  x->addIncoming(next_x, b_.GetInsertBlock());
-  b_.CreateCondBr(b_.CreateICmpSLE(next_x, last_x), run, leave);
-
-  b_.SetInsertPoint(leave);
-  leave_run(x, next, head);
+  BasicBlock* alone = BasicBlock::Create(ctx_, "batches.enter", fn_);
+  b_.CreateCondBr(full_inside, alone, edge);
+  b_.SetInsertPoint(alone);
+  RowLoop done = along_row(e, first_x, last_x, "batches", [&](Value* at) {
+    prefetch_next_rows();
+    store_full_batches(inside_batch(at));
+  });
+  leave_run(done.x, done.next, head);
 
   b_.SetInsertPoint(edge);
   batch_count_ = count;
@@ -100,15 +87,47 @@ void Lowering::leave_run(Value* x, Value* next, BasicBlock* head) {
 // their taps inside, each trip lowers the body for each row, every load of
 // every row before any row's stores (an output may lie in a table's
 // memory), and LLVM's value numbering shares what the rows read alike:
-// their loads and their taps' shuffles.  A hand-written form of the blur
-// took a fifth less time two rows at a time (BENCHMARKS.md, issue 25).
+// their loads and their taps' shuffles: 7 % off the 5 x 5 blur at 16
+// lanes, 18 % at 8, whose two loads a row cost more per element
+// (BENCHMARKS.md, issue 25).
 // The runs of the rows below are then done: skip_paired_run passes over
 // each when the stream loop comes to it.
 void Lowering::paired_batches(Value* e, Value* first_x, Value* last_x, BasicBlock* head) {
+  RowLoop done = along_row(e, first_x, last_x, "pairs", [&](Value* at) {
+    const std::array<Value*, 3> place = batch_place_, position = position_;
+    Value* y = batch_place_[1];
+    // The rows the next trip's rows read and this trip's do not: as many
+    // as it has rows, past the highest this trip reads.
+    for (int below = 1; below <= kRowsTogether; ++below) {
+      set_batch_y(b_.CreateNSWAdd(y, b_.getInt64(kRowsTogether - 2 + below)));
+      prefetch_next_rows();
+    }
+    std::vector<Batch> stored;
+    for (int below = 0; below < kRowsTogether; ++below) {
+      set_batch_y(b_.CreateNSWAdd(y, b_.getInt64(below)));
+      std::vector<Batch> row = inside_batch(b_.CreateNSWAdd(at, b_.CreateNSWMul(row_, b_.getInt64(below))));
+      stored.insert(stored.end(), row.begin(), row.end());
+    }
+    batch_place_ = place, position_ = position;
+    store_full_batches(stored);
+  });
+  b_.CreateStore(b_.CreateAdd(e, row_), skip_at_);
+  b_.CreateStore(b_.CreateAdd(e, b_.CreateMul(row_, b_.getInt64(kRowsTogether - 1))), skip_last_at_);
+  b_.CreateStore(done.x, skip_last_x_);
+  leave_run(done.x, done.next, head);
+}
+
+// A loop along the row over full batches whose taps lie inside, from the
+// one at first_x (element e) to the one at last_x, `trip` emitting a
+// trip's work for the batch at element `at`, in blocks named
+// `name`.inside and `name`.left; leaves the builder in the latter, with the last
+// batch's x and the element past it.
+Lowering::RowLoop Lowering::along_row(Value* e, Value* first_x, Value* last_x, const std::string& name,
+                                      const std::function<void(Value* at)>& trip) {
   Value* step = b_.getInt64(width_);
   BasicBlock* from = b_.GetInsertBlock();
-  BasicBlock* run = BasicBlock::Create(ctx_, "pairs.run", fn_);
-  BasicBlock* leave = BasicBlock::Create(ctx_, "pairs.left", fn_);
+  BasicBlock* run = BasicBlock::Create(ctx_, name + ".inside", fn_);
+  BasicBlock* leave = BasicBlock::Create(ctx_, name + ".left", fn_);
   b_.CreateBr(run);
 
   b_.SetInsertPoint(run);
@@ -117,41 +136,24 @@ void Lowering::paired_batches(Value* e, Value* first_x, Value* last_x, BasicBloc
   at->addIncoming(e, from);
   x->addIncoming(first_x, from);
   set_batch_x(x);
-  const std::array<Value*, 3> place = batch_place_, position = position_;
-  Value* y = batch_place_[1];
-  // The rows the next trip's rows read and this trip's do not: as many
-  // as it has rows, past the highest this trip reads.
-  for (int below = 1; below <= kRowsTogether; ++below) {
-    set_batch_y(b_.CreateNSWAdd(y, b_.getInt64(kRowsTogether - 2 + below)));
-    prefetch_next_rows();
-  }
-  std::vector<Batch> stored;
-  for (int below = 0; below < kRowsTogether; ++below) {
-    set_batch_y(b_.CreateNSWAdd(y, b_.getInt64(below)));
-    std::vector<Batch> row = inside_batch(b_.CreateNSWAdd(at, b_.CreateNSWMul(row_, b_.getInt64(below))));
-    stored.insert(stored.end(), row.begin(), row.end());
-  }
-  batch_place_ = place, position_ = position;
-  store_full_batches(stored);
+  trip(at);
   Value* next = b_.CreateNSWAdd(at, step);
   Value* next_x = b_.CreateNSWAdd(x, step);
   at->addIncoming(next, b_.GetInsertBlock());
   x->addIncoming(next_x, b_.GetInsertBlock());
   b_.CreateCondBr(b_.CreateICmpSLE(next_x, last_x), run, leave);
-
   b_.SetInsertPoint(leave);
-  b_.CreateStore(b_.CreateAdd(e, row_), skip_at_);
-  b_.CreateStore(b_.CreateAdd(e, b_.CreateMul(row_, b_.getInt64(kRowsTogether - 1))), skip_last_at_);
-  b_.CreateStore(x, skip_last_x_);
-  leave_run(x, next, head);
+  return {x, next};
 }
 
 // Whether the rows below the batch at first_x (element e) can run beside
 // this run: they are in the domain's layer, their batches up to last_x
 // are in the call, and their taps lie inside.  And whether the stream
-// loop will come to their runs' starts: it lays each row's batches from
-// its x = 0 on, so a run starting elsewhere (a call that starts inside
-// the row) would be done again.
+// loop will come to their runs' starts and no further batch of theirs
+// before: it will where this row's batches were laid from its x = 0 on,
+// as theirs will be, so that first_x is where their runs start too (a
+// call that starts inside the row has its first row's batches elsewhere,
+// and an inside batch of the row below may start its run earlier).
 Value* Lowering::pair_below(Value* e, Value* end, Value* first_x, Value* last_x) {
   Value* y = batch_place_[1];
   Value* lowest = b_.CreateAdd(y, b_.getInt64(kRowsTogether - 1));
@@ -159,12 +161,12 @@ Value* Lowering::pair_below(Value* e, Value* end, Value* first_x, Value* last_x)
   Value* run_end = b_.CreateAdd(b_.CreateAdd(e, b_.CreateMul(row_, b_.getInt64(kRowsTogether - 1))),
                                 b_.CreateAdd(b_.CreateSub(last_x, first_x), b_.getInt64(width_)));
   Value* in_call = b_.CreateICmpSLE(run_end, end);
-  Value* met = b_.CreateICmpEQ(b_.CreateAnd(first_x, b_.getInt64(width_ - 1)), b_.getInt64(0));
+  Value* from_row_start = b_.CreateICmpSGE(b_.CreateSub(e, first_x), call_begin_);
   const std::array<Value*, 3> place = batch_place_, position = position_;
   set_batch_y(lowest);
   Value* inside = batch_inside();
   batch_place_ = place, position_ = position;
-  return b_.CreateAnd(b_.CreateAnd(in_layer, in_call), b_.CreateAnd(met, inside));
+  return b_.CreateAnd(b_.CreateAnd(in_layer, in_call), b_.CreateAnd(from_row_start, inside));
 }
 
 // The batch at element e starts a run paired_batches did with a row
