@@ -311,25 +311,35 @@ NanPixels nan_pixels(const Image& image) {
   return found;
 }
 
-double share_within(const Image& a, const Image& b, float tolerance) {
+namespace {
+
+void check_same_size(const Image& a, const Image& b) {
   if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");
+}
+
+// Channel i of a less b's, each as a PNG holds it (clamped to [0, 1]).
+float clamped_difference(const Image& a, const Image& b, std::size_t i) {
+  return std::clamp(a.rgb[i], 0.f, 1.f) - std::clamp(b.rgb[i], 0.f, 1.f);
+}
+
+}  // namespace
+
+double share_within(const Image& a, const Image& b, float tolerance) {
+  check_same_size(a, b);
   std::size_t close = 0, pixels = a.rgb.size() / 3;
   for (std::size_t p = 0; p < pixels; ++p) {
     bool ok = true;
-    for (int c = 0; c < 3; ++c) {
-      float x = std::clamp(a.rgb[3 * p + c], 0.f, 1.f), y = std::clamp(b.rgb[3 * p + c], 0.f, 1.f);
-      ok = ok && std::fabs(x - y) <= tolerance;
-    }
+    for (std::size_t c = 0; c < 3; ++c) ok = ok && std::fabs(clamped_difference(a, b, 3 * p + c)) <= tolerance;
     close += ok;
   }
   return pixels ? static_cast<double>(close) / pixels : 1.0;
 }
 
 double psnr(const Image& a, const Image& b) {
-  if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");
+  check_same_size(a, b);
   double sum = 0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-    double d = std::clamp(a.rgb[i], 0.f, 1.f) - std::clamp(b.rgb[i], 0.f, 1.f);
+    double d = clamped_difference(a, b, i);
     sum += d * d;
   }
   double mse = sum / std::max<std::size_t>(a.rgb.size(), 1);
@@ -337,10 +347,10 @@ double psnr(const Image& a, const Image& b) {
 }
 
 float max_difference(const Image& a, const Image& b) {
-  if (a.rgb.size() != b.rgb.size()) throw Error("images of different sizes cannot be compared");
+  check_same_size(a, b);
   float largest = 0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-    float d = std::fabs(std::clamp(a.rgb[i], 0.f, 1.f) - std::clamp(b.rgb[i], 0.f, 1.f));
+    float d = std::fabs(clamped_difference(a, b, i));
     // std::max would pass over a NaN, which the clamp keeps.
     if (std::isnan(d)) return INFINITY;
     largest = std::max(largest, d);
