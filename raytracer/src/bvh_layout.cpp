@@ -113,7 +113,6 @@ class Widener {
     }
     auto wide = static_cast<std::int32_t>(bvh_.wide_children.size() / kBvhWidth);
     bvh_.wide_children.resize(bvh_.wide_children.size() + kBvhWidth, -1);
-    bvh_.wide_first.resize(bvh_.wide_first.size() + kBvhWidth, 0);
     bvh_.wide_box.resize(bvh_.wide_box.size() + 6 * kBvhWidth);
     bvh_.wide_order.push_back(order(kids));
     for (std::size_t slot = 0; slot < static_cast<std::size_t>(kBvhWidth); ++slot) {
@@ -127,7 +126,6 @@ class Widener {
     for (std::size_t slot = 0; slot < kids.size(); ++slot) {
       std::int32_t r = ref(kids[slot]);  // numbers the subtree: wide_children may grow
       bvh_.wide_children[static_cast<std::size_t>(wide) * kBvhWidth + slot] = r;
-      if (r <= -2) bvh_.wide_first[static_cast<std::size_t>(wide) * kBvhWidth + slot] = bvh_.triangles[static_cast<std::size_t>(-r - 2)];
     }
     return wide;
   }
@@ -161,14 +159,15 @@ class Widener {
 };
 
 // The walks number nodes, their rows of boxes and links, and the lists'
-// entries in 32 bits: a tree past that would wrap (about 90 M triangles in
-// the threaded walk, whose six orders of links take twelve numbers a node).
+// entries' corners (three a entry) in 32 bits: a tree past that would wrap
+// (about 90 M triangles in the threaded walk, whose six orders of links
+// take twelve numbers a node).
 void check_numbers(const Numbered& n, BvhWalk walk) {
   std::size_t per_node = walk == BvhWalk::Threaded ? 2 * kBvhOrders : walk == BvhWalk::Stack ? 6 : 6 * kBvhWidth;
   std::size_t listed = n.nodes.size();  // each leaf's list ends in -1
   for (const Node* node : n.nodes) listed += node->triangles.size();
   constexpr std::size_t most = std::numeric_limits<std::int32_t>::max() - 2;
-  if (n.nodes.size() > most / per_node || listed > most)
+  if (n.nodes.size() > most / per_node || listed > most / 3)
     throw Error("BVH: " + std::to_string(n.nodes.size()) + " nodes and " + std::to_string(listed) +
                 " list entries are more than its walk numbers in 32 bits; use fewer triangles, or --accel grid or octree");
 }

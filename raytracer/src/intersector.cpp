@@ -138,9 +138,8 @@ void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& 
 // A ray through a shared edge or vertex meets every triangle around it
 // whose edge functions are all >= 0 or all <= 0, so it cannot slip between
 // them: the test is exact in the ray's space.
-void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
-                   Attrib2f& best_uv) {
-  Attrib3f v0 = s.v0[tri], v1 = s.v1[tri], v2 = s.v2[tri];
+void test_triangle(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2, const Attrib1i& tri,
+                   Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv) {
   Attrib3f a = to_ray_space(r, v0), b = to_ray_space(r, v1), c = to_ray_space(r, v2);
   Attrib1f u = edge_function(b, c), v = edge_function(c, a), w = edge_function(a, b);
   // Near an edge (rare) the float sign may be wrong: all three again in double.
@@ -175,9 +174,19 @@ void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attr
 void test_listed(const SceneTables& s, const Ray& r, const Table1D<Attrib1i>& list, Attrib1i& k, Attrib1i tri,
                  Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv) {
   SH_WHILE(tri >= 0) {
-    test_triangle(s, r, tri, best, best_tri, best_uv);
+    test_triangle(r, s.v0[tri], s.v1[tri], s.v2[tri], tri, best, best_tri, best_uv);
     k += 1;
     tri = list[k];
+  } SH_ENDWHILE;
+}
+
+void test_leaf(const BvhTables& b, const Ray& r, Attrib1i k, Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv) {
+  Attrib1i tri = b.triangles[k];
+  SH_WHILE(tri >= 0) {
+    Attrib1i at = k * 3;
+    test_triangle(r, b.corners[at], b.corners[at + 1], b.corners[at + 2], tri, best, best_tri, best_uv);
+    k += 1;
+    tri = b.triangles[k];
   } SH_ENDWHILE;
 }
 

@@ -82,10 +82,11 @@ BvhTables::BvhTables(const Bvh& b)
       pair_hi(at_least_one(b.pair_hi.size() / 3)),
       children(at_least_one(b.children.size())),
       wide_box(at_least_one(b.wide_box.size() / 4)),
-      wide_children(at_least_one(b.wide_children.size() / 2)),
+      wide_children(at_least_one(b.wide_children.size() / kBvhWidth)),
       wide_order(at_least_one(b.wide_order.size())),
       root(b.root),
-      triangles(at_least_one(b.triangles.size())) {
+      triangles(at_least_one(b.triangles.size())),
+      corners(at_least_one(b.corners.size() / 3)) {
   auto fill = [](auto& table, const char* name, const auto& values) {
     table.name(name);
     if (values.empty())
@@ -100,15 +101,10 @@ BvhTables::BvhTables(const Bvh& b)
   fill(pair_hi, "bvh_pair_hi", b.pair_hi);
   fill(children, "bvh_children", b.children);
   fill(wide_box, "bvh_wide_box", b.wide_box);
-  std::vector<std::int32_t> children_and_first;
-  for (std::size_t at = 0; at < b.wide_children.size(); at += kBvhWidth) {
-    auto row = [&](const std::vector<std::int32_t>& v) { return v.begin() + static_cast<std::ptrdiff_t>(at); };
-    children_and_first.insert(children_and_first.end(), row(b.wide_children), row(b.wide_children) + kBvhWidth);
-    children_and_first.insert(children_and_first.end(), row(b.wide_first), row(b.wide_first) + kBvhWidth);
-  }
-  fill(wide_children, "bvh_wide_children", children_and_first);
+  fill(wide_children, "bvh_wide_children", b.wide_children);
   fill(wide_order, "bvh_wide_order", b.wide_order);
   fill(triangles, "bvh_triangles", b.triangles);
+  fill(corners, "bvh_corners", b.corners);
 }
 
 SceneTables::SceneTables(const Scene& scene, const Bvh& b) : SceneTables(scene) { bvh = std::make_unique<BvhTables>(b); }

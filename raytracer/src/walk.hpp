@@ -31,15 +31,20 @@ void clip(const Ray& r, const Attrib3f& lo, const Attrib3f& hi, const Attrib1f& 
           Attrib1f& t_leave);
 
 // The watertight test (Woop, Benthin and Wald, JCGT 2013) against triangle
-// `tri`; keeps the nearest hit in (0, best).
-void test_triangle(const SceneTables& s, const Ray& r, const Attrib1i& tri, Attrib1f& best, Attrib1i& best_tri,
-                   Attrib2f& best_uv);
+// `tri`, whose corners are v0, v1 and v2; keeps the nearest hit in
+// (0, best).
+void test_triangle(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const Attrib3f& v2, const Attrib1i& tri,
+                   Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv);
 
 // Tests the triangles listed in `list` from k on (k moves along), `tri`
-// being list[k] (-1 where the list is empty), up to the -1 that ends it: a
-// grid cell's, an octree leaf's or a BVH leaf's.
+// being list[k] (-1 where the list is empty), up to the -1 that ends it,
+// their corners from the scene's tables: a grid cell's or an octree leaf's.
 void test_listed(const SceneTables& s, const Ray& r, const Table1D<Attrib1i>& list, Attrib1i& k, Attrib1i tri,
                  Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv);
+
+// Tests a BVH leaf's triangles, listed from k on, with the corners beside
+// the list (bvh.hpp).
+void test_leaf(const BvhTables& b, const Ray& r, Attrib1i k, Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv);
 
 // 1 along the axis of the nearest of the three exit distances, 0 elsewhere.
 Attrib3f nearest_axis(const Attrib3f& t_exits);

@@ -61,7 +61,7 @@ void bvh_threaded(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, A
     } SH_ENDWHILE;
     SH_IF(leaf >= 0) {
       if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), *own_leaf));
-      test_listed(s, r, b.triangles, leaf, b.triangles[leaf], best, triangle, uv);
+      test_leaf(b, r, leaf, best, triangle, uv);
     } SH_ENDIF;
   } SH_ENDWHILE;
 }

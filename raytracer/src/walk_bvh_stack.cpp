@@ -46,8 +46,7 @@ void bvh_stack(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attr
       node = cond(met, near, popped((met == 0) && depth > 0));
     } SH_ENDWHILE;
     SH_IF(node <= -2) {
-      Attrib1i k = -node - 2;
-      test_listed(s, r, b.triangles, k, b.triangles[k], best, triangle, uv);
+      test_leaf(b, r, -node - 2, best, triangle, uv);
       node = popped(depth > 0);
     } SH_ENDIF;
   } SH_ENDWHILE;

@@ -19,6 +19,11 @@ namespace {
 // kFar (a ray that has hit nothing yet) widened by kBeyondBest included.
 constexpr float kMissed = std::numeric_limits<float>::max();
 
+// A leaf's corners asked for ahead: the cache lines of its first few
+// triangles (36 bytes each, five corners to a 64-byte line).
+constexpr int kLeafLinesAhead = 3;
+constexpr int kCornersALine = 5;
+
 // Component `slot` of v.
 template <class V>
 Attrib<1, typename V::scalar_type> pick(const V& v, const Attrib1i& slot) {
@@ -44,12 +49,12 @@ struct WideNode {
   // Asks for what a visit to each child will read: an inner child's
   // boxes (its six rows span two cache lines: rows 0 and 4 lie in one
   // each), children and, where the walk is ordered, its slots' order; a
-  // leaf's list and its first triangle's vertices.  A large tree misses
+  // leaf's list and its first triangles' corners.  A large tree misses
   // the cache at every level, and a walk that waits for each node before
   // it knows the next one pays a memory latency a step; asked here, the
   // children come in while this node's boxes are tested, and the siblings
   // pushed are there when popped.
-  void prefetch_children(const SceneTables& s, bool ordered) const;
+  void prefetch_children(const BvhTables& b, bool ordered) const;
   Attrib4f lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
   Attrib4i kids;
   Attrib1i node;
@@ -63,24 +68,20 @@ WideNode::WideNode(const BvhTables& b, const Attrib1i& at) : node(at) {
   hi_x = b.wide_box[row + 3];
   hi_y = b.wide_box[row + 4];
   hi_z = b.wide_box[row + 5];
-  kids = b.wide_children[node * 2];
+  kids = b.wide_children[node];
 }
 
-void WideNode::prefetch_children(const SceneTables& s, bool ordered) const {
-  const BvhTables& b = *s.bvh;
-  Attrib4i first = b.wide_children[node * 2 + 1];
+void WideNode::prefetch_children(const BvhTables& b, bool ordered) const {
   for (int k = 0; k < kBvhWidth; ++k) {
     // A leaf or an empty slot asks for the root's rows, a node for the
     // list's first entry: both already near, and no test.
     Attrib1i inner = max(kids(k), 0), listed = max(-kids(k) - 2, 0);
     b.wide_box.prefetch(inner * 6);
     b.wide_box.prefetch(inner * 6 + 4);
-    b.wide_children.prefetch(inner * 2);
+    b.wide_children.prefetch(inner);
     if (ordered) b.wide_order.prefetch(inner);
     b.triangles.prefetch(listed);
-    s.v0.prefetch(first(k));
-    s.v1.prefetch(first(k));
-    s.v2.prefetch(first(k));
+    for (int line = 0; line < kLeafLinesAhead; ++line) b.corners.prefetch(listed * 3 + line * kCornersALine);
   }
 }
 
@@ -139,7 +140,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // is on top.
   auto visit_ordered = [&] {
     WideNode n(b, node);
-    if (b.prefetch) n.prefetch_children(s, true);
+    if (b.prefetch) n.prefetch_children(b, true);
     Attrib1f clip_at = best * kBeyondBest;
     Attrib4i met;
     Attrib4f enters;
@@ -169,7 +170,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   // distances are a chain the loop does not overlap.)
   auto visit_any = [&] {
     WideNode n(b, node);
-    if (b.prefetch) n.prefetch_children(s, false);
+    if (b.prefetch) n.prefetch_children(b, false);
     Attrib1f clip_at = best * kBeyondBest;
     SH_FOR(Attrib1i k = 0, k < kBvhWidth, k += 1) {
       Attrib1f enter;
@@ -190,8 +191,7 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
         visit_any();
     } SH_ELSE {
       if (lanes) *lanes += join(ConstAttrib2i(0, 0), join(ConstAttrib1i(1), *own_node));
-      Attrib1i k = -node - 2;
-      test_listed(s, r, b.triangles, k, b.triangles[k], best, triangle, uv);
+      test_leaf(b, r, -node - 2, best, triangle, uv);
     } SH_ENDIF;
     pop();
   } SH_ENDWHILE;

@@ -132,6 +132,7 @@ template <class CheckNode>
 void expect_references_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf, std::size_t nodes,
                                    CheckNode node) {
   std::size_t n = s.mesh.triangles();
+  ASSERT_EQ(bvh.corners.size(), 9 * bvh.triangles.size()) << "three corners beside each list entry";
   std::vector<int> seen_node(nodes, 0), seen_triangle(n, 0);
   constexpr float inf = std::numeric_limits<float>::infinity();
   std::vector<std::pair<Child, int>> todo{{{bvh.root, {-inf, -inf, -inf}, {inf, inf, inf}}, 0}};
@@ -145,7 +146,11 @@ void expect_references_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int m
         auto t = static_cast<std::size_t>(bvh.triangles[i]);
         ASSERT_LT(t, n);
         ++seen_triangle[t];
-        for (int k = 0; k < 3; ++k) EXPECT_TRUE(inside(s.mesh.positions[3 * t + k], v.lo, v.hi)) << "triangle " << t;
+        for (int k = 0; k < 3; ++k) {
+          Vec3 p = s.mesh.positions[3 * t + k], beside = corner(bvh.corners, 3 * i + static_cast<std::size_t>(k));
+          EXPECT_TRUE(inside(p, v.lo, v.hi)) << "triangle " << t;
+          EXPECT_TRUE(p.x == beside.x && p.y == beside.y && p.z == beside.z) << "corner " << k << " of list entry " << i;
+        }
       }
       EXPECT_GE(count, 1);
       EXPECT_LE(count, max_leaf);
@@ -197,15 +202,13 @@ TEST(Bvh, TheStackWalksLayoutHoldsEveryTriangleOnceUnderItsChildBoxes) {
 }
 
 // The wide walk's layout: a node's filled slots come first, each child's
-// box inside its parent's, a leaf child's first triangle beside it (what
-// the walk asks for ahead), 0 beside an inner one; each axis's order a
-// permutation of the slots, by centre along the axis.
+// box inside its parent's; each axis's order a permutation of the slots,
+// by centre along the axis.
 void expect_wide_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
   constexpr int w = sh::rt::kBvhWidth;
   std::size_t nodes = bvh.wide_children.size() / w;
   ASSERT_EQ(bvh.wide_box.size(), 6 * w * nodes);
   ASSERT_EQ(bvh.wide_order.size(), nodes);
-  ASSERT_EQ(bvh.wide_first.size(), w * nodes);
   expect_references_well_formed(s, bvh, max_leaf, nodes, [&](std::size_t at, Vec3 box_lo, Vec3 box_hi, auto push) {
     const float* rows = &bvh.wide_box[6 * w * at];
     int filled = 0;
@@ -214,8 +217,6 @@ void expect_wide_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_lea
       std::int32_t child = bvh.wide_children[w * at + static_cast<std::size_t>(slot)];
       if (child == -1) continue;
       EXPECT_EQ(slot, filled++) << "filled slots first in node " << at;
-      std::int32_t first = bvh.wide_first[w * at + static_cast<std::size_t>(slot)];
-      EXPECT_EQ(first, child <= -2 ? bvh.triangles[static_cast<std::size_t>(-child - 2)] : 0) << "slot " << slot << " of " << at;
       Vec3 lo{rows[0 * w + slot], rows[1 * w + slot], rows[2 * w + slot]};
       Vec3 hi{rows[3 * w + slot], rows[4 * w + slot], rows[5 * w + slot]};
       EXPECT_TRUE(inside(lo, box_lo, box_hi) && inside(hi, box_lo, box_hi)) << "slot " << slot << " of " << at;

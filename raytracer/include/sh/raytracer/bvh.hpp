@@ -42,6 +42,13 @@
 // of their boxes' centres along it.  Neighbouring lanes walk together: a
 // child is entered when any lane meets it, nearer ones first along the
 // lanes' main direction, the others kept on one stack for all of them.
+//
+// Every walk tests a leaf's triangles with their corners from `corners`,
+// beside each list entry, not from the scene's tables by triangle number:
+// a leaf's corners lie together, in as few cache lines as they fill, where
+// the scene's order would scatter them over a large model (the first
+// order the leaves' triangles were given in).  The list keeps the numbers,
+// which name the hit and decide ties.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -63,7 +70,10 @@ const char* bvh_walk_name(BvhWalk w);
 // (BENCHMARKS.md, issue 24): 8-12 % slower at 0.15 MB (spheres, cornell),
 // the same at 3.2 and 3.9 MB (procedural's 90 k triangles, the engine
 // model), 10 % faster at 11 MB (300 k triangles) and about 35 % at 40 MB
-// (1 M: 0.85x -> 1.16x rtcIntersect1).
+// (1 M: 0.85x -> 1.16x rtcIntersect1).  Those sizes are without the
+// leaves' corners, which bytes() now counts: procedural's 90 k triangles
+// (7.5 MB) and the engine (9.3 MB) ask ahead since, at the same speed
+// within this host's noise.
 inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{4} << 20;
 
 struct BvhSettings {
@@ -86,20 +96,19 @@ struct Bvh {
   std::vector<std::int32_t> children;      // stack: 2 per inner node; see above
   std::vector<float> wide_box;             // wide: 6 rows of kBvhWidth per node; see above
   std::vector<std::int32_t> wide_children; // wide: kBvhWidth per node
-  std::vector<std::int32_t> wide_first;    // wide: kBvhWidth per node, a leaf child's first triangle (else 0)
   std::vector<std::int32_t> wide_order;    // wide: per node, axis a's slots in bits 8a.., 2 bits each, lowest first
   std::int32_t root = 0;                   // stack, wide: the root's reference (a leaf where the tree is one)
-  bool prefetch = false;                   // wide: a visit asks for its children's nodes, lists and first triangles ahead
+  bool prefetch = false;                   // wide: a visit asks for its children's nodes, lists and corners ahead
   std::vector<std::int32_t> triangles;     // the leaves' lists, each ended by -1
+  std::vector<float> corners;              // 9 per list entry: its triangle's corners (zeros beside a -1)
   int depth = 0;                           // of the deepest leaf; the root is at 0
   std::size_t node_count = 0;              // inner nodes and leaves
   double build_ms = 0;
 
   std::size_t nodes() const { return node_count; }
   std::size_t bytes() const {
-    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size() + wide_box.size()) * sizeof(float) +
-           (links.size() + children.size() + wide_children.size() + wide_first.size() + wide_order.size() +
-            triangles.size()) *
+    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size() + wide_box.size() + corners.size()) * sizeof(float) +
+           (links.size() + children.size() + wide_children.size() + wide_order.size() + triangles.size()) *
                sizeof(std::int32_t);
   }
   // hit and miss of `node` in `order` (threaded).

@@ -49,9 +49,9 @@ struct GridTables {
 // The BVH's tables (bvh.hpp), its walk's layout only.  Threaded: links
 // holds the six orders one after the other, `nodes` entries each.  Stack:
 // child k of inner node i at 2 i + k.  Wide: node i's six rows of child
-// box coordinates at 6 i ...  6 i + 5; its children at row 2 i of
-// wide_children and each leaf child's first triangle at 2 i + 1, in one
-// cache line.
+// box coordinates at 6 i ...  6 i + 5; its children at row i of
+// wide_children.  Every walk: list entry k's triangle's corners at 3 k,
+// 3 k + 1 and 3 k + 2 of `corners`.
 struct BvhTables {
   explicit BvhTables(const Bvh& bvh);
   BvhWalk walk;
@@ -67,6 +67,7 @@ struct BvhTables {
   Table1D<Attrib1i> wide_order;
   Attrib1i root;
   Table1D<Attrib1i> triangles;
+  Table1D<Attrib3f> corners;
 };
 
 // A lazy octree's tables are what was built when they were made; running
