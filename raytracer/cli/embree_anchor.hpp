@@ -16,9 +16,22 @@ struct RayBatch {
 // The nearest hit (rtcIntersect) or whether anything is hit (rtcOccluded).
 enum class Query { Nearest, Any };
 
-// Mrays/s of Embree's scene over the rays (all threads, oneTBB), and the number
-// that hit something: one ray at a time (packet 1) or packets of 4, 8 or
-// 16 consecutive rays.  Zero rate where the CPU lacks the packet.
+// Embree's scene over the rays (all threads, oneTBB), one pass at a time:
+// one ray at a time (packet 1) or packets of 4, 8 or 16 consecutive rays.
+class EmbreePass {
+ public:
+  EmbreePass(const sh::rt::EmbreeScene& embree, const RayBatch& rays, int packet = 1, Query query = Query::Nearest);
+  bool supported() const;    // whether the CPU runs the packet
+  std::size_t run() const;   // one pass; the rays that hit something
+ private:
+  const sh::rt::EmbreeScene& embree_;
+  const RayBatch& rays_;
+  int packet_;
+  Query query_;
+};
+
+// Mrays/s of `repeats` passes after an untimed one, and the number of rays
+// that hit something.  Zero rate where the CPU lacks the packet.
 struct AnchorResult {
   double mrays_per_s = 0;
   std::size_t hits = 0;

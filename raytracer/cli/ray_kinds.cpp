@@ -1,7 +1,11 @@
 #include "ray_kinds.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "backend_compare.hpp"
@@ -65,18 +69,43 @@ struct Rate {
   std::size_t hits = 0;
 };
 
-// The kernels' rate over `repeats` warm runs (one run first to compile).
-template <class Trace>
-Rate kernel_rate(std::size_t rays, int repeats, Trace trace) {
-  trace(nullptr);
-  double ms = 0;
-  std::size_t hits = 0;
-  for (int i = 0; i < repeats; ++i) {
-    sh::RunStats s;
-    hits = trace(&s);
-    ms += s.run_ms;
+// One run of a contestant: its hits, and its time in `ms`.  An empty one
+// (Embree's packets on a CPU without them) has no rate.
+using Run = std::function<std::size_t(double& ms)>;
+
+// The contestants' rates over the same rays, timed in interleaved rounds:
+// each runs once untimed first (our kernels compile), then every round
+// runs each once in turn, so that a slow spell of a shared host falls on
+// all of them alike.  Each rate is of its median round.
+std::vector<Rate> race(std::size_t rays, int rounds, const std::vector<Run>& runs) {
+  std::vector<std::vector<double>> ms(runs.size());
+  std::vector<Rate> rates(runs.size());
+  for (int round = -1; round < rounds; ++round)
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      if (!runs[i]) continue;
+      double took = 0;
+      rates[i].hits = runs[i](took);
+      if (round >= 0) ms[i].push_back(took);
+    }
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (ms[i].empty()) continue;
+    auto middle = ms[i].begin() + static_cast<std::ptrdiff_t>(ms[i].size() / 2);
+    std::nth_element(ms[i].begin(), middle, ms[i].end());
+    rates[i].mrays_per_s = static_cast<double>(rays) / (*middle * 1e3);
   }
-  return {static_cast<double>(rays) * repeats / (ms * 1e3), hits};
+  return rates;
+}
+
+// Embree's pass as a contestant.
+Run embree_run(const sh::rt::EmbreeScene& embree, const RayBatch& b, int packet, Query q) {
+  auto pass = std::make_shared<EmbreePass>(embree, b, packet, q);
+  if (!pass->supported()) return {};
+  return [pass](double& ms) {
+    auto t0 = std::chrono::steady_clock::now();
+    std::size_t hits = pass->run();
+    ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return hits;
+  };
 }
 
 std::size_t count_hits(const std::vector<float>& blocked) {
@@ -95,11 +124,6 @@ void print_row(const char* kind, std::size_t rays, Rate ours, const std::string&
   std::printf("%-22s %8zu %9.2f %8zu   %-15s %8.2f %8.2f %8zu   %6.3fx %6.3fx\n", kind, rays, ours.mrays_per_s, ours.hits,
               embree_call.c_str(), one.mrays_per_s, packets.mrays_per_s, one.hits, ours.mrays_per_s / one.mrays_per_s,
               packets.mrays_per_s > 0 ? ours.mrays_per_s / packets.mrays_per_s : 0.0);
-}
-
-Rate embree_rate(const sh::rt::EmbreeScene& embree, const RayBatch& b, int repeats, int packet, Query q) {
-  AnchorResult a = embree_rays(embree, b, repeats, packet, q);
-  return {a.mrays_per_s, a.hits};
 }
 
 // The accelerator's build beside Embree's of the same triangles (on as
@@ -151,7 +175,8 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   std::string config = embree_config(backend, request.settings.options);
   sh::rt::EmbreeScene embree(s, config.c_str());
   int n = request.repeats;
-  std::printf("scene %s: %zu triangles, %s; %s backend; %d warm runs each%s\n", s.name.c_str(), s.mesh.triangles(),
+  std::printf("scene %s: %zu triangles, %s; %s backend; %d rounds, each contestant once a round in turn, median "
+              "rounds%s\n", s.name.c_str(), s.mesh.triangles(),
               r.describe_accelerator().c_str(), backend.c_str(), n, config.empty() ? "" : ("; Embree with " + config).c_str());
   print_builds(r, embree);
   // Embree's widest packet this CPU runs natively (16 needs AVX-512, 8 AVX).
@@ -160,45 +185,55 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   std::string wide = std::to_string(packet);
   std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s\n", "rays", "count", "Mrays/s", "hits", "Embree",
               "1 ray", (wide + " rays").c_str(), "hits", "/1", ("/" + wide).c_str());
-  auto nearest = [&](const RayBatch& b) {
-    return kernel_rate(b.size(), n, [&](sh::RunStats* st) { return count_hits(r.intersect(b.origins, b.directions, choice, st)); });
+  // Our kernels as contestants: the run's own time, as RunStats has it.
+  auto nearest = [&](const RayBatch& b) -> Run {
+    return [&](double& ms) {
+      sh::RunStats st;
+      std::size_t hits = count_hits(r.intersect(b.origins, b.directions, choice, &st));
+      ms = st.run_ms;
+      return hits;
+    };
   };
-  auto occluded = [&](const RayBatch& b, bool any_hit) {
-    return kernel_rate(b.size(), n, [&](sh::RunStats* st) {
-      return count_hits(r.occluded(b.origins, b.directions, b.t_far, choice, any_hit, st));
-    });
+  auto occluded = [&](const RayBatch& b, bool any_hit) -> Run {
+    return [&, any_hit](double& ms) {
+      sh::RunStats st;
+      std::size_t hits = count_hits(r.occluded(b.origins, b.directions, b.t_far, choice, any_hit, &st));
+      ms = st.run_ms;
+      return hits;
+    };
   };
-  Rate camera = nearest(k.primary);
-  print_row("camera", k.primary.size(), camera, "rtcIntersect", embree_rate(embree, k.primary, n, 1, Query::Nearest),
-            embree_rate(embree, k.primary, n, packet, Query::Nearest));
+  auto against_embree = [&](const char* kind, const RayBatch& b, const sh::rt::EmbreeScene& e) {
+    std::vector<Rate> rate = race(b.size(), n, {nearest(b), embree_run(e, b, 1, Query::Nearest),
+                                                embree_run(e, b, packet, Query::Nearest)});
+    print_row(kind, b.size(), rate[0], "rtcIntersect", rate[1], rate[2]);
+  };
+  against_embree("camera", k.primary, embree);
   {
     // Embree is timed in its robust mode above, whose hits on edges and
     // vertices our walk's watertight test matches; its default mode is
     // faster, and a user who can lose such hits would compare with it.
     sh::rt::EmbreeScene fast(s, config.c_str(), false);
-    print_row("camera, Embree default", k.primary.size(), camera, "rtcIntersect",
-              embree_rate(fast, k.primary, n, 1, Query::Nearest), embree_rate(fast, k.primary, n, packet, Query::Nearest));
+    against_embree("camera, Embree default", k.primary, fast);
   }
   if (k.reflection.size() == 0) {
     std::printf("no camera ray hits the scene: no shadow or reflection rays to trace\n");
     return 0;
   }
   // Each walk of the shadow rays against Embree's query of the same kind,
-  // to the same limits.
-  Rate any = occluded(k.shadow, true), walked = occluded(k.shadow, false);
-  Rate occluded_1 = embree_rate(embree, k.shadow, n, 1, Query::Any),
-       occluded_packets = embree_rate(embree, k.shadow, n, packet, Query::Any);
-  Rate intersected_1 = embree_rate(embree, k.shadow, n, 1, Query::Nearest),
-       intersected_packets = embree_rate(embree, k.shadow, n, packet, Query::Nearest);
-  print_row("shadow, any hit", k.shadow.size(), any, "rtcOccluded", occluded_1, occluded_packets);
-  print_row("shadow, nearest hit", k.shadow.size(), walked, "rtcIntersect", intersected_1, intersected_packets);
-  print_row("reflection", k.reflection.size(), nearest(k.reflection), "rtcIntersect",
-            embree_rate(embree, k.reflection, n, 1, Query::Nearest), embree_rate(embree, k.reflection, n, packet, Query::Nearest));
+  // to the same limits, all in the same rounds.
+  std::vector<Rate> shadow = race(k.shadow.size(), n,
+                                  {occluded(k.shadow, true), occluded(k.shadow, false),
+                                   embree_run(embree, k.shadow, 1, Query::Any), embree_run(embree, k.shadow, packet, Query::Any),
+                                   embree_run(embree, k.shadow, 1, Query::Nearest),
+                                   embree_run(embree, k.shadow, packet, Query::Nearest)});
+  print_row("shadow, any hit", k.shadow.size(), shadow[0], "rtcOccluded", shadow[2], shadow[3]);
+  print_row("shadow, nearest hit", k.shadow.size(), shadow[1], "rtcIntersect", shadow[4], shadow[5]);
+  against_embree("reflection", k.reflection, embree);
   // What stopping at the first hit can buy on these rays: Embree's own
   // any-hit query against its nearest-hit one.
   std::printf("shadow rays: the any-hit walk is %.2fx as fast as the nearest-hit walk (Embree: rtcOccluded1 %.2fx "
               "rtcIntersect1 on the same rays)\n",
-              any.mrays_per_s / walked.mrays_per_s, occluded_1.mrays_per_s / intersected_1.mrays_per_s);
+              shadow[0].mrays_per_s / shadow[1].mrays_per_s, shadow[2].mrays_per_s / shadow[4].mrays_per_s);
   if (request.lanes) {
     // Camera and reflection rays walk to kFar, as their rows above do.
     std::printf("lanes in the BVH's walk (%d side by side):\n", sh::lanes_of(choice));

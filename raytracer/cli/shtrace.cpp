@@ -491,7 +491,9 @@ int main(int argc, char** argv) {
                                       "with the any-hit and the nearest-hit walk) against Embree on the same rays");
   add_common(rays, common);
   rays->add_option("--backend", backend_name, "backend to trace on (default: SH_BACKEND, else cpu)");
-  rays->add_option("--repeats", ray_repeats, "warm runs of each kernel, timed together")->capture_default_str()
+  rays->add_option("--repeats", ray_repeats,
+                   "rounds, each running our kernel and Embree's calls once in turn after an untimed run; rates are "
+                   "of the median round")->capture_default_str()
       ->check(CLI::Range(1, 1000));
   bool ray_lanes = false;
   rays->add_flag("--lanes", ray_lanes,
