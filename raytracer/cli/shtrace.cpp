@@ -110,7 +110,7 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--bvh-prefetch-above", c.bvh.prefetch_above,
                   "bvh: the wide walk asks for each node's children ahead of visiting them where the tree is larger than "
                   "this many bytes (0: always)")
-      ->capture_default_str()->check(kFinite & CLI::Range(0.0, 1e15));
+      ->capture_default_str()->check(CLI::Range(std::size_t{0}, std::size_t{1} << 50));
   app->add_option("--bvh-walk", c.bvh_walk,
                   "bvh: threaded (no stack; rays side by side walk together), stack (each ray its own path, with a stack) or wide (nodes of 4 children, rays side by side together, with a stack)")
       ->check(CLI::IsMember({"threaded", "stack", "wide"}))->capture_default_str();
