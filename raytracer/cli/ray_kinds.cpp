@@ -187,17 +187,17 @@ int compare_ray_kinds(const RayKindsRequest& request) {
               "1 ray", (wide + " rays").c_str(), "hits", "/1", ("/" + wide).c_str());
   // Our kernels as contestants: the run's own time, as RunStats has it.
   auto nearest = [&](const RayBatch& b) -> Run {
-    return [&](double& ms) {
+    return [&r, &choice, rays = &b](double& ms) {
       sh::RunStats st;
-      std::size_t hits = count_hits(r.intersect(b.origins, b.directions, choice, &st));
+      std::size_t hits = count_hits(r.intersect(rays->origins, rays->directions, choice, &st));
       ms = st.run_ms;
       return hits;
     };
   };
   auto occluded = [&](const RayBatch& b, bool any_hit) -> Run {
-    return [&, any_hit](double& ms) {
+    return [&r, &choice, rays = &b, any_hit](double& ms) {
       sh::RunStats st;
-      std::size_t hits = count_hits(r.occluded(b.origins, b.directions, b.t_far, choice, any_hit, &st));
+      std::size_t hits = count_hits(r.occluded(rays->origins, rays->directions, rays->t_far, choice, any_hit, &st));
       ms = st.run_ms;
       return hits;
     };
