@@ -217,10 +217,9 @@ Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   if (scene.mesh.triangles() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() - 2))
     throw Error("BVH: " + std::to_string(scene.mesh.triangles()) + " triangles are more than it numbers in 32 bits");
   Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), settings.walk);
-  bvh.corners.resize(9 * bvh.triangles.size(), 0.0f);
+  bvh.corners.resize(9 * bvh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bvh.triangles.size(), [&](std::size_t k) {
-    if (bvh.triangles[k] < 0) return;
-    const Vec3* corner = &scene.mesh.positions[3 * static_cast<std::size_t>(bvh.triangles[k])];
+    const Vec3* corner = &scene.mesh.positions[3 * static_cast<std::size_t>(Bvh::listed(bvh.triangles[k]))];
     for (int c = 0; c < 3; ++c)
       for (int axis = 0; axis < 3; ++axis) bvh.corners[9 * k + 3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(axis)] = corner[c][axis];
   });

@@ -164,7 +164,7 @@ class Widener {
 // take twelve numbers a node).
 void check_numbers(const Numbered& n, BvhWalk walk) {
   std::size_t per_node = walk == BvhWalk::Threaded ? 2 * kBvhOrders : walk == BvhWalk::Stack ? 6 : 6 * kBvhWidth;
-  std::size_t listed = n.nodes.size();  // each leaf's list ends in -1
+  std::size_t listed = 0;
   for (const Node* node : n.nodes) listed += node->triangles.size();
   constexpr std::size_t most = std::numeric_limits<std::int32_t>::max() - 2;
   if (n.nodes.size() > most / per_node || listed > most / 3)
@@ -195,7 +195,7 @@ Bvh lay_out(const Node& root, BvhWalk walk) {
     if (!n.nodes[i]->leaf()) continue;
     n.leaf_start[i] = static_cast<std::int32_t>(bvh.triangles.size());
     bvh.triangles.insert(bvh.triangles.end(), n.nodes[i]->triangles.begin(), n.nodes[i]->triangles.end());
-    bvh.triangles.push_back(-1);
+    bvh.triangles.back() = -bvh.triangles.back() - 1;  // a leaf lists at least one
   }
   if (walk == BvhWalk::Stack) {
     pair(n, lo, hi, bvh);

@@ -181,12 +181,13 @@ void test_listed(const SceneTables& s, const Ray& r, const Table1D<Attrib1i>& li
 }
 
 void test_leaf(const BvhTables& b, const Ray& r, Attrib1i k, Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv) {
-  Attrib1i tri = b.triangles[k];
-  SH_WHILE(tri >= 0) {
-    Attrib1i at = k * 3;
-    test_triangle(r, b.corners[at], b.corners[at + 1], b.corners[at + 2], tri, best, best_tri, best_uv);
+  Attrib1i more = 1;
+  SH_WHILE(more) {
+    Attrib1i entry = b.triangles[k], at = k * 3;
+    more = entry >= 0;
+    test_triangle(r, b.corners[at], b.corners[at + 1], b.corners[at + 2], cond(more, entry, -entry - 1), best, best_tri,
+                  best_uv);
     k += 1;
-    tri = b.triangles[k];
   } SH_ENDWHILE;
 }
 

@@ -42,8 +42,8 @@ void test_triangle(const Ray& r, const Attrib3f& v0, const Attrib3f& v1, const A
 void test_listed(const SceneTables& s, const Ray& r, const Table1D<Attrib1i>& list, Attrib1i& k, Attrib1i tri,
                  Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv);
 
-// Tests a BVH leaf's triangles, listed from k on, with the corners beside
-// the list (bvh.hpp).
+// Tests a BVH leaf's triangles, listed from k on to the entry that ends the
+// list, with the corners beside it (bvh.hpp).
 void test_leaf(const BvhTables& b, const Ray& r, Attrib1i k, Attrib1f& best, Attrib1i& best_tri, Attrib2f& best_uv);
 
 // 1 along the axis of the nearest of the three exit distances, 0 elsewhere.

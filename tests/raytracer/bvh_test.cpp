@@ -46,8 +46,9 @@ void expect_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int max_leaf) {
       std::int32_t hit = bvh.hit(k, at);
       if (hit <= -2) {
         int count = 0;
-        for (std::size_t i = static_cast<std::size_t>(-hit - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
-          auto t = static_cast<std::size_t>(bvh.triangles[i]);
+        for (std::size_t i = static_cast<std::size_t>(-hit - 2), more = 1; more; ++i, ++count) {
+          more = !Bvh::ends_list(bvh.triangles.at(i));
+          auto t = static_cast<std::size_t>(Bvh::listed(bvh.triangles[i]));
           ASSERT_LT(t, n);
           ++seen_triangle[t];
           for (int v = 0; v < 3; ++v)
@@ -142,8 +143,9 @@ void expect_references_well_formed(const sh::rt::Scene& s, const Bvh& bvh, int m
     EXPECT_LE(depth, bvh.depth);
     if (v.ref <= -2) {
       int count = 0;
-      for (std::size_t i = static_cast<std::size_t>(-v.ref - 2); bvh.triangles.at(i) >= 0; ++i, ++count) {
-        auto t = static_cast<std::size_t>(bvh.triangles[i]);
+      for (std::size_t i = static_cast<std::size_t>(-v.ref - 2), more = 1; more; ++i, ++count) {
+        more = !Bvh::ends_list(bvh.triangles.at(i));
+        auto t = static_cast<std::size_t>(Bvh::listed(bvh.triangles[i]));
         ASSERT_LT(t, n);
         ++seen_triangle[t];
         for (int k = 0; k < 3; ++k) {

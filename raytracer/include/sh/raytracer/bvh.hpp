@@ -23,7 +23,7 @@
 // nearer the ray's start first for rays whose largest direction component
 // is along that axis with that sign.  Per node and order:
 //   hit  >= 0   an inner node: its first child in this order
-//   hit  <= -2  a leaf: its triangles are listed in `triangles` from -hit-2, ended by -1
+//   hit  <= -2  a leaf: its triangles are listed in `triangles` from -hit-2, the last negated
 //   miss        the node after this one's subtree in this order; -1 after the last
 // A leaf's walk goes on at `miss` whether the ray met it or not.
 //
@@ -42,6 +42,11 @@
 // of their boxes' centres along it.  Neighbouring lanes walk together: a
 // child is entered when any lane meets it, nearer ones first along the
 // lanes' main direction, the others kept on one stack for all of them.
+//
+// A leaf's list holds its triangles' numbers, the last one stored as
+// -t - 1: no entry ends a list, so that a list and its corners take only
+// what its triangles need (leaves hold about two triangles on large
+// models, where an end entry and its corners took a third of the lists).
 //
 // Every walk tests a leaf's triangles with their corners from `corners`,
 // beside each list entry, not from the scene's tables by triangle number:
@@ -99,8 +104,8 @@ struct Bvh {
   std::vector<std::int32_t> wide_order;    // wide: per node, axis a's slots in bits 8a.., 2 bits each, lowest first
   std::int32_t root = 0;                   // stack, wide: the root's reference (a leaf where the tree is one)
   bool prefetch = false;                   // wide: a visit asks for its children's nodes, lists and corners ahead
-  std::vector<std::int32_t> triangles;     // the leaves' lists, each ended by -1
-  std::vector<float> corners;              // 9 per list entry: its triangle's corners (zeros beside a -1)
+  std::vector<std::int32_t> triangles;     // the leaves' lists, each one's last entry negated (see above)
+  std::vector<float> corners;              // 9 per list entry: its triangle's corners
   int depth = 0;                           // of the deepest leaf; the root is at 0
   std::size_t node_count = 0;              // inner nodes and leaves
   double build_ms = 0;
@@ -111,6 +116,9 @@ struct Bvh {
            (links.size() + children.size() + wide_children.size() + wide_order.size() + triangles.size()) *
                sizeof(std::int32_t);
   }
+  // The triangle a list entry names, and whether it ends its list.
+  static std::int32_t listed(std::int32_t entry) { return entry < 0 ? -entry - 1 : entry; }
+  static bool ends_list(std::int32_t entry) { return entry < 0; }
   // hit and miss of `node` in `order` (threaded).
   std::int32_t hit(int order, std::size_t node) const { return links[2 * (order * nodes() + node)]; }
   std::int32_t miss(int order, std::size_t node) const { return links[2 * (order * nodes() + node) + 1]; }
