@@ -77,7 +77,7 @@ const char* bvh_walk_name(BvhWalk w);
 // model), 10 % faster at 11 MB (300 k triangles) and about 35 % at 40 MB
 // (1 M: 0.85x -> 1.16x rtcIntersect1).  Those sizes are without the
 // leaves' corners, which bytes() now counts: procedural's 90 k triangles
-// (7.5 MB) and the engine (9.3 MB) ask ahead since, at the same speed
+// (5.9 MiB) and the engine (7.2 MiB) ask ahead since, at the same speed
 // within this host's noise.
 inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{4} << 20;
 
