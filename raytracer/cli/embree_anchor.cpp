@@ -32,7 +32,7 @@ std::size_t EmbreePass::run() const {
   std::atomic<std::size_t> hits{0};
   // Ranges of whole packets, 256 rays at least.
   std::size_t packets = (n + packet_ - 1) / packet_;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, packets, 256 / packet_), [&](const tbb::blocked_range<std::size_t>& range) {
+  auto chunk = [&](const tbb::blocked_range<std::size_t>& range) {
     std::size_t local = 0;
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
       std::size_t i = k * packet_;
@@ -47,7 +47,8 @@ std::size_t EmbreePass::run() const {
       for (int j = 0; j < count; ++j) local += hit[j] >= 0;
     }
     hits += local;
-  });
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, packets, 256 / packet_), chunk);
   return hits.load();
 }
 

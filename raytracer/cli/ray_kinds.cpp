@@ -175,9 +175,11 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   std::string config = embree_config(backend, request.settings.options);
   sh::rt::EmbreeScene embree(s, config.c_str());
   int n = request.repeats;
+  std::string embree_note = config.empty() ? "" : "; Embree with " + config;
   std::printf("scene %s: %zu triangles, %s; %s backend; %d rounds, each contestant once a round in turn, median "
-              "rounds%s\n", s.name.c_str(), s.mesh.triangles(),
-              r.describe_accelerator().c_str(), backend.c_str(), n, config.empty() ? "" : ("; Embree with " + config).c_str());
+              "rounds%s\n",
+              s.name.c_str(), s.mesh.triangles(), r.describe_accelerator().c_str(), backend.c_str(), n,
+              embree_note.c_str());
   print_builds(r, embree);
   // Embree's widest packet this CPU runs natively (16 needs AVX-512, 8 AVX).
   int packet = 16;
@@ -221,11 +223,11 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   }
   // Each walk of the shadow rays against Embree's query of the same kind,
   // to the same limits, all in the same rounds.
-  std::vector<Rate> shadow = race(k.shadow.size(), n,
-                                  {occluded(k.shadow, true), occluded(k.shadow, false),
-                                   embree_run(embree, k.shadow, 1, Query::Any), embree_run(embree, k.shadow, packet, Query::Any),
-                                   embree_run(embree, k.shadow, 1, Query::Nearest),
-                                   embree_run(embree, k.shadow, packet, Query::Nearest)});
+  std::vector<Rate> shadow =
+      race(k.shadow.size(), n,
+           {occluded(k.shadow, true), occluded(k.shadow, false), embree_run(embree, k.shadow, 1, Query::Any),
+            embree_run(embree, k.shadow, packet, Query::Any), embree_run(embree, k.shadow, 1, Query::Nearest),
+            embree_run(embree, k.shadow, packet, Query::Nearest)});
   print_row("shadow, any hit", k.shadow.size(), shadow[0], "rtcOccluded", shadow[2], shadow[3]);
   print_row("shadow, nearest hit", k.shadow.size(), shadow[1], "rtcIntersect", shadow[4], shadow[5]);
   against_embree("reflection", k.reflection, embree);

@@ -220,8 +220,9 @@ Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   bvh.corners.resize(9 * bvh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bvh.triangles.size(), [&](std::size_t k) {
     const Vec3* corner = &scene.mesh.positions[3 * static_cast<std::size_t>(Bvh::listed(bvh.triangles[k]))];
+    float* beside = &bvh.corners[9 * k];
     for (int c = 0; c < 3; ++c)
-      for (int axis = 0; axis < 3; ++axis) bvh.corners[9 * k + 3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(axis)] = corner[c][axis];
+      for (int axis = 0; axis < 3; ++axis) *beside++ = corner[c][axis];
   });
   bvh.prefetch = bvh.bytes() > settings.prefetch_above;
   bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -159,7 +159,7 @@ class Widener {
 };
 
 // The walks number nodes, their rows of boxes and links, and the lists'
-// entries' corners (three a entry) in 32 bits: a tree past that would wrap
+// entries' corners (three an entry) in 32 bits: a tree past that would wrap
 // (about 90 M triangles in the threaded walk, whose six orders of links
 // take twelve numbers a node).
 void check_numbers(const Numbered& n, BvhWalk walk) {

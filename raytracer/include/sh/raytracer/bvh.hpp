@@ -51,9 +51,8 @@
 // Every walk tests a leaf's triangles with their corners from `corners`,
 // beside each list entry, not from the scene's tables by triangle number:
 // a leaf's corners lie together, in as few cache lines as they fill, where
-// the scene's order would scatter them over a large model (the first
-// order the leaves' triangles were given in).  The list keeps the numbers,
-// which name the hit and decide ties.
+// the scene's order of triangles would scatter them over a large model.
+// The list keeps the numbers, which name the hit and decide ties.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -112,7 +111,8 @@ struct Bvh {
 
   std::size_t nodes() const { return node_count; }
   std::size_t bytes() const {
-    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size() + wide_box.size() + corners.size()) * sizeof(float) +
+    return (lo.size() + hi.size() + pair_lo.size() + pair_hi.size() + wide_box.size() + corners.size()) *
+               sizeof(float) +
            (links.size() + children.size() + wide_children.size() + wide_order.size() + triangles.size()) *
                sizeof(std::int32_t);
   }
