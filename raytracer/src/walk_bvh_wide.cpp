@@ -29,23 +29,13 @@ template <class V>
 Attrib<1, typename V::scalar_type> pick(const V& v, const Attrib1i& slot) {
   return cond(slot == 0, v(0), cond(slot == 1, v(1), cond(slot == 2, v(2), v(3))));
 }
-template <class V>
-Attrib<1, typename V::scalar_type> pick(const V& v, int slot) {
-  return v(slot);
-}
 
 // A node's children: their boxes, axis by axis, and their entries.
 struct WideNode {
   WideNode(const BvhTables& b, const Attrib1i& node);
-  // Child `slot`'s box corners: slot a C++ number or a program value.
-  template <class Slot>
-  Attrib3f lo(const Slot& slot) const {
-    return join(join(pick(lo_x, slot), pick(lo_y, slot)), pick(lo_z, slot));
-  }
-  template <class Slot>
-  Attrib3f hi(const Slot& slot) const {
-    return join(join(pick(hi_x, slot), pick(hi_y, slot)), pick(hi_z, slot));
-  }
+  // Child `slot`'s box corners.
+  Attrib3f lo(int slot) const { return join(join(lo_x(slot), lo_y(slot)), lo_z(slot)); }
+  Attrib3f hi(int slot) const { return join(join(hi_x(slot), hi_y(slot)), hi_z(slot)); }
   // Asks for what a visit to each child will read: an inner child's
   // boxes (its six rows span two cache lines: rows 0 and 4 lie in one
   // each), children and, where the walk is ordered, its slots' order; a
@@ -163,22 +153,22 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
       depth += pick(met, slot);
     }
   };
-  // Where any hit will do, the order does not matter: the children are a
-  // recorded loop, not four copies, a third of the ordered visit's code at
-  // every shadow ray the tracer inlines.  (The ordered visit as a loop
-  // made camera rays 25-40 % slower: its choices of slot and entry
-  // distances are a chain the loop does not overlap.)
+  // Where any hit will do, the order does not matter: the children in
+  // slot order, as four copies.  A recorded loop would be a third of the
+  // code, but the tracer's short pipeline does not unroll it, and with the
+  // slot a program value every box coordinate becomes a choice among four:
+  // renders were 3-22 % slower that way, for 2-3 % less compile.
   auto visit_any = [&] {
     WideNode n(b, node);
     if (b.prefetch) n.prefetch_children(b, false);
     Attrib1f clip_at = best * kBeyondBest;
-    SH_FOR(Attrib1i k = 0, k < kBvhWidth, k += 1) {
+    for (int k = 0; k < kBvhWidth; ++k) {
       Attrib1f enter;
       Attrib1f own = meets(n.lo(k), n.hi(k), clip_at, enter);
-      Attrib1i kid = pick(n.kids, k);
+      Attrib1i kid = n.kids(k);
       stack.store(depth, kid);
       depth += any_lane(own).cast<std::int32_t>() && kid != -1;
-    } SH_ENDFOR;
+    }
   };
   // One loop, one pop: the lanes are all at the same node, so a loop of
   // inner nodes of its own would gain nothing, and the walk's code is

@@ -119,9 +119,9 @@ void Lowering::paired_batches(Value* e, Value* first_x, Value* last_x, BasicBloc
 
 // A loop along the row over full batches whose taps lie inside, from the
 // one at first_x (element e) to the one at last_x, `trip` emitting a
-// trip's work for the batch at element `at`, in blocks named
-// `name`.inside and `name`.left; leaves the builder in the latter, with the last
-// batch's x and the element past it.
+// trip's work for the batch at element `at`, in blocks named `name`.inside
+// and `name`.left; leaves the builder in the latter, with the last batch's
+// x and the element past it.
 Lowering::RowLoop Lowering::along_row(Value* e, Value* first_x, Value* last_x, const std::string& name,
                                       const std::function<void(Value* at)>& trip) {
   Value* step = b_.getInt64(width_);
