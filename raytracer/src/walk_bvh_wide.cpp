@@ -24,12 +24,6 @@ constexpr float kMissed = std::numeric_limits<float>::max();
 constexpr int kLeafLinesAhead = 3;
 constexpr int kCornersALine = 5;
 
-// Component `slot` of v.
-template <class V>
-Attrib<1, typename V::scalar_type> pick(const V& v, const Attrib1i& slot) {
-  return cond(slot == 0, v(0), cond(slot == 1, v(1), cond(slot == 2, v(2), v(3))));
-}
-
 // A node's children: their boxes, axis by axis, and their entries.
 struct WideNode {
   WideNode(const BvhTables& b, const Attrib1i& node);
@@ -92,6 +86,15 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   LocalArray<Attrib1i> stack(deepest, "bvh_stack");
   std::optional<LocalArray<Attrib1f>> entered;
   if (ordered) entered.emplace(deepest, "bvh_entered");
+  // An ordered visit's children by slot, read back in the order they are
+  // pushed: one load at a slot the lanes share, where a choice among four
+  // values takes three (4-10 % of the ordered walks' time, BENCHMARKS.md).
+  struct BySlot {
+    LocalArray<Attrib1i> kid{kBvhWidth, "slot_kid"}, met{kBvhWidth, "slot_met"};
+    LocalArray<Attrib1f> enter{kBvhWidth, "slot_enter"};
+  };
+  std::optional<BySlot> by_slot;
+  if (ordered) by_slot.emplace();
   Attrib1i order = walk_order(r).cast<std::int32_t>();
   Attrib1i axis_bits = (order / 2) * 8, downwards = order % 2;
   Attrib1i depth = 0;
@@ -144,13 +147,18 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
         *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));
       }
     }
+    for (int k = 0; k < kBvhWidth; ++k) {
+      by_slot->kid.store(k, n.kids(k));
+      by_slot->enter.store(k, enters(k));
+      by_slot->met.store(k, met(k));
+    }
     Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
     for (int j = 0; j < kBvhWidth; ++j) {
       Attrib1i position = cond(downwards, ConstAttrib1i(j), ConstAttrib1i(kBvhWidth - 1 - j));
       Attrib1i slot = bit_and(shr(by_centre, position * 2), 3);
-      stack.store(depth, pick(n.kids, slot));
-      entered->store(depth, pick(enters, slot));
-      depth += pick(met, slot);
+      stack.store(depth, by_slot->kid[slot]);
+      entered->store(depth, by_slot->enter[slot]);
+      depth += by_slot->met[slot];
     }
   };
   // Where any hit will do, the order does not matter: the children in
