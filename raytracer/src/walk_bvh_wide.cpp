@@ -88,7 +88,8 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
   if (ordered) entered.emplace(deepest, "bvh_entered");
   // An ordered visit's children by slot, read back in the order they are
   // pushed: one load at a slot the lanes share, where a choice among four
-  // values takes three (4-10 % of the ordered walks' time, BENCHMARKS.md).
+  // values takes three (the ordered walks 4-13 % faster at 1 M,
+  // BENCHMARKS.md).
   struct BySlot {
     LocalArray<Attrib1i> kid{kBvhWidth, "slot_kid"}, met{kBvhWidth, "slot_met"};
     LocalArray<Attrib1f> enter{kBvhWidth, "slot_enter"};
@@ -135,22 +136,16 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
     WideNode n(b, node);
     if (b.prefetch) n.prefetch_children(b, true);
     Attrib1f clip_at = best * kBeyondBest;
-    Attrib4i met;
-    Attrib4f enters;
     for (int k = 0; k < kBvhWidth; ++k) {
       Attrib1f enter;
       Attrib1f own = meets(n.lo(k), n.hi(k), clip_at, enter);
-      met(k) = any_lane(own).cast<std::int32_t>() && n.kids(k) != -1;
-      enters(k) = cond(own, enter, ConstAttrib1f(kMissed));
+      by_slot->kid.store(k, n.kids(k));
+      by_slot->met.store(k, any_lane(own).cast<std::int32_t>() && n.kids(k) != -1);
+      by_slot->enter.store(k, cond(own, enter, ConstAttrib1f(kMissed)));
       if (lanes) {
         Attrib1i tested = n.kids(k) != -1;
         *lanes += join(join(tested, tested && own.cast<std::int32_t>()), ConstAttrib2i(0, 0));
       }
-    }
-    for (int k = 0; k < kBvhWidth; ++k) {
-      by_slot->kid.store(k, n.kids(k));
-      by_slot->enter.store(k, enters(k));
-      by_slot->met.store(k, met(k));
     }
     Attrib1i by_centre = bit_and(shr(b.wide_order[node], axis_bits), 255);
     for (int j = 0; j < kBvhWidth; ++j) {
