@@ -562,9 +562,12 @@ void Lowering::scatter(const ir::Scatter& sc) {
   });
 }
 
-// A prefetch instruction never faults, so a lane that does not run asks
-// for its (clamped, legal IR) element too: cheaper than a branch a lane.
-// A fetched table is not in this process's memory: nothing to bring.
+// A prefetch instruction never faults, at any address: so its coordinates
+// are taken as they come, outside the table too (legal IR does not clamp
+// them), and a lane that does not run asks for its element too: cheaper
+// than a test.  The flat index's arithmetic wraps (no flag makes an
+// overflow poison), so no coordinate makes the address undefined.  A fetched table is not in this
+// process's memory: nothing to bring.
 void Lowering::prefetch(const ir::Prefetch& pf) {
   if (fetches_tables(o_)) return;
   bool per_lane = varying(pf.index.var);

@@ -142,7 +142,7 @@ class Generator {
   std::string cast(const std::string& a, ir::Scalar from, ir::Scalar to) const;
 
   // ---- table reads (tables.cpp) -----------------------------------------------------------------
-  std::string flat_index(int table, const ir::Operand& coord) const;
+  std::string flat_index(int table, const ir::Operand& coord, bool clamp_inside = false) const;
   void table_read(const ir::Assign& a, std::string* results, int depth);
 
   // ---- local arrays (tables.cpp) ----------------------------------------------------------------

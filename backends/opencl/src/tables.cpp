@@ -4,13 +4,15 @@
 
 namespace sh::opencl {
 
-// The element a read or scatter names (coordinates in range: legal IR).
-std::string Generator::flat_index(int table, const ir::Operand& coord) const {
+// The element a read or scatter names (coordinates in range: legal IR),
+// or a prefetch (coordinates as asked, brought inside with `clamp_inside`).
+std::string Generator::flat_index(int table, const ir::Operand& coord, bool clamp_inside) const {
   std::string name = "table" + std::to_string(table);
   std::string index, stride = "1";
   for (int d = 0; d < p_.tables[table].rank; ++d) {
     std::string dim = name + "_" + kComponent[d];
     std::string i = convert(index_type_, read(coord, d));
+    if (clamp_inside) i = "clamp(" + i + ", (" + index_type_ + ")0, (" + index_type_ + ")(" + dim + " - 1))";
     index += (d ? " + " : "") + i + (d ? " * " + stride : "");
     stride = d ? stride + " * " + dim : std::string("(") + index_type_ + ")" + dim;
   }
@@ -139,13 +141,14 @@ void Generator::array_fill(const ir::Assign& a, int depth) {
   }
 }
 
-// OpenCL's own prefetch.  In the SPMD form every lane asks where lanes
-// may differ, those not running too (legal IR's coordinates lie inside the
-// table in every lane, as table_read says), and lane 0 alone where they
-// agree.
+// OpenCL's own prefetch.  Its coordinates are clamped here, as legal IR
+// leaves them: OpenCL C's pointer arithmetic past a buffer is undefined,
+// whatever the instruction would do with the address.  In the SPMD form
+// every lane asks where lanes may differ, those not running too, and lane
+// 0 alone where they agree.
 void Generator::prefetch(const ir::Prefetch& pf, int depth) {
   std::string table = "table" + std::to_string(pf.table), count = std::to_string(p_.tables[pf.table].element.width);
-  std::string at = flat_index(pf.table, pf.index);
+  std::string at = flat_index(pf.table, pf.index, true);
   if (!spmd()) return line(depth, "prefetch(" + table + " + " + at + ", " + count + ");");
   line(depth, "{");
   line(depth + 1, "const " + vec(index_type_) + " at = " + at + ";");

@@ -90,10 +90,7 @@ class Machine {
       scatter(*sc, s);
       return Flow::Next;
     }
-    if (auto* pf = std::get_if<ir::Prefetch>(&s.node)) {
-      element_at(a_.tables[pf->table], pf->index, s);  // nothing to bring near; legal IR asks in range
-      return Flow::Next;
-    }
+    if (std::holds_alternative<ir::Prefetch>(s.node)) return Flow::Next;  // nothing to bring near
     return std::holds_alternative<ir::Break>(s.node) ? Flow::Break : Flow::Continue;
   }
 
