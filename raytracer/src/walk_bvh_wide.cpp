@@ -114,9 +114,9 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
     node = -1;
     SH_WHILE(node == -1 && depth > 0) {
       depth -= 1;
-      Attrib1i own = ((*entered)[depth] <= best * kBeyondBest).cast<std::int32_t>();
-      node = cond(any_lane(own), stack[depth], ConstAttrib1i(-1));
-      if (lanes) *own_node = own;
+      Attrib1f own = (*entered)[depth] <= best * kBeyondBest;
+      node = cond(any_lane(own).cast<std::int32_t>(), stack[depth], ConstAttrib1i(-1));
+      if (lanes) *own_node = own.cast<std::int32_t>();
     } SH_ENDWHILE;
   };
   auto walking = [&]() -> Attrib1i {
