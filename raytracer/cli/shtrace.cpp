@@ -107,6 +107,10 @@ void add_common(CLI::App* app, Common& c) {
       ->capture_default_str()->check(CLI::Range(1, 1 << 20));
   app->add_option("--bvh-leaf", c.bvh.max_leaf, "bvh: most triangles in a leaf")
       ->capture_default_str()->check(CLI::Range(1, kBvhMaxLeaf));
+  app->add_option("--bvh-node-cost", c.bvh.node_cost,
+                  "bvh: the build's cost of visiting a node against testing a triangle (0: by the tree's size, 1, or 3 "
+                  "where the tree outgrows the cache)")
+      ->capture_default_str()->check(CLI::Range(0.0, kBvhMaxNodeCost));
   app->add_option("--bvh-prefetch-above", c.bvh.prefetch_above,
                   "bvh: the wide walk asks for each node's children ahead of visiting them where the tree is larger than "
                   "this many bytes (0: always)")

@@ -121,7 +121,7 @@ class Builder {
   }
 
   // The SAH split of least cost over the binned centroids, relative to the
-  // cost of testing one triangle: 1 for the box test plus each side's
+  // cost of testing one triangle: the node's cost plus each side's
   // triangles weighted by the chance (its area over the node's) a ray that
   // meets the node meets it.  None (axis -1) where the centroids coincide.
   // One pass bins every axis.
@@ -163,7 +163,8 @@ class Builder {
     // A flat node (every triangle in one plane) has no area: then every
     // ray that meets it meets both sides.
     double node_area = area(span.box);
-    if (best.axis >= 0) best.cost = node_area > 0 ? 1 + best.cost / node_area : static_cast<double>(end - begin) + 1;
+    if (best.axis >= 0)
+      best.cost = limits_.node_cost + (node_area > 0 ? best.cost / node_area : static_cast<double>(end - begin));
     return best;
   }
 
@@ -203,6 +204,7 @@ std::unique_ptr<Node> build_tree(const Scene& scene, BvhSettings limits) {
   if (limits.max_leaf < 1 || limits.max_leaf > kBvhMaxLeaf)
     throw Error("bvh: leaves of " + std::to_string(limits.max_leaf) + " triangles: must be 1.." +
                 std::to_string(kBvhMaxLeaf));
+  limits.node_cost = sah_node_cost(limits, scene.mesh.triangles());
   Builder b(scene.mesh.positions, limits);
   return b.build(0, b.triangles(), 0);
 }
@@ -217,6 +219,7 @@ Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   if (scene.mesh.triangles() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() - 2))
     throw Error("BVH: " + std::to_string(scene.mesh.triangles()) + " triangles are more than it numbers in 32 bits");
   Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), settings.walk);
+  bvh.node_cost = sah_node_cost(settings, scene.mesh.triangles());
   bvh.corners.resize(9 * bvh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bvh.triangles.size(), [&](std::size_t k) {
     const Vec3* corner = &scene.mesh.positions[3 * static_cast<std::size_t>(Bvh::listed(bvh.triangles[k]))];
@@ -227,6 +230,14 @@ Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   bvh.prefetch = bvh.bytes() > settings.prefetch_above;
   bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return bvh;
+}
+
+double sah_node_cost(const BvhSettings& s, std::size_t triangles) {
+  if (!(s.node_cost >= 0 && s.node_cost <= kBvhMaxNodeCost))
+    throw Error("bvh: node cost " + std::to_string(s.node_cost) + ": must be 0 (by the tree's size) or up to " +
+                std::to_string(static_cast<int>(kBvhMaxNodeCost)) + " triangle tests");
+  if (s.node_cost > 0) return s.node_cost;
+  return triangles > kBvhLargeTree ? kBvhLargeTreeNodeCost : 1;
 }
 
 BvhWalk parse_bvh_walk(const std::string& name) {

@@ -271,8 +271,8 @@ std::string Renderer::describe_accelerator() const {
     std::snprintf(line, sizeof line, "grid %dx%dx%d (%.1f ms, %.2f MiB)", grid_->dims[0], grid_->dims[1], grid_->dims[2],
                   grid_->build_ms, grid_->bytes() / 1048576.0);
   } else if (bvh_) {
-    std::snprintf(line, sizeof line, "bvh depth %d, leaves of at most %d: %zu nodes (%.1f ms, %.2f MiB%s)", bvh_->depth,
-                  settings_.bvh.max_leaf, bvh_->nodes(), bvh_->build_ms, bvh_->bytes() / 1048576.0,
+    std::snprintf(line, sizeof line, "bvh depth %d, leaves of at most %d, node cost %g: %zu nodes (%.1f ms, %.2f MiB%s)",
+                  bvh_->depth, settings_.bvh.max_leaf, bvh_->node_cost, bvh_->nodes(), bvh_->build_ms, bvh_->bytes() / 1048576.0,
                   bvh_->prefetch ? ", children asked ahead" : "");
   } else {
     std::snprintf(line, sizeof line, "%s depth %d, leaves of %d: %zu nodes (%.1f ms, %.2f MiB%s)", accel_name(settings_.accel),

@@ -258,6 +258,43 @@ TEST(Bvh, TheWideWalksNodesHoldEveryTriangleOnceUnderTheirChildren) {
   expect_wide_well_formed(one, leaf, wide.max_leaf);
 }
 
+// A node weighed at more triangle tests makes fewer nodes and fuller
+// leaves, still within the limit, in every layout.
+TEST(Bvh, ACostlierNodeMakesFewerFullerLeaves) {
+  sh::rt::Scene s = sh::rt::builtin_scene("procedural", 20000);
+  sh::rt::BvhSettings cheap{.walk = sh::rt::BvhWalk::Wide, .node_cost = 1},
+      costly{.walk = sh::rt::BvhWalk::Wide, .node_cost = sh::rt::kBvhLargeTreeNodeCost};
+  Bvh light = sh::rt::build_bvh(s, cheap), heavy = sh::rt::build_bvh(s, costly);
+  expect_wide_well_formed(s, heavy, costly.max_leaf);
+  EXPECT_EQ(light.node_cost, 1);
+  EXPECT_EQ(heavy.node_cost, sh::rt::kBvhLargeTreeNodeCost);
+  EXPECT_LT(heavy.wide_children.size(), light.wide_children.size() * 9 / 10);
+  EXPECT_LT(heavy.bytes(), light.bytes());
+  costly.walk = sh::rt::BvhWalk::Threaded;
+  expect_well_formed(s, sh::rt::build_bvh(s, costly), costly.max_leaf);
+  costly.walk = sh::rt::BvhWalk::Stack;
+  expect_pairs_well_formed(s, sh::rt::build_bvh(s, costly), costly.max_leaf);
+}
+
+// Left 0, the node cost follows the tree's size; a cost outside the range
+// (NaN too) is an error that names it.
+TEST(Bvh, TheNodeCostByTheTreesSizeOrAsSet) {
+  EXPECT_EQ(sh::rt::sah_node_cost({}, 1), 1);
+  EXPECT_EQ(sh::rt::sah_node_cost({}, sh::rt::kBvhLargeTree), 1);
+  EXPECT_EQ(sh::rt::sah_node_cost({}, sh::rt::kBvhLargeTree + 1), sh::rt::kBvhLargeTreeNodeCost);
+  EXPECT_EQ(sh::rt::sah_node_cost({.node_cost = 2}, sh::rt::kBvhLargeTree + 1), 2);
+  EXPECT_EQ(sh::rt::sah_node_cost({.node_cost = 0.5}, 1), 0.5);
+  sh::rt::Scene s = sh::rt::builtin_scene("cornell");
+  for (double bad : {-1.0, sh::rt::kBvhMaxNodeCost + 1, std::nan("")}) {
+    try {
+      sh::rt::build_bvh(s, {.node_cost = bad});
+      ADD_FAILURE() << "node cost " << bad << " accepted";
+    } catch (const sh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("node cost"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // The tree in every walk's layout, each checked; gives the threaded one.
 Bvh expect_layouts_well_formed(const sh::rt::Scene& s, int max_leaf = sh::rt::BvhSettings{}.max_leaf) {
   Bvh threaded = sh::rt::build_bvh(s, {max_leaf, sh::rt::BvhWalk::Threaded});

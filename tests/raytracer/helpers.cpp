@@ -51,14 +51,17 @@ Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed) {
 std::string Walked::name() const {
   std::string n = sh::rt::accel_name(accel);
   if (accel != sh::rt::Accel::Bvh || walk == sh::rt::BvhWalk::Threaded) return n;
-  return n + "-" + sh::rt::bvh_walk_name(walk) + (prefetch ? "-prefetch" : "");
+  return n + "-" + sh::rt::bvh_walk_name(walk) + (large ? "-large" : "");
 }
 
 sh::rt::RenderSettings Walked::settings() const {
   sh::rt::RenderSettings s;
   s.accel = accel;
   s.bvh.walk = walk;
-  if (prefetch) s.bvh.prefetch_above = 0;
+  if (large) {
+    s.bvh.prefetch_above = 0;
+    s.bvh.node_cost = sh::rt::kBvhLargeTreeNodeCost;
+  }
   return s;
 }
 

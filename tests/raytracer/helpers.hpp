@@ -51,15 +51,16 @@ std::vector<std::string> backends_beside_interp();
 Rays random_rays(const sh::rt::Scene& scene, std::size_t n, unsigned seed);
 
 // An accelerator as a test walks it: the BVH with either of its walks.
-// prefetch: the wide walk asks for nodes ahead whatever the tree's size
-// (the suite's scenes are all below kBvhPrefetchBytes).
+// large: built and walked as a tree that outgrows the cache is, whatever
+// its size: the large tree's node cost, children asked ahead (the suite's
+// scenes are all below kBvhLargeTree and kBvhPrefetchBytes).
 struct Walked {
-  Walked(sh::rt::Accel a, sh::rt::BvhWalk w = sh::rt::BvhWalk::Threaded, bool prefetch = false)
-      : accel(a), walk(w), prefetch(prefetch) {}
+  Walked(sh::rt::Accel a, sh::rt::BvhWalk w = sh::rt::BvhWalk::Threaded, bool large = false)
+      : accel(a), walk(w), large(large) {}
   sh::rt::Accel accel;
   sh::rt::BvhWalk walk;
-  bool prefetch;
-  std::string name() const;  // grid, octree, lazy-octree, bvh, bvh-stack, bvh-wide, bvh-wide-prefetch
+  bool large;
+  std::string name() const;  // grid, octree, lazy-octree, bvh, bvh-stack, bvh-wide, bvh-wide-large
   sh::rt::RenderSettings settings() const;
 };
 // Every accelerator and walk the suite checks against each other.

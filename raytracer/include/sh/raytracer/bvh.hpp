@@ -80,11 +80,30 @@ const char* bvh_walk_name(BvhWalk w);
 // within this host's noise.
 inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{4} << 20;
 
+// The SAH weighs a node visit against a triangle test.  A tree over more
+// triangles than kBvhLargeTree (about 16 MiB of nodes, lists and corners,
+// a last-level cache's worth on the hosts measured) weighs it three times
+// as much: its walks wait on memory at every level they go down, even with
+// the children asked ahead, while a leaf's corners lie together.  Its
+// leaves hold more triangles and a walk visits fewer nodes.  Measured on
+// one thread against rtcIntersect1 (BENCHMARKS.md, issue 24): camera rays
+// at 1 M triangles 0.93x -> 1.01x, at 300 k 1.24x -> 1.29x, shadow and
+// reflection rays 4-10 % faster; on the smaller trees it cost (the engine
+// model's 110 k triangles: camera rays 1.24x -> 1.06-1.26x; cornell's
+// shadow rays 3.5x -> 2.0x), so they keep 1.
+inline constexpr std::size_t kBvhLargeTree = 250'000;
+inline constexpr double kBvhLargeTreeNodeCost = 3;
+inline constexpr double kBvhMaxNodeCost = 64;
+
 struct BvhSettings {
   int max_leaf = 8;  // 1 .. kBvhMaxLeaf triangles in a leaf
   BvhWalk walk = BvhWalk::Wide;  // the fastest on the cpu backend's lanes (BENCHMARKS.md)
   std::size_t prefetch_above = kBvhPrefetchBytes;  // Bvh::prefetch where bytes() is larger
+  double node_cost = 0;  // the SAH's node visit against a triangle test, 0 .. kBvhMaxNodeCost (0: by the tree's size)
 };
+// The node cost a build over `triangles` takes: the settings', or by the
+// tree's size where they leave it 0.  Throws sh::Error outside the range.
+double sah_node_cost(const BvhSettings& s, std::size_t triangles);
 inline constexpr int kBvhMaxLeaf = 64;
 inline constexpr int kBvhBins = 16;
 inline constexpr int kBvhSahDepth = 48;
@@ -107,6 +126,7 @@ struct Bvh {
   std::vector<float> corners;              // 9 per list entry: its triangle's corners
   int depth = 0;                           // of the deepest leaf; the root is at 0
   std::size_t node_count = 0;              // inner nodes and leaves
+  double node_cost = 1;                   // the SAH's, as built
   double build_ms = 0;
 
   std::size_t nodes() const { return node_count; }
