@@ -1078,6 +1078,39 @@ TEST(CpuObjectCache, ARunSaysItsKernelCameFromTheDisk) {
   fs::remove_all(dir);
 }
 
+// With SH_PERF_JITDUMP=1 a compiled kernel is described to perf: LLVM's
+// jitdump file for this process appears under $JITDUMPDIR and names the
+// kernel's entry; the kernel still runs.
+TEST(CpuBackend, WithPerfJitdumpTheKernelIsDescribedToPerf) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(testing::TempDir()) / fresh_name("sh_jitdump_test");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  setenv("JITDUMPDIR", dir.c_str(), 1);
+  setenv("SH_PERF_JITDUMP", "1", 1);
+  setenv("SH_CACHE_DIR", "off", 1);
+  float constant = fresh_constant();
+  sh::Program p = SH_BEGIN_PROGRAM("described") {
+    sh::InputAttrib1f x;
+    sh::OutputAttrib1f y;
+    y = x * constant;
+  } SH_END;
+  sh::Channel<sh::Attrib1f> x(std::vector<float>{1, 2}), y;
+  sh::run(p, {x}, {y}, sh::backend("cpu"));
+  EXPECT_EQ(y[1], 2 * constant);
+  std::string dump = "jit-" + std::to_string(getpid()) + ".dump", contents;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.path().filename() == dump) {
+      std::ifstream in(entry.path(), std::ios::binary);
+      contents.assign(std::istreambuf_iterator<char>(in), {});
+    }
+  EXPECT_NE(contents.find("sh_kernel"), std::string::npos) << "no " << dump << " naming the kernel under " << dir;
+  unsetenv("SH_PERF_JITDUMP");
+  unsetenv("SH_CACHE_DIR");
+  unsetenv("JITDUMPDIR");
+  fs::remove_all(dir);
+}
+
 // Loops long enough that the optimised kernel is cut into parts: four data
 // dependent loops of 600 arithmetic operations each, reading a table at
 // lanes' own places.

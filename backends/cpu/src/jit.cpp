@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <mutex>
 
 #include <llvm/Analysis/CGSCCPassManager.h>
@@ -12,8 +13,11 @@
 #include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
+#include <llvm/ExecutionEngine/JITEventListener.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
+#include <llvm/ExecutionEngine/Orc/RTDyldObjectLinkingLayer.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/ExecutionEngine/SectionMemoryManager.h>
 #include <llvm/IR/InstIterator.h>
 #include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/PassManager.h>
@@ -281,10 +285,34 @@ void Jitted::build(const ir::Program& program, const sh::Options& options, bool 
   clock.end("linked");
 }
 
+namespace {
+
+// With SH_PERF_JITDUMP=1 the kernels' machine code is described to perf as
+// it is linked (LLVM's jitdump files, in $JITDUMPDIR or ~/.debug/jit), so
+// that `perf record -k 1`, `perf inject --jit` and `perf annotate` show a
+// kernel's instructions with their samples.  Null where it is not asked
+// for, or this LLVM was built without perf's listener.
+llvm::JITEventListener* perf_listener() {
+  const char* asked = std::getenv("SH_PERF_JITDUMP");
+  if (!asked || std::string(asked) != "1") return nullptr;
+  return llvm::JITEventListener::createPerfJITEventListener();
+}
+
+}  // namespace
+
 // An LLJIT for the host that links the kernel's objects and resolves the C
 // math library of this process.
 void Jitted::start_jit(const ir::Program& program, const llvm::orc::JITTargetMachineBuilder& builder) {
-  jit_ = unwrap(llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(builder).create(), program, "creating the JIT");
+  llvm::orc::LLJITBuilder jit;
+  jit.setJITTargetMachineBuilder(builder);
+  if (llvm::JITEventListener* perf = perf_listener())
+    jit.setObjectLinkingLayerCreator([perf](llvm::orc::ExecutionSession& session, const llvm::Triple&) {
+      auto layer = std::make_unique<llvm::orc::RTDyldObjectLinkingLayer>(
+          session, [] { return std::make_unique<llvm::SectionMemoryManager>(); });
+      layer->registerJITEventListener(*perf);
+      return layer;
+    });
+  jit_ = unwrap(jit.create(), program, "creating the JIT");
   // Failures come back through lookup() as sh::Error; the session's own
   // report to stderr would only repeat them.
   jit_->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });
