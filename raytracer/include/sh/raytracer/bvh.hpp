@@ -71,14 +71,14 @@ const char* bvh_walk_name(BvhWalk w);
 // A tree larger than this misses the cache at every level of a walk, so
 // the wide walk asks for the nodes it will visit ahead of reading them;
 // below it the asks only cost instructions.  Measured on camera rays
-// (BENCHMARKS.md, issue 24): 8-12 % slower at 0.15 MB (spheres, cornell),
-// the same at 3.2 and 3.9 MB (procedural's 90 k triangles, the engine
-// model), 10 % faster at 11 MB (300 k triangles) and about 35 % at 40 MB
-// (1 M: 0.85x -> 1.16x rtcIntersect1).  Those sizes are without the
-// leaves' corners, which bytes() now counts: procedural's 90 k triangles
-// (5.9 MiB) and the engine (7.2 MiB) ask ahead since, at the same speed
-// within this host's noise.
-inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{4} << 20;
+// (BENCHMARKS.md, issue 24), one thread, against rtcIntersect1, on the
+// Zen 2 host (16 MiB of L3), with the asks unclamped (legal IR leaves a
+// prefetch's coordinates as asked): 5.9 MiB (procedural's 90 k triangles)
+// 1.57x without against 1.44x with, its render 196 against 217 ms, and the
+// engine model's (7.2 MiB) 30 against 32 ms; 16 MiB (300 k) the same
+// within noise; 46 MiB (1 M) 0.80x without against 0.90-0.94x with.  An
+// earlier host, with the clamps, gained 10 % at 11 MB.
+inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{16} << 20;
 
 // The SAH weighs a node visit against a triangle test.  A tree over more
 // triangles than kBvhLargeTree (about 16 MiB of nodes, lists and corners,
