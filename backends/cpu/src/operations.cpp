@@ -566,8 +566,8 @@ void Lowering::scatter(const ir::Scatter& sc) {
 // are taken as they come, outside the table too (legal IR does not clamp
 // them), and a lane that does not run asks for its element too: cheaper
 // than a test.  The flat index's arithmetic wraps (no flag makes an
-// overflow poison), so no coordinate makes the address undefined.  A fetched table is not in this
-// process's memory: nothing to bring.
+// overflow poison), so no coordinate makes the address undefined.  A
+// fetched table is not in this process's memory: nothing to bring.
 void Lowering::prefetch(const ir::Prefetch& pf) {
   if (fetches_tables(o_)) return;
   bool per_lane = varying(pf.index.var);

@@ -53,7 +53,6 @@ class Legalizer : public ir::Mutator {
     out.push_back(ir::Stmt{s});
   }
 
-
  private:
   ir::Operand temp(ir::Type t) { return ir::whole(p_, p_.add_var({ir::VarKind::Temp, t, "", {}})); }
   ir::Operand number(ir::Scalar s, double v) { return ir::whole(p_, p_.add_const({s, 1}, {v, v, v, v})); }
@@ -88,7 +87,7 @@ class Legalizer : public ir::Mutator {
     }
     a.op = ir::Op::Load;
     switch (p_.tables[a.table].edge) {
-      case ir::Edge::Clamp: a.args = {getenv("NOTABLECLAMP") ? asked : clamped(a.table, asked, out), asked}; break;
+      case ir::Edge::Clamp: a.args = {clamped(a.table, asked, out), asked}; break;
       case ir::Edge::Repeat: a.args = {wrapped(a.table, asked, out), asked}; break;
       case ir::Edge::Zero: return zero_outside(std::move(a), asked, out);
     }
