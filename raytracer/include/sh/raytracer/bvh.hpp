@@ -88,7 +88,7 @@ inline constexpr std::size_t kBvhPrefetchBytes = std::size_t{16} << 20;
 // leaves hold more triangles and a walk visits fewer nodes.  Measured on
 // one thread against rtcIntersect1 (BENCHMARKS.md, issue 24): camera rays
 // at 1 M triangles 0.93x -> 1.01x, at 300 k 1.24x -> 1.29x, shadow and
-// reflection rays 4-10 % faster; on the smaller trees it cost (the engine
+// reflection rays 4-13 % faster; on the smaller trees it cost (the engine
 // model's 110 k triangles: camera rays 1.24x -> 1.06-1.26x; cornell's
 // shadow rays 3.5x -> 2.0x), so they keep 1.
 inline constexpr std::size_t kBvhLargeTree = 250'000;
