@@ -1,6 +1,6 @@
 // Prefetches: a hint, so every backend gives the results it gives without
-// them, at coordinates inside and far outside the table (they clamp and
-// never fault), in lanes that differ and lanes that agree, under a
+// them, at coordinates inside and far outside the table (legal IR leaves
+// them as asked; no backend faults), in lanes that differ and lanes that agree, under a
 // divergent branch, and in a walk that asks for the next link before it
 // follows it.
 #include "harness.hpp"

@@ -1079,16 +1079,33 @@ TEST(CpuObjectCache, ARunSaysItsKernelCameFromTheDisk) {
 }
 
 // With SH_PERF_JITDUMP=1 a compiled kernel is described to perf: LLVM's
-// jitdump file for this process appears under $JITDUMPDIR and names the
-// kernel's entry; the kernel still runs.
+// jitdump file for this process, under $JITDUMPDIR, grows by a record that
+// names the kernel's entry; the kernel still runs.  The listener is one for
+// the process and keeps the directory it first saw, so the directory is
+// this process's own and stays: a repeated run appends to the same file.
 TEST(CpuBackend, WithPerfJitdumpTheKernelIsDescribedToPerf) {
   namespace fs = std::filesystem;
-  fs::path dir = fs::path(testing::TempDir()) / fresh_name("sh_jitdump_test");
-  fs::remove_all(dir);
+  struct Unset {
+    ~Unset() {
+      for (const char* name : {"SH_PERF_JITDUMP", "SH_CACHE_DIR", "JITDUMPDIR"}) unsetenv(name);
+    }
+  } unset;
+  fs::path dir = fs::path(testing::TempDir()) / ("sh_jitdump_test_" + std::to_string(getpid()));
   fs::create_directories(dir);
   setenv("JITDUMPDIR", dir.c_str(), 1);
   setenv("SH_PERF_JITDUMP", "1", 1);
   setenv("SH_CACHE_DIR", "off", 1);
+  std::string dump_name = "jit-" + std::to_string(getpid()) + ".dump";
+  auto dump = [&] {
+    std::string contents;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+      if (entry.path().filename() == dump_name) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        contents.assign(std::istreambuf_iterator<char>(in), {});
+      }
+    return contents;
+  };
+  std::size_t before = dump().size();
   float constant = fresh_constant();
   sh::Program p = SH_BEGIN_PROGRAM("described") {
     sh::InputAttrib1f x;
@@ -1098,17 +1115,9 @@ TEST(CpuBackend, WithPerfJitdumpTheKernelIsDescribedToPerf) {
   sh::Channel<sh::Attrib1f> x(std::vector<float>{1, 2}), y;
   sh::run(p, {x}, {y}, sh::backend("cpu"));
   EXPECT_EQ(y[1], 2 * constant);
-  std::string dump = "jit-" + std::to_string(getpid()) + ".dump", contents;
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    if (entry.path().filename() == dump) {
-      std::ifstream in(entry.path(), std::ios::binary);
-      contents.assign(std::istreambuf_iterator<char>(in), {});
-    }
-  EXPECT_NE(contents.find("sh_kernel"), std::string::npos) << "no " << dump << " naming the kernel under " << dir;
-  unsetenv("SH_PERF_JITDUMP");
-  unsetenv("SH_CACHE_DIR");
-  unsetenv("JITDUMPDIR");
-  fs::remove_all(dir);
+  std::string after = dump();
+  ASSERT_GT(after.size(), before) << "no record added to " << dump_name << " under " << dir;
+  EXPECT_NE(after.find("sh_kernel", before), std::string::npos) << "the new records do not name the kernel";
 }
 
 // Loops long enough that the optimised kernel is cut into parts: four data

@@ -300,7 +300,7 @@ class Generator {
   }
 
   // Coordinates of any value, inexact or far outside the table: a
-  // prefetch clamps them and changes no result.
+  // prefetch takes them as asked and changes no result.
   void prefetch(Block& b) {
     std::vector<int> readable;
     for (std::size_t t = 0; t < p().tables.size(); ++t)

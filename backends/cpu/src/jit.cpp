@@ -288,10 +288,12 @@ void Jitted::build(const ir::Program& program, const sh::Options& options, bool 
 namespace {
 
 // With SH_PERF_JITDUMP=1 the kernels' machine code is described to perf as
-// it is linked (LLVM's jitdump files, in $JITDUMPDIR or ~/.debug/jit), so
-// that `perf record -k 1`, `perf inject --jit` and `perf annotate` show a
-// kernel's instructions with their samples.  Null where it is not asked
-// for, or this LLVM was built without perf's listener.
+// it is linked (LLVM's jitdump files, under $JITDUMPDIR/.debug/jit, else
+// ~/.debug/jit), so that `perf record -k 1`, `perf inject --jit` and `perf
+// annotate` show a kernel's instructions with their samples.  The listener
+// is one for the process, its file chosen when it is first asked for.
+// Null where it is not asked for, or this LLVM was built without perf's
+// listener.
 llvm::JITEventListener* perf_listener() {
   const char* asked = std::getenv("SH_PERF_JITDUMP");
   if (!asked || std::string(asked) != "1") return nullptr;

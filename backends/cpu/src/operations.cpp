@@ -518,8 +518,9 @@ void Lowering::for_each_running_lane(const std::function<void(std::uint64_t lane
   }
 }
 
-// The element a read or scatter names (coordinates in range: legal IR):
-// i32 lanes where `gather`, else one i64.
+// The element a read or scatter names (coordinates in range: legal IR),
+// or a prefetch (coordinates as asked): i32 lanes where `gather`, else one
+// i64.
 Value* Lowering::flat_index(int table, const ir::Operand& coord, bool gather) {
   llvm::Type* index_type = gather ? lanes(b_.getInt32Ty()) : b_.getInt64Ty();
   auto index_of = [&](Value* i32) { return gather ? i32 : b_.CreateZExt(i32, index_type); };

@@ -78,10 +78,12 @@ class Table {
   E operator()(const I& coords) const {
     return read(ir::Op::Sample, coords);
   }
-  // Asks for element `coords` (integer coordinates, clamped to the edge) to
-  // be brought near the processor ahead of a read of it that would
-  // otherwise wait on memory: a tree walk's children, say, prefetched when
-  // their parent is read.  Changes no result; a backend may ignore it.
+  // Asks for element `coords` (integer coordinates) to be brought near the
+  // processor ahead of a read of it that would otherwise wait on memory: a
+  // tree walk's children, say, prefetched when their parent is read.
+  // Changes no result, at any coordinates; one outside the table asks for
+  // nothing in it, and far outside may cost the processor a page walk.  A
+  // backend may ignore it.
   template <class I>
   void prefetch(const I& coords) const {
     if constexpr (Number<I>)

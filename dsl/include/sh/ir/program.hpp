@@ -116,7 +116,8 @@ struct Scatter {
 };
 
 // Asks for element index of table `table` (coordinates, one per
-// dimension, clamped to the edge like a read) to be brought near the
+// dimension, as asked: legal IR does not clamp them, and one outside the
+// table asks for nothing in it) to be brought near the
 // processor, ahead of the read that will want it: a tree walk's next
 // nodes, whose loads would otherwise wait on memory one after another.
 // Only speed depends on it: a backend may do nothing, and no result, no
