@@ -204,7 +204,6 @@ std::unique_ptr<Node> build_tree(const Scene& scene, BvhSettings limits) {
   if (limits.max_leaf < 1 || limits.max_leaf > kBvhMaxLeaf)
     throw Error("bvh: leaves of " + std::to_string(limits.max_leaf) + " triangles: must be 1.." +
                 std::to_string(kBvhMaxLeaf));
-  limits.node_cost = sah_node_cost(limits, scene.mesh.triangles());
   Builder b(scene.mesh.positions, limits);
   return b.build(0, b.triangles(), 0);
 }
@@ -218,8 +217,9 @@ Bvh build_bvh(const Scene& scene, BvhSettings settings) {
   accelerator_bounds(scene);  // throws on a scene without triangles
   if (scene.mesh.triangles() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() - 2))
     throw Error("BVH: " + std::to_string(scene.mesh.triangles()) + " triangles are more than it numbers in 32 bits");
+  settings.node_cost = sah_node_cost(settings, scene.mesh.triangles());
   Bvh bvh = bvh::lay_out(*bvh::build_tree(scene, settings), settings.walk);
-  bvh.node_cost = sah_node_cost(settings, scene.mesh.triangles());
+  bvh.node_cost = settings.node_cost;
   bvh.corners.resize(9 * bvh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bvh.triangles.size(), [&](std::size_t k) {
     const Vec3* corner = &scene.mesh.positions[3 * static_cast<std::size_t>(Bvh::listed(bvh.triangles[k]))];

@@ -34,6 +34,7 @@ struct Node {
   bool leaf() const { return !child[0]; }
 };
 
+// `limits.node_cost` as sah_node_cost resolved it (build_bvh does).
 std::unique_ptr<Node> build_tree(const Scene& scene, BvhSettings limits);
 // Boxes widened by a hair relative to each box; nodes depth-first with
 // links for every order (threaded), or inner nodes depth-first with their
