@@ -7,6 +7,8 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "backend_compare.hpp"
 #include "embree_anchor.hpp"
@@ -67,7 +69,21 @@ Kinds make_rays(sh::rt::Renderer& r, const sh::BackendChoice& choice) {
 struct Rate {
   double mrays_per_s = 0;
   std::size_t hits = 0;
+  std::vector<double> round_ms;  // each timed round's, in the order run
 };
+
+// The lowest and highest of `ours` against `theirs` round by round, as
+// rates (their time over ours): a shared host's slow spells move single
+// rounds, and the median alone hides how far.
+std::pair<double, double> round_spread(const Rate& ours, const Rate& theirs) {
+  double low = INFINITY, high = 0;
+  for (std::size_t i = 0; i < std::min(ours.round_ms.size(), theirs.round_ms.size()); ++i) {
+    double ratio = theirs.round_ms[i] / ours.round_ms[i];
+    low = std::min(low, ratio);
+    high = std::max(high, ratio);
+  }
+  return {high > 0 ? low : 0.0, high};
+}
 
 // One run of a contestant: its hits, and its time in `ms`.  An empty one
 // (Embree's packets on a CPU without them) has no rate.
@@ -89,6 +105,7 @@ std::vector<Rate> race(std::size_t rays, int rounds, const std::vector<Run>& run
     }
   for (std::size_t i = 0; i < runs.size(); ++i) {
     if (ms[i].empty()) continue;
+    rates[i].round_ms = ms[i];
     auto middle = ms[i].begin() + static_cast<std::ptrdiff_t>(ms[i].size() / 2);
     std::nth_element(ms[i].begin(), middle, ms[i].end());
     rates[i].mrays_per_s = static_cast<double>(rays) / (*middle * 1e3);
@@ -120,10 +137,13 @@ std::size_t count_hits(const sh::rt::Hits& h) {
   return n;
 }
 
-void print_row(const char* kind, std::size_t rays, Rate ours, const std::string& embree_call, Rate one, Rate packets) {
-  std::printf("%-22s %8zu %9.2f %8zu   %-15s %8.2f %8.2f %8zu   %6.3fx %6.3fx\n", kind, rays, ours.mrays_per_s, ours.hits,
-              embree_call.c_str(), one.mrays_per_s, packets.mrays_per_s, one.hits, ours.mrays_per_s / one.mrays_per_s,
-              packets.mrays_per_s > 0 ? ours.mrays_per_s / packets.mrays_per_s : 0.0);
+void print_row(const char* kind, std::size_t rays, const Rate& ours, const std::string& embree_call, const Rate& one,
+               const Rate& packets) {
+  auto [low, high] = round_spread(ours, one);
+  std::printf("%-22s %8zu %9.2f %8zu   %-15s %8.2f %8.2f %8zu   %6.3fx %6.3fx   %.3f-%.3fx\n", kind, rays,
+              ours.mrays_per_s, ours.hits, embree_call.c_str(), one.mrays_per_s, packets.mrays_per_s, one.hits,
+              ours.mrays_per_s / one.mrays_per_s, packets.mrays_per_s > 0 ? ours.mrays_per_s / packets.mrays_per_s : 0.0,
+              low, high);
 }
 
 // The accelerator's build beside Embree's of the same triangles (on as
@@ -176,8 +196,8 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   sh::rt::EmbreeScene embree(s, config.c_str());
   int n = request.repeats;
   std::string embree_note = config.empty() ? "" : "; Embree with " + config;
-  std::printf("scene %s: %zu triangles, %s; %s backend; %d rounds, each contestant once a round in turn, median "
-              "rounds%s\n",
+  std::printf("scene %s: %zu triangles, %s; %s backend; %d rounds, each contestant once a round in turn, rates of "
+              "the median round, \"/1 by round\" the lowest and highest of the rounds' own ratios%s\n",
               s.name.c_str(), s.mesh.triangles(), r.describe_accelerator().c_str(), backend.c_str(), n,
               embree_note.c_str());
   print_builds(r, embree);
@@ -185,8 +205,8 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   int packet = 16;
   while (packet > 4 && !embree.supports_packet(packet)) packet /= 2;
   std::string wide = std::to_string(packet);
-  std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s\n", "rays", "count", "Mrays/s", "hits", "Embree",
-              "1 ray", (wide + " rays").c_str(), "hits", "/1", ("/" + wide).c_str());
+  std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s   %s\n", "rays", "count", "Mrays/s", "hits", "Embree",
+              "1 ray", (wide + " rays").c_str(), "hits", "/1", ("/" + wide).c_str(), "/1 by round");
   // Our kernels as contestants: the run's own time, as RunStats has it.
   auto nearest = [&](const RayBatch& b) -> Run {
     return [&r, &choice, rays = &b](double& ms) {
@@ -233,9 +253,10 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   against_embree("reflection", k.reflection, embree);
   // What stopping at the first hit can buy on these rays: Embree's own
   // any-hit query against its nearest-hit one.
-  std::printf("shadow rays: the any-hit walk is %.2fx as fast as the nearest-hit walk (Embree: rtcOccluded1 %.2fx "
-              "rtcIntersect1 on the same rays)\n",
-              shadow[0].mrays_per_s / shadow[1].mrays_per_s, shadow[2].mrays_per_s / shadow[4].mrays_per_s);
+  auto [low, high] = round_spread(shadow[0], shadow[1]);
+  std::printf("shadow rays: the any-hit walk is %.2fx as fast as the nearest-hit walk (%.2f-%.2fx by round; Embree: "
+              "rtcOccluded1 %.2fx rtcIntersect1 on the same rays)\n",
+              shadow[0].mrays_per_s / shadow[1].mrays_per_s, low, high, shadow[2].mrays_per_s / shadow[4].mrays_per_s);
   if (request.lanes) {
     // Camera and reflection rays walk to kFar, as their rows above do.
     std::printf("lanes in the BVH's walk (%d side by side):\n", sh::lanes_of(choice));
