@@ -192,7 +192,9 @@ TEST(CpuBackend, PrefetchesOneALaneOrOneForLanesThatAgree) {
 // A stencil's reads at x + c along a row are one vector load each: in a
 // full batch whose taps all lie inside the table, with no test and no mask,
 // such batches one after another in a loop of their own, each fetching the
-// row that the next row of batches will first read; elsewhere a
+// row that the next row of batches will first read; in a full batch past
+// the table's edges, where it clamps, each row of taps read once, clamped
+// (a masked load and a permute, or selects of the row's ends); elsewhere a
 // masked load and, where it clamps, a permute (or a second masked load, as
 // above); of a table that repeats, a tested masked load and at the edges a
 // gather.  Reads at an input's index are gathers only.  (Stores are
@@ -232,13 +234,19 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   std::vector<std::string> row = computed_from(ir, asked[1]);
   auto smaller = [](const std::string& d) { return d.find("@llvm.smin.i64") != std::string::npos; };
   EXPECT_TRUE(std::any_of(row.begin(), row.end(), smaller)) << "the prefetched row is always the next one: " << ir;
-  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), permutes_16_lanes() ? 2u : 4u) << ir;
-  EXPECT_EQ(permutes(ir), permutes_16_lanes() ? 2u : 0u) << ir;
-  // Beside each permute, a gather for a run whose x wraps past INT_MAX.
+  std::string clamped = blocks(ir, "batch.clamped");
+  EXPECT_EQ(count(clamped, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << ir;
+  EXPECT_EQ(permutes(clamped), permutes_16_lanes() ? 2u : 0u) << ir;
+  EXPECT_EQ(gathers(clamped), 0u) << ir;
+  EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), permutes_16_lanes() ? 2u + 2u : 4u + 2u) << ir;
+  EXPECT_EQ(permutes(ir), permutes_16_lanes() ? 2u + 2u : 0u) << ir;
+  // Beside each of the tested path's permutes, a gather for a run whose x
+  // wraps past INT_MAX.
   std::string past_int_max = blocks(ir, "read.wrapped");
-  EXPECT_EQ(gathers(past_int_max), permutes(ir)) << ir;
+  EXPECT_EQ(gathers(past_int_max), permutes(ir) - permutes(clamped)) << ir;
   EXPECT_EQ(gathers(ir), gathers(past_int_max)) << ir;
   std::string wraps = kernel_for(repeating, backend("cpu", o))->listing();
+  EXPECT_EQ(blocks(wraps, "batch.clamped"), "") << wraps;
   EXPECT_EQ(count(wraps, "call <16 x float> @llvm.masked.load.v16f32"), 2u) << wraps;
   EXPECT_EQ(gathers(wraps), 2u) << wraps;
   EXPECT_EQ(permutes(wraps), 0u) << wraps;
@@ -365,15 +373,44 @@ TEST(CpuBackend, EveryEdgeModeKeepsTheVectorLoad) {
     std::string ir = kernel_for(stencil, backend("cpu", o))->listing();
     EXPECT_EQ(count(blocks(ir, "batches.inside:"), "load <16 x float>"), 1u) << ir::edge_name(edge) << ir;
     // Where reads clamp, a masked load and a permute, or the tested path's
-    // masked load and at the edge a second; where they repeat, the tested one.
+    // masked load and at the edge a second, and in a full batch past the
+    // edge the same again; where they repeat, the tested one.
     bool clamps = edge != Edge::Repeat;
-    EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"), clamps && !permutes_16_lanes() ? 2u : 1u)
+    EXPECT_EQ(count(ir, "call <16 x float> @llvm.masked.load.v16f32"),
+              clamps ? (permutes_16_lanes() ? 1u + 1u : 2u + 1u) : 1u)
         << ir::edge_name(edge) << ir;
-    EXPECT_EQ(permutes(ir), clamps && permutes_16_lanes() ? 1u : 0u) << ir::edge_name(edge) << ir;
+    EXPECT_EQ(permutes(ir), clamps && permutes_16_lanes() ? 2u : 0u) << ir::edge_name(edge) << ir;
+    EXPECT_EQ(blocks(ir, "batch.clamped").empty(), !clamps) << ir::edge_name(edge) << ir;
     // Wrapping divides: only a batch that reaches the edge may.
     EXPECT_EQ(count(blocks(ir, "read.edge"), "srem"), edge == Edge::Repeat ? count(ir, "srem") : 0u) << ir;
     EXPECT_EQ(count(ir, "srem") > 0, edge == Edge::Repeat) << ir;
   }
+}
+
+// A full batch past the edges reads a row of taps as two clamped runs, at
+// its first and last tap, and the taps between as shuffles of the two: so
+// only where a row's taps span at most a batch.  Seven taps along a row
+// span six elements, more than four lanes, and such batches keep the
+// tested read a tap.
+TEST(CpuBackend, ClampedBatchesOnlyWhereARowOfTapsSpansABatch) {
+  Table2D<Attrib1f> image(64, 64);
+  image.assign(std::vector<float>(64 * 64, 1.0f));
+  Program seven = SH_BEGIN_PROGRAM("seven_taps") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = 0.0f;
+    for (int dx = -3; dx <= 3; ++dx) out += image[at + ConstAttrib2i(dx, 0)];
+  } SH_END;
+  auto ir_at = [&](cpu::Width width) {
+    Options o;
+    o.set(cpu::Options{.width = width});
+    return kernel_for(seven, backend("cpu", o))->listing();
+  };
+  std::string four = ir_at(cpu::Width::Lanes4), eight = ir_at(cpu::Width::Lanes8);
+  EXPECT_EQ(blocks(four, "batch.clamped"), "") << four;
+  std::string clamped = blocks(eight, "batch.clamped");
+  EXPECT_EQ(count(clamped, "call <8 x float> @llvm.masked.load.v8f32"), 2u) << eight;
+  EXPECT_EQ(gathers(clamped), 0u) << eight;
 }
 
 // A run that compiles says where the time went: the passes, then the

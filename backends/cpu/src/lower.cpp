@@ -46,6 +46,7 @@ Lowering::Lowering(const ir::Program& p, const sh::Options& o, int width, llvm::
   // the blur ran slower (BENCHMARKS.md, issue 25).
   pairs_rows_ = spmd() && avx512_ && !fetches_tables(o) && taps_rows(tap_spans_) &&
                 std::none_of(p.tables.begin(), p.tables.end(), [](const ir::TableDecl& t) { return t.accumulator; });
+  clamps_taps_ = spmd() && !fetches_tables(o) && taps_clamp();
   if (width_ == 16 && avx512_)
     lane_permute_ = llvm::Intrinsic::x86_avx512_permvar_sf_512;
   else if (width_ == 8 && features.lookup("avx2"))

@@ -88,7 +88,10 @@ class Lowering {
 
   // ---- a stencil's batches along a row (stencil_rows.cpp) -------------------
   void inside_batches(Value* e, Value* end, BasicBlock* head);
-  std::vector<Batch> inside_batch(Value* at);
+  enum class Taps { Inside, Clamped };
+  std::vector<Batch> inside_batch(Value* at, Taps taps = Taps::Inside);
+  void clamped_batch(Value* e, Value* first_x, BasicBlock* head);
+  bool taps_clamp() const;
   void leave_run(Value* x, Value* next, BasicBlock* head);
   void paired_batches(Value* e, Value* first_x, Value* last_x, BasicBlock* head);
   struct RowLoop {
@@ -183,15 +186,19 @@ class Lowering {
     int low, high;
     std::array<Value*, 4> first, last;
   };
+  std::map<std::tuple<int, int, int>, std::pair<int, int>> tap_row_spans() const;
   void load_tap_rows();
+  void load_clamped_tap_rows();
+  Value* taps_in_range();
   std::array<Value*, 4> tap(int table, const std::array<int, 3>& offset);
   Value* batch_inside();
   Value* last_inside_x();
   std::array<Value*, 4> joined(const std::array<Value*, 4>& a, BasicBlock* from_a, const std::array<Value*, 4>& b,
                                BasicBlock* from_b, int width);
   std::array<Value*, 4> clamped_run(const ir::Assign& a, Value* flat);
+  std::array<Value*, 4> clamped_run(int table, Value* row, Value* asked_x);
   std::array<Value*, 4> window_or_gather(const ir::Assign& a, Value* flat, const ElementRead& element);
-  std::array<Value*, 4> window_run(const ir::Assign& a, Value* asked_x, Value* flat);
+  std::array<Value*, 4> window_run(int table, Value* row, Value* asked_x);
   Value* row_start(const ir::Assign& a, Value* asked_x, Value* flat);
   Value* clamped(Value* v, Value* low, Value* high);
   bool permutes(int table) const;
@@ -239,6 +246,9 @@ class Lowering {
   // (vpermps; vpermilps at 4 lanes), or none
   llvm::Intrinsic::ID lane_permute_ = llvm::Intrinsic::not_intrinsic;
   bool batch_inside_ = false;     // spmd: lowering the body for a batch whose stencil taps are all inside
+  // spmd: every table a stencil taps clamps, each row of taps at most a
+  // batch wide (taps_clamp): full batches at the edges take clamped_batch
+  bool clamps_taps_ = false;
   std::map<std::tuple<int, int, int>, TapRow> tap_rows_;  // spmd, inside: by table and the row's y and z offsets
   // spmd with AVX-512, taps on more than one row of a table, no
   // accumulator: rows' runs of inside batches may run together

@@ -667,22 +667,27 @@ std::array<Value*, 4> Lowering::run_or_gather(const ir::Assign& a, Value* flat, 
 // 4, which microcodes a 16-lane gather, the gathers cost a 512-pixel-wide
 // blur 8-11 % of its time.
 std::array<Value*, 4> Lowering::clamped_run(const ir::Assign& a, Value* flat) {
-  const ir::TableDecl& t = p_.tables[a.table];
-  llvm::Type* i64 = b_.getInt64Ty();
   Value* asked_x = widen(read(a.args[1], 0));
-  Value* row_length = table_dims_[a.table][0];
+  return clamped_run(a.table, row_start(a, asked_x, flat), asked_x);
+}
+
+// The same for the lanes at `asked_x` of the row whose first element is
+// at flat index `row`.
+std::array<Value*, 4> Lowering::clamped_run(int table, Value* row, Value* asked_x) {
+  const ir::TableDecl& t = p_.tables[table];
+  llvm::Type* i64 = b_.getInt64Ty();
+  Value* row_length = table_dims_[table][0];
   Value* before = b_.CreateICmpSLT(asked_x, splat(b_.getInt32(0)));
   Value* past = b_.CreateICmpSGE(asked_x, splat(row_length));
-  Value* row = row_start(a, asked_x, flat);
   Value* in_row = b_.CreateAnd(exec(), b_.CreateNot(b_.CreateOr(before, past)));
   Value* first_x = b_.CreateExtractElement(asked_x, std::uint64_t{0});
-  std::array<Value*, 4> values = masked_run(a.table, b_.CreateAdd(row, b_.CreateSExt(first_x, i64)), in_row);
+  std::array<Value*, 4> values = masked_run(table, b_.CreateAdd(row, b_.CreateSExt(first_x, i64)), in_row);
   llvm::Type* scalar = storage_scalar(t.element.scalar);
   Value* last = b_.CreateAdd(row, b_.CreateZExt(b_.CreateSub(row_length, b_.getInt32(1)), i64));
   for (int c = 0; c < t.element.width; ++c) {
     auto element_at = [&](Value* index) {
       Value* at = b_.CreateAdd(b_.CreateMul(index, b_.getInt64(t.element.width)), b_.getInt64(c));
-      return splat(b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, table_base_[a.table], at)));
+      return splat(b_.CreateLoad(scalar, b_.CreateInBoundsGEP(scalar, table_base_[table], at)));
     };
     values[c] = b_.CreateSelect(before, element_at(row), b_.CreateSelect(past, element_at(last), values[c]));
   }
@@ -716,22 +721,23 @@ std::array<Value*, 4> Lowering::window_or_gather(const ir::Assign& a, Value* fla
   BasicBlock* wrapped = BasicBlock::Create(ctx_, "read.wrapped", fn_);
   b_.CreateCondBr(wraps, wrapped, window, llvm::MDBuilder(ctx_).createBranchWeights(1, 1 << 20));
   b_.SetInsertPoint(window);
-  std::array<Value*, 4> in_window = window_run(a, asked_x, flat);
+  std::array<Value*, 4> in_window = window_run(a.table, row_start(a, asked_x, flat), asked_x);
   BasicBlock* window_end = b_.GetInsertBlock();
   b_.SetInsertPoint(wrapped);
   std::array<Value*, 4> gathered = element(flat, true);
   return joined(in_window, window_end, gathered, b_.GetInsertBlock(), p_.tables[a.table].element.width);
 }
 
-// A proven run, where reads clamp (legal IR reads a Zero table at the
-// clamped place too) and the target permutes lanes: one load of the
+// A proven run along the row whose first element is at flat index `row`,
+// where reads clamp (legal IR reads a Zero table at the clamped place too)
+// and the target permutes lanes: one load of the
 // `width_` elements of the row nearest the run, from which each lane takes
 // its clamped element by one permute.  The window starts where the run
 // does, moved into the row (a row shorter than the lanes is loaded
 // masked); inside the row the permute keeps every lane in place, so a read
 // needs no test of where it lies.
-std::array<Value*, 4> Lowering::window_run(const ir::Assign& a, Value* asked_x, Value* flat) {
-  Value* row_length = table_dims_[a.table][0];
+std::array<Value*, 4> Lowering::window_run(int table, Value* row, Value* asked_x) {
+  Value* row_length = table_dims_[table][0];
   Value* clamped_x = clamped(asked_x, splat(b_.getInt32(0)), splat(b_.CreateSub(row_length, b_.getInt32(1))));
   // Where the row is shorter than the lanes, the window starts at 0.
   Value* last_start = b_.CreateSub(row_length, b_.getInt32(width_));
@@ -740,10 +746,10 @@ std::array<Value*, 4> Lowering::window_run(const ir::Assign& a, Value* asked_x, 
       b_.CreateBinaryIntrinsic(llvm::Intrinsic::smin, b_.CreateExtractElement(asked_x, std::uint64_t{0}), last_start),
       b_.getInt32(0));
   Value* in_row = b_.CreateICmpSLT(lane_numbers(), splat(b_.CreateSub(row_length, window)));
-  Value* start = b_.CreateAdd(row_start(a, asked_x, flat), b_.CreateZExt(window, b_.getInt64Ty()));
-  std::array<Value*, 4> values = masked_run(a.table, start, in_row);
+  Value* start = b_.CreateAdd(row, b_.CreateZExt(window, b_.getInt64Ty()));
+  std::array<Value*, 4> values = masked_run(table, start, in_row);
   Value* index = b_.CreateSub(clamped_x, splat(window));
-  for (int c = 0; c < p_.tables[a.table].element.width; ++c) values[c] = permuted(values[c], index);
+  for (int c = 0; c < p_.tables[table].element.width; ++c) values[c] = permuted(values[c], index);
   return values;
 }
 
@@ -799,6 +805,20 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
   return start;
 }
 
+// Each row of a table's taps (by table and y and z offsets), with the
+// smallest and largest x offset of its taps; ordered, so that their loads
+// come in one order every time.
+std::map<std::tuple<int, int, int>, std::pair<int, int>> Lowering::tap_row_spans() const {
+  std::map<std::tuple<int, int, int>, std::pair<int, int>> spans;
+  for (const auto& [read, access] : access_) {
+    if (!access.proven_run || !access.offset) continue;
+    const std::array<int, 3>& at = *access.offset;
+    auto row = spans.try_emplace({read->table, at[1], at[2]}, at[0], at[0]).first;
+    row->second = {std::min(row->second.first, at[0]), std::max(row->second.second, at[0])};
+  }
+  return spans;
+}
+
 // A stencil's taps along one row overlap: a 5-tap row read as five
 // vector loads touches each element five times, and on AVX-512 four of the
 // five loads cross a cache line.  Two loads, at the row's first and last
@@ -813,20 +833,61 @@ Value* Lowering::tap_start(int table, const std::array<int, 3>& offset) {
 // A wider element's two runs are deinterleaved once, not once a tap.
 void Lowering::load_tap_rows() {
   if (!avx512_) return;
-  std::map<std::tuple<int, int, int>, std::pair<int, int>> spans;  // ordered: the loads in one order every time
-  for (const auto& [read, access] : access_) {
-    if (!access.proven_run || !access.offset) continue;
-    const std::array<int, 3>& at = *access.offset;
-    auto row = spans.try_emplace({read->table, at[1], at[2]}, at[0], at[0]).first;
-    row->second = {std::min(row->second.first, at[0]), std::max(row->second.second, at[0])};
-  }
-  for (const auto& [row, span] : spans) {
+  for (const auto& [row, span] : tap_row_spans()) {
     auto [low, high] = span;
     if (low == high || std::int64_t{high} - low > width_) continue;  // offsets may lie near the int limits
     auto [table, y, z] = row;
     auto load = [&](int x) { return masked_run(table, tap_start(table, {x, y, z}), exec()); };
     tap_rows_[row] = {low, high, load(low), load(high)};
   }
+}
+
+// A full batch with taps past its tables' edges, of a program whose tapped
+// tables all clamp (clamps_taps_): every row of taps as two vectors, as
+// inside, but each read clamped, the row's y and z once for its taps and
+// its runs at the first and last tap as a window each (or a masked load
+// and two selects where the target has no permute).  The body then reads
+// its taps as it does inside: a row's taps cost two clamped reads and
+// shuffles, where each alone was a clamped read with its own coordinates,
+// and a 5 x 5 blur's two edge batches a row took 12 % of its time
+// against the C++ loop's 3 % (BENCHMARKS.md, issue 25).
+void Lowering::load_clamped_tap_rows() {
+  llvm::Type* i64 = b_.getInt64Ty();
+  for (const auto& [row, span] : tap_row_spans()) {
+    auto [table, y, z] = row;
+    auto [low, high] = span;
+    Value* start = b_.getInt64(0);
+    Value* stride = b_.CreateZExt(table_dims_[table][0], i64);
+    for (int d = 1; d < p_.tables[table].rank; ++d) {
+      Value* extent = b_.CreateZExt(table_dims_[table][d], i64);
+      Value* at = b_.CreateAdd(batch_place_[d], b_.getInt64(d == 1 ? y : z));
+      start = b_.CreateAdd(start, b_.CreateMul(clamped(at, b_.getInt64(0), b_.CreateSub(extent, b_.getInt64(1))), stride));
+      stride = b_.CreateMul(stride, extent);
+    }
+    auto run = [&](int x) {
+      Value* first = b_.CreateTrunc(b_.CreateAdd(batch_place_[0], b_.getInt64(x)), b_.getInt32Ty());
+      Value* asked_x = b_.CreateAdd(splat(first), lane_numbers());
+      return permutes(table) ? window_run(table, start, asked_x) : clamped_run(table, start, asked_x);
+    };
+    std::array<Value*, 4> first = run(low);
+    tap_rows_[row] = {low, high, first, low == high ? first : run(high)};
+  }
+}
+
+// Whether the batch's taps, as each lane asks for them, are in 32-bit
+// range along every dimension, as clamped_taps_rows' coordinates must be
+// to be the program's (theirs are 32-bit sums that could wrap).
+Value* Lowering::taps_in_range() {
+  Value* in_range = b_.getTrue();
+  for (std::size_t t = 0; t < tap_spans_.size(); ++t) {
+    if (!tap_spans_[t]) continue;
+    for (int d = 0; d < p_.tables[t].rank; ++d) {
+      std::int64_t high = std::int64_t{tap_spans_[t]->high[d]} + (d == 0 ? width_ - 1 : 0);
+      Value* last = b_.CreateAdd(batch_place_[d], b_.getInt64(high));
+      in_range = b_.CreateAnd(in_range, b_.CreateICmpSLE(last, b_.getInt64(std::numeric_limits<std::int32_t>::max())));
+    }
+  }
+  return in_range;
 }
 
 // A tap of a batch inside its table: from its row's two vectors where

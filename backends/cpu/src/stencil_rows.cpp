@@ -55,14 +55,55 @@ void Lowering::inside_batches(Value* e, Value* end, BasicBlock* head) {
   b_.SetInsertPoint(edge);
   batch_count_ = count;
   set_batch_x(first_x);
+  clamped_batch(e, first_x, head);
 }
 
-// The body of element `at`'s batch, every lane live and every tap inside:
-// its outputs' full batches, not yet stored.
-std::vector<Lowering::Batch> Lowering::inside_batch(Value* at) {
+// A full batch whose taps pass its tables' edges (a row's first and last
+// batches, the first and last rows) runs the body as an inside batch
+// does, its rows of taps read clamped (load_clamped_tap_rows).  The stream
+// loop's body, every tap tested, takes the rest: batches cut short, and
+// the stencils of tables that repeat.
+void Lowering::clamped_batch(Value* e, Value* first_x, BasicBlock* head) {
+  if (!clamps_taps_) return;
+  Value* count = batch_count_;
+  Value* step = b_.getInt64(width_);
+  BasicBlock* clamped = BasicBlock::Create(ctx_, "batch.clamped", fn_);
+  BasicBlock* other = BasicBlock::Create(ctx_, "batch.other", fn_);
+  b_.CreateCondBr(b_.CreateAnd(b_.CreateICmpEQ(count, step), taps_in_range()), clamped, other);
+  b_.SetInsertPoint(clamped);
+  batch_count_ = step;
+  store_full_batches(inside_batch(e, Taps::Clamped));
+  leave_run(first_x, b_.CreateNSWAdd(e, step), head);
+  b_.SetInsertPoint(other);
+  batch_count_ = count;
+}
+
+// Whether every table a stencil taps clamps at its edges (or reads zero,
+// which legal IR reads at the clamped place too), and each row of its taps
+// spans at most a batch: then a batch past the edges reads its taps as
+// clamped_batch does.
+bool Lowering::taps_clamp() const {
+  bool any = false;
+  for (std::size_t t = 0; t < tap_spans_.size(); ++t)
+    if (tap_spans_[t]) {
+      if (p_.tables[t].edge == ir::Edge::Repeat) return false;
+      any = true;
+    }
+  for (const auto& [row, span] : tap_row_spans())
+    if (std::int64_t{span.second} - span.first > width_) return false;
+  return any;
+}
+
+// The body of element `at`'s batch, every lane live and every tap inside
+// or, with `taps` Clamped, read clamped: its outputs' full batches, not
+// yet stored.
+std::vector<Lowering::Batch> Lowering::inside_batch(Value* at, Taps taps) {
   b_.CreateStore(at, element_);
   store_mask(llvm::Constant::getAllOnesValue(mask_type()), exec_);  // every lane live, as a constant
-  load_tap_rows();
+  if (taps == Taps::Clamped)
+    load_clamped_tap_rows();
+  else
+    load_tap_rows();
   clear_registers();
   load_inputs(at, nullptr);
   batch_inside_ = true;
