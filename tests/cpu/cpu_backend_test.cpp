@@ -256,6 +256,31 @@ TEST(CpuBackend, StencilReadsAreVectorLoads) {
   EXPECT_EQ(count(other, "@llvm.prefetch"), 0u) << other;
 }
 
+// A kernel without loops of its own keeps LLVM's full pipeline however
+// large it lowers: a 5 x 5 blur's body is lowered three times (inside, a
+// full batch past the edges, the tested path), more instructions than the
+// tracer's short pipeline starts at, and the loop along the row computes
+// nothing that its batches share, such as the row it asks the cache for
+// (the smaller of the next row and the table's last).
+TEST(CpuBackend, ALargeKernelWithoutLoopsHoistsWhatARowsBatchesShare) {
+  Table2D<Attrib1f> image(64, 64);
+  image.assign(std::vector<float>(64 * 64, 1.0f));
+  Program blur = SH_BEGIN_PROGRAM("blur") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    Attrib1f sum = 0.0f;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) sum += image[at + ConstAttrib2i(dx, dy)];
+    out = sum * 0.04f;
+  } SH_END;
+  Options o;
+  o.set(cpu::Options{.width = cpu::Width::Lanes16, .stores = cpu::Stores::Cached});
+  std::string ir = kernel_for(blur, backend("cpu", o))->listing();
+  std::string inside = blocks(ir, "batches.inside:");
+  ASSERT_EQ(count(inside, "call void @llvm.prefetch"), 1u) << ir;
+  EXPECT_EQ(count(inside, "@llvm.smin"), 0u) << ir;
+}
+
 // With AVX-512, two rows of a stencil's batches at a time share what both
 // read: a 3 x 3 box's batch reads three rows, two loads each (the row's
 // first and last tap), and the batches at (x, y) and (x, y + 1) read four

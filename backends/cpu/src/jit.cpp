@@ -73,10 +73,11 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
   return info;
 }
 
-// A kernel lowered to more instructions than this (the tracer, 6 600
-// without reflections to 11 500 with a light pass's luminance; the light
-// pass, 12 000-13 500; every other kernel measured is under 4 300, the
-// intersector the largest) takes a short pipeline: registers to SSA
+// A kernel with loops of its own lowered to more instructions than this
+// (the tracer, 6 600 without reflections to 11 500 with a light pass's
+// luminance; the light pass, 12 000-13 500; every other kernel with loops
+// measured is under 4 500, the intersector the largest) takes a short
+// pipeline: registers to SSA
 // values, the common subexpressions before and after the instruction
 // combiner, the CFG simplified before and after.  Its loops run until rays
 // finish, with little for O3's loop passes to hoist or unroll, while O3
@@ -85,7 +86,12 @@ llvm::TargetLibraryInfoImpl library_info(const llvm::Module& m) {
 // the second early CSE is now).
 // Its machine code leaves out the passes MachinePasses::Lean names.
 // Small kernels keep O3 and every machine pass, which their loops pay for
-// (ray-triangle's 9 % at 16 lanes) and whose compile is short anyway.
+// (ray-triangle's 9 % at 16 lanes) and whose compile is short anyway; so
+// do kernels without loops of their own, however large (a 5 x 5 blur's
+// body lowered three times, 6 200-6 800), whose only loops are the
+// backend's along the stream and its rows: O3 hoists what a row's batches
+// share out of them, which the short pipeline left in the direct blur's
+// inside loop.
 constexpr unsigned kLargeKernel = 5000;
 
 // An optimised kernel of more LLVM instructions than this (the tracer:
@@ -256,7 +262,7 @@ void Jitted::build(const ir::Program& program, const sh::Options& options, bool 
   m.setTargetTriple(machine->getTargetTriple().str());
   clock.end("lowering");
 
-  bool large = m.getInstructionCount() > kLargeKernel;
+  bool large = !loops_.empty() && m.getInstructionCount() > kLargeKernel;
   optimise(m, *machine, large);
   mark_min_max_without_nan(m);
   // Invalid IR from the optimiser would abort the process in code
