@@ -154,6 +154,30 @@ TEST(CpuBackend, ARowOfTapsIsTwoLoadsAndShufflesWhereAvx512ShiftsLanes) {
   EXPECT_EQ(count(avx512, "shufflevector <8 x float>"), 3u) << avx512;
 }
 
+// At 8 lanes without AVX-512 a batch is one AVX2 register, and the loop
+// along the row takes two batches a trip, as 16 lanes' two registers a
+// value do: its one block (stores cached, so that it has one) reads the
+// row's five taps twice; at 16 lanes, once.
+TEST(CpuBackend, TheRowLoopTakesTwoBatchesATripWhereABatchIsOneAvx2Register) {
+  Table2D<Attrib1f> image(64, 64);
+  image.assign(std::vector<float>(64 * 64, 1.0f));
+  Program p = SH_BEGIN_PROGRAM("row_of_taps") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = 0.0f;
+    for (int dx = -2; dx <= 2; ++dx) out += image[at + ConstAttrib2i(dx, 0)];
+  } SH_END;
+  auto inside = [&](cpu::Width width) {
+    Options o;
+    o.set(cpu::Options{.width = width, .stores = cpu::Stores::Cached, .isa = cpu::Isa::Avx2});
+    return blocks(kernel_for(p, backend("cpu", o))->listing(), "batches.inside:");
+  };
+  std::string eight = inside(cpu::Width::Lanes8), sixteen = inside(cpu::Width::Lanes16);
+  EXPECT_EQ(count(eight, "load <8 x float>"), 2u * 5u) << eight;
+  EXPECT_EQ(count(eight, "store <8 x float>"), 2u) << eight;
+  EXPECT_EQ(count(sixteen, "load <16 x float>"), 5u) << sixteen;
+}
+
 // A prefetch is one prefetch instruction where the lanes agree on the
 // coordinates (a walk's node) and one a lane where they may differ; scalar
 // code asks once an element; a table the kernel fetches (mpi's tables

@@ -95,9 +95,11 @@ class Lowering {
   void leave_run(Value* x, Value* next, BasicBlock* head);
   void paired_batches(Value* e, Value* first_x, Value* last_x, BasicBlock* head);
   struct RowLoop {
-    Value* x;     // the last batch's
-    Value* next;  // the element past it
+    Value* x;                  // the last batch's
+    Value* next;               // the element past it
+    llvm::BranchInst* back;    // the loop's branch back to its start
   };
+  void unroll_twice(llvm::BranchInst* back);
   RowLoop along_row(Value* e, Value* first_x, Value* last_x, const std::string& name,
                     const std::function<void(Value* at)>& trip);
   Value* pair_below(Value* e, Value* end, Value* first_x, Value* last_x);
