@@ -154,6 +154,16 @@ TEST(CpuBackend, ARowOfTapsIsTwoLoadsAndShufflesWhereAvx512ShiftsLanes) {
   EXPECT_EQ(count(avx512, "shufflevector <8 x float>"), 3u) << avx512;
 }
 
+// A one-row stencil: the sum of the taps from low to high along the row.
+Program row_of_taps(const Table2D<Attrib1f>& image, int low, int high) {
+  return SH_BEGIN_PROGRAM("row_of_taps") {
+    OutputAttrib1f out;
+    Attrib2i at = position<2>();
+    out = 0.0f;
+    for (int dx = low; dx <= high; ++dx) out += image[at + ConstAttrib2i(dx, 0)];
+  } SH_END;
+}
+
 // At 8 lanes without AVX-512 a batch is one AVX2 register, and the loop
 // along the row takes two batches a trip, as 16 lanes' two registers a
 // value do: its one block (stores cached, so that it has one) reads the
@@ -161,12 +171,7 @@ TEST(CpuBackend, ARowOfTapsIsTwoLoadsAndShufflesWhereAvx512ShiftsLanes) {
 TEST(CpuBackend, TheRowLoopTakesTwoBatchesATripWhereABatchIsOneAvx2Register) {
   Table2D<Attrib1f> image(64, 64);
   image.assign(std::vector<float>(64 * 64, 1.0f));
-  Program p = SH_BEGIN_PROGRAM("row_of_taps") {
-    OutputAttrib1f out;
-    Attrib2i at = position<2>();
-    out = 0.0f;
-    for (int dx = -2; dx <= 2; ++dx) out += image[at + ConstAttrib2i(dx, 0)];
-  } SH_END;
+  Program p = row_of_taps(image, -2, 2);
   auto inside = [&](cpu::Width width) {
     Options o;
     o.set(cpu::Options{.width = width, .stores = cpu::Stores::Cached, .isa = cpu::Isa::Avx2});
@@ -444,12 +449,7 @@ TEST(CpuBackend, EveryEdgeModeKeepsTheVectorLoad) {
 TEST(CpuBackend, ClampedBatchesOnlyWhereARowOfTapsSpansABatch) {
   Table2D<Attrib1f> image(64, 64);
   image.assign(std::vector<float>(64 * 64, 1.0f));
-  Program seven = SH_BEGIN_PROGRAM("seven_taps") {
-    OutputAttrib1f out;
-    Attrib2i at = position<2>();
-    out = 0.0f;
-    for (int dx = -3; dx <= 3; ++dx) out += image[at + ConstAttrib2i(dx, 0)];
-  } SH_END;
+  Program seven = row_of_taps(image, -3, 3);
   auto ir_at = [&](cpu::Width width) {
     Options o;
     o.set(cpu::Options{.width = width});

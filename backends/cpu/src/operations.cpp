@@ -875,7 +875,7 @@ void Lowering::load_clamped_tap_rows() {
 }
 
 // Whether the batch's taps, as each lane asks for them, are in 32-bit
-// range along every dimension, as clamped_taps_rows' coordinates must be
+// range along every dimension, as load_clamped_tap_rows' coordinates must be
 // to be the program's (theirs are 32-bit sums that could wrap).
 Value* Lowering::taps_in_range() {
   Value* in_range = b_.getTrue();
