@@ -142,7 +142,9 @@ class Lowering {
   Value* truthy(Value* x, ir::Scalar s);
   Value* mask(Value* bits, llvm::Type* t);
   Value* intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*> args);
-  Value* libm(const char* name, std::initializer_list<Value*> args);
+  enum class Rewrites { Allowed, None };
+  Value* libm(const char* name, std::initializer_list<Value*> args, Rewrites rewrites = Rewrites::Allowed);
+  Value* power(Value* base, Value* exponent);
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
   Value* saturating_to_i32(Value* a, llvm::Type* t);
