@@ -144,6 +144,10 @@ class Lowering {
   Value* intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*> args);
   enum class Rewrites { Allowed, None };
   Value* libm(const char* name, std::initializer_list<Value*> args, Rewrites rewrites = Rewrites::Allowed);
+  static Value* library_call(llvm::IRBuilder<>& b, llvm::FunctionCallee f, llvm::ArrayRef<Value*> args,
+                             Rewrites rewrites);
+  llvm::Function* lane_by_lane(llvm::FunctionCallee f, const std::string& symbol, llvm::Type* vector, std::size_t arity,
+                               Rewrites rewrites);
   Value* power(Value* base, Value* exponent);
   Value* operation(ir::Op op, ir::Scalar from, ir::Scalar to, Value* a, Value* b, Value* c);
   Value* cast(Value* a, ir::Scalar from, ir::Scalar to);
