@@ -74,6 +74,19 @@ Value* Lowering::intrinsic(llvm::Intrinsic::ID id, std::initializer_list<Value*>
   return b_.CreateCall(f, args);
 }
 
+namespace {
+
+// What LLVM may assume of a C library function whose errno no kernel
+// reads: a call that reads and writes no memory, throws nothing and
+// returns, which it may move, share or drop like an intrinsic's.
+void touches_no_memory(llvm::Function& f) {
+  f.setDoesNotAccessMemory();
+  f.setDoesNotThrow();
+  f.addFnAttr(llvm::Attribute::WillReturn);
+}
+
+}  // namespace
+
 // A C math library function, in the precision of x.  With
 // Rewrites::None LLVM does not know the call for the library's function
 // (it is `nobuiltin`), so none of its library-call rewrites apply; it
@@ -84,12 +97,7 @@ Value* Lowering::libm(const char* name, std::initializer_list<Value*> args, Rewr
   std::string symbol = scalar->isFloatTy() ? std::string(name) + "f" : name;
   std::vector<llvm::Type*> params(args.size(), scalar);
   llvm::FunctionCallee f = module_->getOrInsertFunction(symbol, llvm::FunctionType::get(scalar, params, false));
-  if (rewrites == Rewrites::None) {
-    auto* declared = llvm::cast<llvm::Function>(f.getCallee());
-    declared->setDoesNotAccessMemory();
-    declared->setDoesNotThrow();
-    declared->addFnAttr(llvm::Attribute::WillReturn);
-  }
+  if (rewrites == Rewrites::None) touches_no_memory(*llvm::cast<llvm::Function>(f.getCallee()));
   if (!t->isVectorTy()) return library_call(b_, f, args, rewrites);
   llvm::CallInst* call = b_.CreateCall(lane_by_lane(f, symbol, t, args.size(), rewrites), args);
   call->setCallingConv(llvm::CallingConv::Fast);
@@ -119,9 +127,7 @@ llvm::Function* Lowering::lane_by_lane(llvm::FunctionCallee f, const std::string
   if (llvm::Function* known = module_->getFunction(os.str())) return known;
   std::vector<llvm::Type*> params(arity, vector);
   llvm::Function* lanes = helper_function(os.str(), llvm::FunctionType::get(vector, params, false));
-  lanes->setDoesNotAccessMemory();
-  lanes->setDoesNotThrow();
-  lanes->addFnAttr(llvm::Attribute::WillReturn);
+  touches_no_memory(*lanes);
   llvm::IRBuilder<> b(BasicBlock::Create(ctx_, "entry", lanes));
   Value* result = llvm::PoisonValue::get(vector);
   for (int lane = 0; lane < width_; ++lane) {
