@@ -6,12 +6,14 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "backend_compare.hpp"
 #include "embree_anchor.hpp"
+#include "hand_walk.hpp"
 
 namespace shtrace {
 namespace {
@@ -131,9 +133,9 @@ std::size_t count_hits(const std::vector<float>& blocked) {
   return n;
 }
 
-std::size_t count_hits(const sh::rt::Hits& h) {
+std::size_t count_hits(const std::vector<std::int32_t>& triangles) {
   std::size_t n = 0;
-  for (std::int32_t t : h.triangle) n += t >= 0;
+  for (std::int32_t t : triangles) n += t >= 0;
   return n;
 }
 
@@ -154,6 +156,23 @@ void print_builds(const sh::rt::Renderer& r, const sh::rt::EmbreeScene& embree) 
               "%.1f bytes per triangle (its 48 of vertices and indices included)\n",
               sh::rt::accel_name(r.accel()), r.accelerator_build_ms(), static_cast<double>(r.accelerator_bytes()) / n,
               embree.build_ms(), static_cast<double>(embree.bytes()) / n);
+}
+
+// The hand-written walk's row beside Embree's, then the kernels against it
+// and whether both found the same triangles.
+void print_hand_walk(const std::string& kind, std::size_t rays, const Rate& ours, const Rate& hand, const Rate& one,
+                     const Rate& packets, const std::vector<std::int32_t>& ours_hit,
+                     const std::vector<std::int32_t>& hand_hit) {
+  print_row((kind + ", C++ walk").c_str(), rays, hand, "rtcIntersect", one, packets);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < std::min(ours_hit.size(), hand_hit.size()); ++i) differ += ours_hit[i] != hand_hit[i];
+  auto [low, high] = round_spread(ours, hand);
+  std::string agree = differ == 0 && ours_hit.size() == hand_hit.size()
+                          ? "the same nearest triangle on every ray"
+                          : "different nearest triangles on " + std::to_string(differ) + " of " +
+                                std::to_string(rays) + " rays";
+  std::printf("%s rays: the kernels are %.3fx the hand-written C++ walk of the same tree (%.3f-%.3fx by round); %s\n",
+              kind.c_str(), ours.mrays_per_s / hand.mrays_per_s, low, high, agree.c_str());
 }
 
 // One kind's lanes in the BVH's walk, the rays walked to `limits`.
@@ -207,12 +226,25 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   std::string wide = std::to_string(packet);
   std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s   %s\n", "rays", "count", "Mrays/s", "hits", "Embree",
               "1 ray", (wide + " rays").c_str(), "hits", "/1", ("/" + wide).c_str(), "/1 by round");
-  // Our kernels as contestants: the run's own time, as RunStats has it.
-  auto nearest = [&](const RayBatch& b) -> Run {
-    return [&r, &choice, rays = &b](double& ms) {
+  // Our kernels as contestants: the run's own time, as RunStats has it;
+  // each run's nearest triangles into `found`.
+  auto nearest = [&](const RayBatch& b, std::vector<std::int32_t>& found) -> Run {
+    return [&r, &choice, rays = &b, &found](double& ms) {
       sh::RunStats st;
-      std::size_t hits = count_hits(r.intersect(rays->origins, rays->directions, choice, &st));
+      sh::rt::Hits hits = r.intersect(rays->origins, rays->directions, choice, &st);
       ms = st.run_ms;
+      found = std::move(hits.triangle);
+      return count_hits(found);
+    };
+  };
+  // The hand-written walk of the same tree, where it can walk it.
+  std::optional<HandWalk> hand;
+  if (HandWalk::walks(r)) hand.emplace(*r.bvh());
+  auto hand_run = [&](const RayBatch& b, std::vector<std::int32_t>& found) -> Run {
+    return [&hand, rays = &b, &found](double& ms) {
+      auto t0 = std::chrono::steady_clock::now();
+      std::size_t hits = hand->run(*rays, found);
+      ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       return hits;
     };
   };
@@ -224,18 +256,22 @@ int compare_ray_kinds(const RayKindsRequest& request) {
       return hits;
     };
   };
-  auto against_embree = [&](const char* kind, const RayBatch& b, const sh::rt::EmbreeScene& e) {
-    std::vector<Rate> rate = race(b.size(), n, {nearest(b), embree_run(e, b, 1, Query::Nearest),
-                                                embree_run(e, b, packet, Query::Nearest)});
+  auto against_embree = [&](const char* kind, const RayBatch& b, const sh::rt::EmbreeScene& e, bool with_hand) {
+    std::vector<std::int32_t> ours_hit, hand_hit;
+    std::vector<Run> runs = {nearest(b, ours_hit), embree_run(e, b, 1, Query::Nearest),
+                             embree_run(e, b, packet, Query::Nearest)};
+    if (with_hand && hand) runs.push_back(hand_run(b, hand_hit));
+    std::vector<Rate> rate = race(b.size(), n, runs);
     print_row(kind, b.size(), rate[0], "rtcIntersect", rate[1], rate[2]);
+    if (runs.size() > 3) print_hand_walk(kind, b.size(), rate[0], rate[3], rate[1], rate[2], ours_hit, hand_hit);
   };
-  against_embree("camera", k.primary, embree);
+  against_embree("camera", k.primary, embree, true);
   {
     // Embree is timed in its robust mode above, whose hits on edges and
     // vertices our walk's watertight test matches; its default mode is
     // faster, and a user who can lose such hits would compare with it.
     sh::rt::EmbreeScene fast(s, config.c_str(), false);
-    against_embree("camera, Embree default", k.primary, fast);
+    against_embree("camera, Embree default", k.primary, fast, false);
   }
   if (k.reflection.size() == 0) {
     std::printf("no camera ray hits the scene: no shadow or reflection rays to trace\n");
@@ -250,7 +286,7 @@ int compare_ray_kinds(const RayKindsRequest& request) {
             embree_run(embree, k.shadow, packet, Query::Nearest)});
   print_row("shadow, any hit", k.shadow.size(), shadow[0], "rtcOccluded", shadow[2], shadow[3]);
   print_row("shadow, nearest hit", k.shadow.size(), shadow[1], "rtcIntersect", shadow[4], shadow[5]);
-  against_embree("reflection", k.reflection, embree);
+  against_embree("reflection", k.reflection, embree, true);
   // What stopping at the first hit can buy on these rays: Embree's own
   // any-hit query against its nearest-hit one.
   auto [low, high] = round_spread(shadow[0], shadow[1]);
