@@ -3,7 +3,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -224,8 +223,7 @@ std::size_t HandWalk::run(const RayBatch& rays, std::vector<std::int32_t>& trian
     std::size_t local = 0;
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       OneRay r(at(rays.origins, i), at(rays.directions, i));
-      float t_limit = rays.t_far.empty() ? sh::rt::kFar : rays.t_far[i];
-      triangles[i] = Walk(bvh_, r, t_limit, stack.data()).nearest();
+      triangles[i] = Walk(bvh_, r, sh::rt::kFar, stack.data()).nearest();
       local += triangles[i] >= 0;
     }
     hits += local;

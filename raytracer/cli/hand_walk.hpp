@@ -1,7 +1,7 @@
 #pragma once
 // The best hand-written C++ on the kernels' own tree, as a baseline of
 // `shtrace rays`: one ray at a time down the renderer's wide BVH, a node's
-// four children's boxes tested against it in one SSE vector and the met
+// four children's boxes tested against it in one vector and the met
 // ones visited nearest first by the ray's own entry distances (Embree's
 // single-ray walk, on our layout), each leaf's triangles with the kernels'
 // watertight test written out in C++.  Beside the kernels it says how far
@@ -21,8 +21,9 @@ class HandWalk {
   // Whether it can walk this renderer's tree: a BVH laid out for the wide walk.
   static bool walks(const sh::rt::Renderer& r);
   explicit HandWalk(const sh::rt::Bvh& bvh);
-  // Each ray's nearest triangle before its t_far (-1: none) into
-  // `triangles`, on oneTBB's threads; returns how many hit.
+  // Each ray's nearest triangle (-1: none) into `triangles`, walked to
+  // kFar as Renderer::intersect walks them, on oneTBB's threads; returns
+  // how many hit.
   std::size_t run(const RayBatch& rays, std::vector<std::int32_t>& triangles) const;
 
  private:

@@ -160,9 +160,11 @@ void print_builds(const sh::rt::Renderer& r, const sh::rt::EmbreeScene& embree) 
 
 // The hand-written walk's row beside Embree's, then the kernels against it
 // and whether both found the same triangles.
+// The hand-written walk computes as precise f32 kernels do: other kernels
+// may rightly find other triangles where rounding decides.
 void print_hand_walk(const std::string& kind, std::size_t rays, const Rate& ours, const Rate& hand, const Rate& one,
                      const Rate& packets, const std::vector<std::int32_t>& ours_hit,
-                     const std::vector<std::int32_t>& hand_hit) {
+                     const std::vector<std::int32_t>& hand_hit, const sh::Options& options) {
   print_row((kind + ", C++ walk").c_str(), rays, hand, "rtcIntersect", one, packets);
   std::size_t differ = 0;
   for (std::size_t i = 0; i < std::min(ours_hit.size(), hand_hit.size()); ++i) differ += ours_hit[i] != hand_hit[i];
@@ -171,6 +173,9 @@ void print_hand_walk(const std::string& kind, std::size_t rays, const Rate& ours
                           ? "the same nearest triangle on every ray"
                           : "different nearest triangles on " + std::to_string(differ) + " of " +
                                 std::to_string(rays) + " rays";
+  if (differ > 0 && (options.precision != sh::Precision::F32 || options.math != sh::MathMode::Precise))
+    agree += " (the kernels compute in " + std::string(options.precision == sh::Precision::F32 ? "f32" : "f64") +
+             (options.math == sh::MathMode::Fast ? ", fast math" : "") + "; the C++ walk as precise f32 kernels)";
   std::printf("%s rays: the kernels are %.3fx the hand-written C++ walk of the same tree (%.3f-%.3fx by round); %s\n",
               kind.c_str(), ours.mrays_per_s / hand.mrays_per_s, low, high, agree.c_str());
 }
@@ -220,6 +225,14 @@ int compare_ray_kinds(const RayKindsRequest& request) {
               s.name.c_str(), s.mesh.triangles(), r.describe_accelerator().c_str(), backend.c_str(), n,
               embree_note.c_str());
   print_builds(r, embree);
+  // The hand-written walk of the same tree, where it can walk it.
+  std::optional<HandWalk> hand;
+  if (HandWalk::walks(r))
+    hand.emplace(*r.bvh());
+  else
+    std::printf("no hand-written C++ walk: it walks the BVH's wide layout, and the accelerator is the %s%s\n",
+                sh::rt::accel_name(r.accel()),
+                r.bvh() ? (std::string(" walked ") + sh::rt::bvh_walk_name(r.bvh()->walk)).c_str() : "");
   // Embree's widest packet this CPU runs natively (16 needs AVX-512, 8 AVX).
   int packet = 16;
   while (packet > 4 && !embree.supports_packet(packet)) packet /= 2;
@@ -237,9 +250,6 @@ int compare_ray_kinds(const RayKindsRequest& request) {
       return count_hits(found);
     };
   };
-  // The hand-written walk of the same tree, where it can walk it.
-  std::optional<HandWalk> hand;
-  if (HandWalk::walks(r)) hand.emplace(*r.bvh());
   auto hand_run = [&](const RayBatch& b, std::vector<std::int32_t>& found) -> Run {
     return [&hand, rays = &b, &found](double& ms) {
       auto t0 = std::chrono::steady_clock::now();
@@ -263,7 +273,8 @@ int compare_ray_kinds(const RayKindsRequest& request) {
     if (with_hand && hand) runs.push_back(hand_run(b, hand_hit));
     std::vector<Rate> rate = race(b.size(), n, runs);
     print_row(kind, b.size(), rate[0], "rtcIntersect", rate[1], rate[2]);
-    if (runs.size() > 3) print_hand_walk(kind, b.size(), rate[0], rate[3], rate[1], rate[2], ours_hit, hand_hit);
+    if (with_hand && hand)
+      print_hand_walk(kind, b.size(), rate[0], rate[3], rate[1], rate[2], ours_hit, hand_hit, request.settings.options);
   };
   against_embree("camera", k.primary, embree, true);
   {
