@@ -133,19 +133,23 @@ struct Pushed {
   float enter;
 };
 
+// The nearest triangle before t_limit, or with `any_hit` the first one
+// found (the kernels' any-hit walk stops there too).
 class Walk {
  public:
-  Walk(const Bvh& bvh, const OneRay& r, float t_limit, Pushed* stack) : b_(bvh), r_(r), stack_(stack) {
+  Walk(const Bvh& bvh, const OneRay& r, float t_limit, bool any_hit, Pushed* stack)
+      : b_(bvh), r_(r), any_hit_(any_hit), stack_(stack) {
     h_.best = t_limit;
   }
 
-  std::int32_t nearest() {
+  std::int32_t triangle() {
     std::int32_t ref = b_.root;
     for (;;) {
       if (ref >= 0)
         ref = visit(ref);
       else
         ref = leaf(-ref - 2);
+      if (any_hit_ && h_.triangle >= 0) return h_.triangle;
       if (ref == -1 && !pop(ref)) return h_.triangle;
     }
   }
@@ -200,6 +204,7 @@ class Walk {
 
   const Bvh& b_;
   const OneRay& r_;
+  bool any_hit_;
   Pushed* stack_;
   int depth_ = 0;
   Nearest h_;
@@ -213,7 +218,7 @@ bool HandWalk::walks(const sh::rt::Renderer& r) { return r.bvh() && r.bvh()->wal
 
 HandWalk::HandWalk(const Bvh& bvh) : bvh_(bvh) {}
 
-std::size_t HandWalk::run(const RayBatch& rays, std::vector<std::int32_t>& triangles) const {
+std::size_t HandWalk::run(const RayBatch& rays, Query query, std::vector<std::int32_t>& triangles) const {
   triangles.assign(rays.size(), -1);
   std::atomic<std::size_t> hits{0};
   // A visit pushes at most kBvhWidth - 1 nodes and goes one level down.
@@ -223,7 +228,9 @@ std::size_t HandWalk::run(const RayBatch& rays, std::vector<std::int32_t>& trian
     std::size_t local = 0;
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       OneRay r(at(rays.origins, i), at(rays.directions, i));
-      triangles[i] = Walk(bvh_, r, sh::rt::kFar, stack.data()).nearest();
+      bool any_hit = query == Query::Any;
+      float t_limit = any_hit ? rays.t_far[i] : sh::rt::kFar;
+      triangles[i] = Walk(bvh_, r, t_limit, any_hit, stack.data()).triangle();
       local += triangles[i] >= 0;
     }
     hits += local;

@@ -21,10 +21,12 @@ class HandWalk {
   // Whether it can walk this renderer's tree: a BVH laid out for the wide walk.
   static bool walks(const sh::rt::Renderer& r);
   explicit HandWalk(const sh::rt::Bvh& bvh);
-  // Each ray's nearest triangle (-1: none) into `triangles`, walked to
-  // kFar as Renderer::intersect walks them, on oneTBB's threads; returns
-  // how many hit.
-  std::size_t run(const RayBatch& rays, std::vector<std::int32_t>& triangles) const;
+  // Into `triangles`, on oneTBB's threads, each ray's nearest triangle
+  // (Query::Nearest: walked to kFar, as Renderer::intersect walks them) or
+  // the first one found before its t_far (Query::Any, as
+  // Renderer::occluded's any-hit walk); -1 where none.  Returns how many
+  // rays hit.
+  std::size_t run(const RayBatch& rays, Query query, std::vector<std::int32_t>& triangles) const;
 
  private:
   const sh::rt::Bvh& bvh_;

@@ -142,7 +142,7 @@ std::size_t count_hits(const std::vector<std::int32_t>& triangles) {
 void print_row(const char* kind, std::size_t rays, const Rate& ours, const std::string& embree_call, const Rate& one,
                const Rate& packets) {
   auto [low, high] = round_spread(ours, one);
-  std::printf("%-22s %8zu %9.2f %8zu   %-15s %8.2f %8.2f %8zu   %6.3fx %6.3fx   %.3f-%.3fx\n", kind, rays,
+  std::printf("%-25s %8zu %9.2f %8zu   %-15s %8.2f %8.2f %8zu   %6.3fx %6.3fx   %.3f-%.3fx\n", kind, rays,
               ours.mrays_per_s, ours.hits, embree_call.c_str(), one.mrays_per_s, packets.mrays_per_s, one.hits,
               ours.mrays_per_s / one.mrays_per_s, packets.mrays_per_s > 0 ? ours.mrays_per_s / packets.mrays_per_s : 0.0,
               low, high);
@@ -160,24 +160,44 @@ void print_builds(const sh::rt::Renderer& r, const sh::rt::EmbreeScene& embree) 
 
 // The hand-written walk's row beside Embree's, then the kernels against it
 // and whether both found the same triangles.
-// The hand-written walk computes as precise f32 kernels do: other kernels
-// may rightly find other triangles where rounding decides.
-void print_hand_walk(const std::string& kind, std::size_t rays, const Rate& ours, const Rate& hand, const Rate& one,
-                     const Rate& packets, const std::vector<std::int32_t>& ours_hit,
-                     const std::vector<std::int32_t>& hand_hit, const sh::Options& options) {
-  print_row((kind + ", C++ walk").c_str(), rays, hand, "rtcIntersect", one, packets);
+// How the kernels' answers compare with the hand-written walk's (`what`
+// each ray's is), as a sentence's end.  The walk computes as precise f32
+// kernels do: other kernels may rightly answer otherwise where rounding
+// decides.
+std::string agreement(const std::vector<std::int32_t>& ours, const std::vector<std::int32_t>& hand, const char* what,
+                      const sh::Options& options) {
   std::size_t differ = 0;
-  for (std::size_t i = 0; i < std::min(ours_hit.size(), hand_hit.size()); ++i) differ += ours_hit[i] != hand_hit[i];
+  for (std::size_t i = 0; i < std::min(ours.size(), hand.size()); ++i) differ += ours[i] != hand[i];
+  if (differ == 0 && ours.size() == hand.size()) return std::string("the same ") + what + " on every ray";
+  std::string said = "a different " + std::string(what) + " on " + std::to_string(differ) + " of " +
+                     std::to_string(std::max(ours.size(), hand.size())) + " rays";
+  if (options.precision != sh::Precision::F32 || options.math != sh::MathMode::Precise)
+    said += " (the kernels compute in " + std::string(options.precision == sh::Precision::F32 ? "f32" : "f64") +
+            (options.math == sh::MathMode::Fast ? ", fast math" : "") + "; the C++ walk as precise f32 kernels)";
+  return said;
+}
+
+// The hand-written walk's row beside Embree's, then the kernels against it
+// (`rays` names the rays and their query).
+void print_hand_walk(const std::string& kind, const std::string& rays, std::size_t count, const Rate& ours,
+                     const Rate& hand, const std::string& embree_call, const Rate& one, const Rate& packets,
+                     const std::string& agree) {
+  print_row((kind + ", C++ walk").c_str(), count, hand, embree_call, one, packets);
   auto [low, high] = round_spread(ours, hand);
-  std::string agree = differ == 0 && ours_hit.size() == hand_hit.size()
-                          ? "the same nearest triangle on every ray"
-                          : "different nearest triangles on " + std::to_string(differ) + " of " +
-                                std::to_string(rays) + " rays";
-  if (differ > 0 && (options.precision != sh::Precision::F32 || options.math != sh::MathMode::Precise))
-    agree += " (the kernels compute in " + std::string(options.precision == sh::Precision::F32 ? "f32" : "f64") +
-             (options.math == sh::MathMode::Fast ? ", fast math" : "") + "; the C++ walk as precise f32 kernels)";
-  std::printf("%s rays: the kernels are %.3fx the hand-written C++ walk of the same tree (%.3f-%.3fx by round); %s\n",
-              kind.c_str(), ours.mrays_per_s / hand.mrays_per_s, low, high, agree.c_str());
+  std::printf("%s: the kernels are %.3fx the hand-written C++ walk of the same tree (%.3f-%.3fx by round); %s\n",
+              rays.c_str(), ours.mrays_per_s / hand.mrays_per_s, low, high, agree.c_str());
+}
+
+// Whether each ray hit: 1 or 0.
+std::vector<std::int32_t> hit_or_not(const std::vector<std::int32_t>& triangles) {
+  std::vector<std::int32_t> out(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i) out[i] = triangles[i] >= 0;
+  return out;
+}
+std::vector<std::int32_t> hit_or_not(const std::vector<float>& blocked) {
+  std::vector<std::int32_t> out(blocked.size());
+  for (std::size_t i = 0; i < blocked.size(); ++i) out[i] = blocked[i] > 0;
+  return out;
 }
 
 // One kind's lanes in the BVH's walk, the rays walked to `limits`.
@@ -237,7 +257,7 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   int packet = 16;
   while (packet > 4 && !embree.supports_packet(packet)) packet /= 2;
   std::string wide = std::to_string(packet);
-  std::printf("%-22s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s   %s\n", "rays", "count", "Mrays/s", "hits", "Embree",
+  std::printf("%-25s %8s %9s %8s   %-15s %8s %8s %8s   %7s %7s   %s\n", "rays", "count", "Mrays/s", "hits", "Embree",
               "1 ray", (wide + " rays").c_str(), "hits", "/1", ("/" + wide).c_str(), "/1 by round");
   // Our kernels as contestants: the run's own time, as RunStats has it;
   // each run's nearest triangles into `found`.
@@ -250,31 +270,32 @@ int compare_ray_kinds(const RayKindsRequest& request) {
       return count_hits(found);
     };
   };
-  auto hand_run = [&](const RayBatch& b, std::vector<std::int32_t>& found) -> Run {
-    return [&hand, rays = &b, &found](double& ms) {
+  auto hand_run = [&](const RayBatch& b, Query query, std::vector<std::int32_t>& found) -> Run {
+    return [&hand, rays = &b, query, &found](double& ms) {
       auto t0 = std::chrono::steady_clock::now();
-      std::size_t hits = hand->run(*rays, found);
+      std::size_t hits = hand->run(*rays, query, found);
       ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       return hits;
     };
   };
-  auto occluded = [&](const RayBatch& b, bool any_hit) -> Run {
-    return [&r, &choice, rays = &b, any_hit](double& ms) {
+  auto occluded = [&](const RayBatch& b, bool any_hit, std::vector<float>& found) -> Run {
+    return [&r, &choice, rays = &b, any_hit, &found](double& ms) {
       sh::RunStats st;
-      std::size_t hits = count_hits(r.occluded(rays->origins, rays->directions, rays->t_far, choice, any_hit, &st));
+      found = r.occluded(rays->origins, rays->directions, rays->t_far, choice, any_hit, &st);
       ms = st.run_ms;
-      return hits;
+      return count_hits(found);
     };
   };
   auto against_embree = [&](const char* kind, const RayBatch& b, const sh::rt::EmbreeScene& e, bool with_hand) {
     std::vector<std::int32_t> ours_hit, hand_hit;
     std::vector<Run> runs = {nearest(b, ours_hit), embree_run(e, b, 1, Query::Nearest),
                              embree_run(e, b, packet, Query::Nearest)};
-    if (with_hand && hand) runs.push_back(hand_run(b, hand_hit));
+    if (with_hand && hand) runs.push_back(hand_run(b, Query::Nearest, hand_hit));
     std::vector<Rate> rate = race(b.size(), n, runs);
     print_row(kind, b.size(), rate[0], "rtcIntersect", rate[1], rate[2]);
     if (with_hand && hand)
-      print_hand_walk(kind, b.size(), rate[0], rate[3], rate[1], rate[2], ours_hit, hand_hit, request.settings.options);
+      print_hand_walk(kind, kind + std::string(" rays"), b.size(), rate[0], rate[3], "rtcIntersect", rate[1], rate[2],
+                      agreement(ours_hit, hand_hit, "nearest triangle", request.settings.options));
   };
   against_embree("camera", k.primary, embree, true);
   {
@@ -290,12 +311,21 @@ int compare_ray_kinds(const RayKindsRequest& request) {
   }
   // Each walk of the shadow rays against Embree's query of the same kind,
   // to the same limits, all in the same rounds.
-  std::vector<Rate> shadow =
-      race(k.shadow.size(), n,
-           {occluded(k.shadow, true), occluded(k.shadow, false), embree_run(embree, k.shadow, 1, Query::Any),
-            embree_run(embree, k.shadow, packet, Query::Any), embree_run(embree, k.shadow, 1, Query::Nearest),
-            embree_run(embree, k.shadow, packet, Query::Nearest)});
+  std::vector<float> any_blocked, nearest_blocked;
+  std::vector<std::int32_t> hand_blocked;
+  std::vector<Run> shadow_runs = {occluded(k.shadow, true, any_blocked), occluded(k.shadow, false, nearest_blocked),
+                                  embree_run(embree, k.shadow, 1, Query::Any),
+                                  embree_run(embree, k.shadow, packet, Query::Any),
+                                  embree_run(embree, k.shadow, 1, Query::Nearest),
+                                  embree_run(embree, k.shadow, packet, Query::Nearest)};
+  if (hand) shadow_runs.push_back(hand_run(k.shadow, Query::Any, hand_blocked));
+  std::vector<Rate> shadow = race(k.shadow.size(), n, shadow_runs);
   print_row("shadow, any hit", k.shadow.size(), shadow[0], "rtcOccluded", shadow[2], shadow[3]);
+  if (hand)
+    print_hand_walk("shadow, any hit", "shadow rays, any hit", k.shadow.size(), shadow[0], shadow[6], "rtcOccluded",
+                    shadow[2], shadow[3],
+                    agreement(hit_or_not(any_blocked), hit_or_not(hand_blocked), "answer (blocked or not)",
+                              request.settings.options));
   print_row("shadow, nearest hit", k.shadow.size(), shadow[1], "rtcIntersect", shadow[4], shadow[5]);
   against_embree("reflection", k.reflection, embree, true);
   // What stopping at the first hit can buy on these rays: Embree's own

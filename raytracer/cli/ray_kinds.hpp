@@ -3,9 +3,10 @@
 // rays to the first light and mirror reflections at the camera rays' hits
 // each traced by the scene's kernels on one backend and by Embree on the
 // same rays, and shadow rays both with the any-hit walk and with the
-// nearest-hit one; camera and reflection rays also by the hand-written C++
-// walk of the same BVH (hand_walk.hpp), with whether it found the kernels'
-// triangles; and how busy the lanes are in the BVH's walk.
+// nearest-hit one; camera, reflection and any-hit shadow rays also by the
+// hand-written C++ walk of the same BVH (hand_walk.hpp), with whether it
+// found the kernels' triangles and answers; and how busy the lanes are in
+// the BVH's walk.
 #include <sh/raytracer.hpp>
 
 namespace shtrace {
