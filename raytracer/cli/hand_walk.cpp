@@ -7,21 +7,19 @@
 #include <cmath>
 #include <cstring>
 
+#include <sh/raytracer/walk_bounds.hpp>
+
 namespace shtrace {
 namespace {
 
 using sh::rt::Bvh;
 using sh::rt::Vec3;
 
-// The kernels' own bounds (raytracer/src/walk.hpp, intersector.cpp,
-// rounding.hpp), so that the walk finds the kernels' hits.
-constexpr float kTinyDirection = 1e-30f;
-constexpr float kBeyondBest = 1.0f + 4e-6f;
-constexpr float kTieTolerance = 1e-6f;
-constexpr float gamma(int n) {
-  constexpr float u = 0x1p-24f;
-  return n * u / (1 - n * u);
-}
+// The kernels' own bounds, so that the walk finds the kernels' hits.
+using sh::rt::gamma;
+using sh::rt::kBeyondBest;
+using sh::rt::kTieTolerance;
+using sh::rt::kTinyDirection;
 
 // A row of a node's four children (one coordinate of each box): the
 // compiler's vector extension, SSE on x86-64, another target's own

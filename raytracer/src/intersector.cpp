@@ -1,15 +1,12 @@
 // The intersector of the seed: enter the accelerator's box, walk its cells
 // front to back, test each cell's triangles, and accept a hit only inside
 // the current cell (a nearer hit in a later cell cannot exist then).
-#include "rounding.hpp"
 #include "sh/error.hpp"
 #include "walk.hpp"
 
 namespace sh::rt {
 namespace walk {
 namespace {
-
-constexpr float kTieTolerance = 1e-6f;
 
 // The lesser and the greater as a compare and a choice: the machine's own
 // minimum and maximum (one instruction), where the language's min and max

@@ -1,6 +1,6 @@
 #include "shading.hpp"
 
-#include "rounding.hpp"
+#include "sh/raytracer/walk_bounds.hpp"
 
 namespace sh::rt {
 

@@ -2,12 +2,9 @@
 // Inside the intersector: the walks of each accelerator's cells, and what
 // they share (the ray's reciprocal direction, the triangle test).
 #include "sh/raytracer/kernels.hpp"
+#include "sh/raytracer/walk_bounds.hpp"
 
 namespace sh::rt::walk {
-
-// A direction component this small is treated as zero: its reciprocal is
-// capped, so no infinity or NaN enters the walk (fast math keeps working).
-inline constexpr float kTinyDirection = 1e-30f;
 
 struct Ray {
   Ray(const Point3f& origin, const Vector3f& direction);
@@ -72,10 +69,5 @@ void bvh_wide(const SceneTables& s, const Ray& r, const Attrib1f& t_limit, Attri
 // The order the lanes walk together take: 2 * axis + (downwards) of the
 // direction's largest component, the lowest among the lanes.
 Attrib1f walk_order(const Ray& r);
-
-// A BVH's boxes are clipped a little beyond the nearest hit so far: a
-// triangle at the same distance to the intersector's tie tolerance may
-// still win a tie.
-inline constexpr float kBeyondBest = 1.0f + 4e-6f;
 
 }  // namespace sh::rt::walk

@@ -38,7 +38,8 @@
 // binary tree's levels collapsed (the largest inner child opened first):
 // per node its children's boxes as six rows of kBvhWidth (lo x, lo y,
 // lo z, hi x, hi y, hi z: one vector load each), their references (-1 in
-// an empty slot, whose box is empty) and, per axis, the slots in the order
+// an empty slot, which a walk skips by it: its box is a point at the
+// origin, which a ray may meet) and, per axis, the slots in the order
 // of their boxes' centres along it.  Neighbouring lanes walk together: a
 // child is entered when any lane meets it, nearer ones first along the
 // lanes' main direction, the others kept on one stack for all of them.
