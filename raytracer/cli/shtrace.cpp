@@ -492,7 +492,8 @@ int main(int argc, char** argv) {
 
   int ray_repeats = 5;
   CLI::App* rays = app.add_subcommand("rays", "camera, shadow and reflection rays of one scene: the kernels (shadow rays "
-                                      "with the any-hit and the nearest-hit walk) against Embree on the same rays");
+                                      "with the any-hit and the nearest-hit walk) against Embree and a hand-written C++ walk "
+                                      "of the same BVH on the same rays");
   add_common(rays, common);
   rays->add_option("--backend", backend_name, "backend to trace on (default: SH_BACKEND, else cpu)");
   rays->add_option("--repeats", ray_repeats,
