@@ -12,8 +12,7 @@ namespace shtrace {
 namespace {
 
 bool one_ray(const sh::rt::EmbreeScene& embree, const RayBatch& rays, std::size_t i, Query query) {
-  sh::rt::Vec3 o{rays.origins[3 * i], rays.origins[3 * i + 1], rays.origins[3 * i + 2]};
-  sh::rt::Vec3 d{rays.directions[3 * i], rays.directions[3 * i + 1], rays.directions[3 * i + 2]};
+  sh::rt::Vec3 o = rays.origin(i), d = rays.direction(i);
   float t_near = rays.t_near.empty() ? 0 : rays.t_near[i];
   float t_far = rays.t_far.empty() ? INFINITY : rays.t_far[i];
   if (query == Query::Any) return embree.occluded(o, d, t_near, t_far);

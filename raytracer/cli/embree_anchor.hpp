@@ -11,6 +11,10 @@ struct RayBatch {
   std::vector<float> origins, directions;  // x, y, z each
   std::vector<float> t_near, t_far;        // per ray; empty: from 0, without end
   std::size_t size() const { return origins.size() / 3; }
+  sh::rt::Vec3 origin(std::size_t i) const { return {origins[3 * i], origins[3 * i + 1], origins[3 * i + 2]}; }
+  sh::rt::Vec3 direction(std::size_t i) const {
+    return {directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]};
+  }
 };
 
 // The nearest hit (rtcIntersect) or whether anything is hit (rtcOccluded).

@@ -208,8 +208,6 @@ class Walk {
   Nearest h_;
 };
 
-Vec3 at(const std::vector<float>& v, std::size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
-
 }  // namespace
 
 bool HandWalk::walks(const sh::rt::Renderer& r) { return r.bvh() && r.bvh()->walk == sh::rt::BvhWalk::Wide; }
@@ -225,7 +223,7 @@ std::size_t HandWalk::run(const RayBatch& rays, Query query, std::vector<std::in
     std::vector<Pushed> stack(deepest);
     std::size_t local = 0;
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      OneRay r(at(rays.origins, i), at(rays.directions, i));
+      OneRay r(rays.origin(i), rays.direction(i));
       bool any_hit = query == Query::Any;
       float t_limit = any_hit ? rays.t_far[i] : sh::rt::kFar;
       triangles[i] = Walk(bvh_, r, t_limit, any_hit, stack.data()).triangle();

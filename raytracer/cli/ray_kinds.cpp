@@ -27,8 +27,6 @@ void add(RayBatch& b, Vec3 o, Vec3 d, float t_near, float t_far) {
   b.t_far.push_back(t_far);
 }
 
-Vec3 at(const std::vector<float>& v, std::size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
-
 // Where shadow rays go: the first point light, else the first disk light's
 // centre, else a point beyond the scene's upper corner.
 Vec3 light_position(const sh::rt::Scene& s) {
@@ -54,7 +52,7 @@ Kinds make_rays(sh::rt::Renderer& r, const sh::BackendChoice& choice) {
   Vec3 light = light_position(s);
   for (std::size_t i = 0; i < k.primary.size(); ++i) {
     if (hits.triangle[i] < 0) continue;
-    Vec3 d = at(k.primary.directions, i), p = at(k.primary.origins, i) + d * hits.t[i];
+    Vec3 d = k.primary.direction(i), p = k.primary.origin(i) + d * hits.t[i];
     const Vec3* v = &s.mesh.positions[3 * static_cast<std::size_t>(hits.triangle[i])];
     Vec3 n = sh::rt::normalize(sh::rt::cross(v[1] - v[0], v[2] - v[0]));
     float clearance = 1e-5f * size + 1e-6f * std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
@@ -158,8 +156,6 @@ void print_builds(const sh::rt::Renderer& r, const sh::rt::EmbreeScene& embree) 
               embree.build_ms(), static_cast<double>(embree.bytes()) / n);
 }
 
-// The hand-written walk's row beside Embree's, then the kernels against it
-// and whether both found the same triangles.
 // How the kernels' answers compare with the hand-written walk's (`what`
 // each ray's is), as a sentence's end.  The walk computes as precise f32
 // kernels do: other kernels may rightly answer otherwise where rounding
