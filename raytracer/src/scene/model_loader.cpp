@@ -13,6 +13,7 @@
 #include "sh/error.hpp"
 #include "input_file.hpp"
 #include "model_reader.hpp"
+#include "ply_header.hpp"
 #include "sh/raytracer/scene.hpp"
 
 namespace sh::rt {
@@ -171,6 +172,7 @@ Scene triangles_of(const aiScene& model, const std::string& path, const Transfor
 
 Scene read_model_file(const std::string& path, const Transform& t) {
   check_input_file(path, "the model file");
+  check_ply_header(path);
   LibraryErrors errors;
   Assimp::Importer importer;
   // Triangulate fans each polygon from its first vertex, in file order.
