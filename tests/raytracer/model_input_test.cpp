@@ -189,7 +189,7 @@ TEST_F(PlyHeader, WithoutEndHeaderNamesTheLastLine) {
 
 TEST_F(PlyHeader, MoreInstancesThanTheDataHoldsNamesTheElement) {
   std::string empty = write("empty.ply", vertices_ + "element nothing 4294967295\n" + faces_ + data_);
-  EXPECT_TRUE(mentions(error_of(empty), "empty.ply: line 7: element 'nothing' has 4294967295 instances of 1 byte at least"));
+  EXPECT_TRUE(mentions(error_of(empty), "empty.ply: line 7: element 'nothing' has 4294967295 instances of no property"));
   std::string past_64_bits = write("wide.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 99999999999999999999\n"
                                                "property float x\nproperty float y\nproperty float z\nend_header\n" +
                                                std::string(36, '\0'));
@@ -201,9 +201,35 @@ TEST_F(PlyHeader, MoreInstancesThanTheDataHoldsNamesTheElement) {
                                               "than the 2 bytes the file has after the PLY header and the elements before it"));
 }
 
+TEST_F(PlyHeader, ReadAsTheLibraryReadsIt) {
+  std::string upper = write("upper.ply", "PLY\nformat ascii 1.0\nelement vertex 3\n");
+  EXPECT_TRUE(mentions(error_of(upper), "upper.ply: the PLY header has no end_header line (the file ends at line 3)"));
+  std::string last = write("last.ply", "ply\nformat ascii 1.0\nelement e 4294967295\nend_header");
+  EXPECT_TRUE(mentions(error_of(last), "last.ply: line 3: element 'e' has 4294967295 instances of no property"));
+}
+
+// An element of no property takes a line an instance in text: the faces
+// after it are the file's own.
 TEST_F(PlyHeader, AnElementOfNoPropertiesStillLoads) {
-  std::string path = write("spare.ply", vertices_ + "element spare 2\n" + faces_ + data_);
-  EXPECT_EQ(sh::rt::load_scene(path).mesh.triangles(), 4u);
+  std::string plain = write("plain.ply", vertices_ + faces_ + data_);
+  std::string spare = write("spare.ply", vertices_ + "element face 4\nproperty list uchar int vertex_indices\n"
+                                             "element spare 2\nend_header\n" + data_ + "\n\n");
+  sh::rt::Scene a = sh::rt::load_scene(plain), b = sh::rt::load_scene(spare);
+  ASSERT_EQ(a.mesh.triangles(), 4u);
+  ASSERT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+  for (std::size_t i = 0; i < a.mesh.positions.size(); ++i) EXPECT_TRUE(same(a.mesh.positions[i], b.mesh.positions[i])) << i;
+}
+
+// Files the check must leave to the model library.
+TEST_F(PlyHeader, OtherFilesAndUnreadCountsAreLeftAlone) {
+  std::string long_line = write("long.obj", "# " + std::string(70000, 'x') + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(sh::rt::load_scene(long_line).mesh.triangles(), 1u);
+  // A count that is not a number bounds nothing, and its element's
+  // properties are not the vertices'.
+  std::string odd = write("odd.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+                                     "property float y\nproperty float z\nelement junk 12abc\nproperty double a\n"
+                                     "property double b\nend_header\n" + std::string(48, '\0'));
+  EXPECT_FALSE(mentions(error_of(odd), "element 'vertex'"));
 }
 
 TEST_F(ModelInput, VertexOutsideTheSupportedRangeNamesVertexAndCoordinate) {

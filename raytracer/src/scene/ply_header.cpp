@@ -1,6 +1,7 @@
 #include "ply_header.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdint>
 #include <filesystem>
@@ -13,8 +14,7 @@
 namespace sh::rt {
 namespace {
 
-// Longer than any header line a writer makes (a comment included); a file
-// whose "line" runs on past it is binary data, not a header.
+// Longer than any header line a writer makes (a comment included).
 constexpr std::size_t kLongestHeaderLine = 64 * 1024;
 
 struct Element {
@@ -22,10 +22,17 @@ struct Element {
   std::uint64_t count = 0;
   std::size_t line = 0;
   // The fewest bytes an instance takes: in binary its scalars' and its
-  // lists' counts' sizes, in text a character a value.  An instance of no
-  // property takes none, but the library still reads each one: one byte
-  // each bounds those too.
+  // lists' counts' sizes, in text a character a value.
   std::uint64_t least_bytes = 0;
+  // The library skips a binary property of a type it does not know, and
+  // the element's properties after it: they bound nothing.
+  bool skips_the_rest = false;
+};
+
+struct Header {
+  std::vector<Element> elements;
+  bool binary = false;
+  std::uint64_t data_bytes = UINT64_MAX;  // after the end_header line; unknown bounds nothing
 };
 
 std::uint64_t binary_size(const std::string& type) {
@@ -37,7 +44,20 @@ std::uint64_t binary_size(const std::string& type) {
     if (type == t) return 4;
   for (const char* t : {"double", "float64"})
     if (type == t) return 8;
-  return 1;  // a type the library rejects anyway: the least claim on the data
+  return 0;
+}
+
+// Whether the file begins as the library's PLY reader takes it: "ply" in
+// any case, then the end of that word.  Only a few bytes are read, so a
+// file of another format with a long first line is left alone.
+bool begins_as_ply(std::istream& in) {
+  char start[4] = {};
+  in.read(start, sizeof start);
+  std::streamsize got = in.gcount();
+  if (got < 3) return false;
+  for (int i = 0; i < 3; ++i)
+    if (std::tolower(static_cast<unsigned char>(start[i])) != "ply"[i]) return false;
+  return got == 3 || std::isspace(static_cast<unsigned char>(start[3]));
 }
 
 // One line without its end ("\n" or "\r\n"); false at the end of the file
@@ -47,9 +67,9 @@ bool read_line(std::istream& in, std::string& line, const std::string& path, std
   char c;
   while (in.get(c)) {
     if (c == '\n') break;
-    if (line.size() == kLongestHeaderLine)
+    if (line.size() > kLongestHeaderLine)
       throw Error(path + ": line " + std::to_string(number) + " of the PLY header is longer than " +
-                  std::to_string(kLongestHeaderLine) + " bytes: the header has no end_header line before binary data");
+                  std::to_string(kLongestHeaderLine) + " bytes");
     line += c;
   }
   if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -67,49 +87,76 @@ std::vector<std::string> words(const std::string& line) {
   return out;
 }
 
-}  // namespace
+// An element line's count; a count that is not a number bounds nothing
+// (0), and one past 64 bits everything.
+std::uint64_t count_of(const std::string& text) {
+  std::uint64_t count = 0;
+  auto [end, status] = std::from_chars(text.data(), text.data() + text.size(), count);
+  if (end != text.data() + text.size()) return 0;
+  return status == std::errc::result_out_of_range ? UINT64_MAX : count;
+}
 
-void check_ply_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+void add_property(Element& e, const std::vector<std::string>& words, bool binary) {
+  if (!binary) {
+    e.least_bytes += 1;
+    return;
+  }
+  std::uint64_t size = binary_size(words[words[1] == "list" && words.size() > 2 ? 2 : 1]);
+  if (size == 0) e.skips_the_rest = true;
+  if (!e.skips_the_rest) e.least_bytes += size;
+}
+
+// The rest of the header, after the first line; throws where it has no end.
+Header read_header(std::istream& in, const std::string& path) {
+  Header h;
   std::string line;
-  if (!read_line(in, line, path, 1) || line != "ply") return;
-  std::vector<Element> elements;
-  bool binary = false;
-  std::size_t number = 1;
-  for (;;) {
-    if (!read_line(in, line, path, ++number))
+  read_line(in, line, path, 1);
+  for (std::size_t number = 2;; ++number) {
+    if (!read_line(in, line, path, number))
       throw Error(path + ": the PLY header has no end_header line (the file ends at line " + std::to_string(number - 1) + ")");
     std::vector<std::string> w = words(line);
     if (w.empty()) continue;
     if (w[0] == "end_header") break;
-    if (w[0] == "format" && w.size() > 1) binary = w[1] != "ascii";
-    if (w[0] == "property" && !elements.empty() && w.size() > 1) {
-      bool list = w[1] == "list" && w.size() > 2;
-      elements.back().least_bytes += binary ? binary_size(w[list ? 2 : 1]) : 1;
-    }
-    if (w[0] != "element" || w.size() < 3) continue;
-    Element e{w[1], w[2], 0, number};
-    auto [end, status] = std::from_chars(e.count_text.data(), e.count_text.data() + e.count_text.size(), e.count);
-    if (end != e.count_text.data() + e.count_text.size()) continue;  // not a count: the library rejects it
-    if (status == std::errc::result_out_of_range) e.count = UINT64_MAX;
-    elements.push_back(e);
+    if (w[0] == "format" && w.size() > 1) h.binary = w[1] != "ascii";
+    if (w[0] == "element" && w.size() >= 3) h.elements.push_back({w[1], w[2], count_of(w[2]), number});
+    if (w[0] == "property" && !h.elements.empty() && w.size() > 1) add_property(h.elements.back(), w, h.binary);
   }
+  in.clear();  // an end_header line without a line end leaves the stream failed
+  auto header_bytes = in.tellg();
   std::error_code error;
   auto size = std::filesystem::file_size(path, error);
-  auto header = in.tellg();
-  if (error || header < 0) return;
-  std::uint64_t data = size - static_cast<std::uint64_t>(header);
-  // Instances follow one another, so the elements' least bytes add up
-  // (an instance of no property to none: it reads nothing).
+  if (!error && header_bytes >= 0) h.data_bytes = size - static_cast<std::uint64_t>(header_bytes);
+  return h;
+}
+
+// Instances follow one another, so the elements' least bytes add up.  A
+// text instance is a line of its own, a byte at least even without
+// properties; a binary instance of no property takes none, but the library
+// walks every one, so a byte each is the tracer's bound there.
+void check_counts(const Header& h, const std::string& path) {
   std::uint64_t before = 0;
-  for (const Element& e : elements) {
+  for (const Element& e : h.elements) {
     std::uint64_t least = std::max<std::uint64_t>(e.least_bytes, 1);
-    if (e.count > (data - before) / least)
-      throw Error(path + ": line " + std::to_string(e.line) + ": element '" + e.name + "' has " + e.count_text +
-                  " instances of " + plural(least, "byte") + " at least, more than the " + plural(data - before, "byte") +
-                  " the file has after the PLY header" + (before > 0 ? " and the elements before it" : ""));
-    before += e.count * e.least_bytes;
+    if (e.count > (h.data_bytes - before) / least) {
+      std::string each = e.least_bytes > 0 ? "instances of " + plural(least, "byte") + " at least"
+                                           : std::string("instances of no property (") +
+                                                 (h.binary ? "the tracer's bound: a byte each)" : "a line each)");
+      throw Error(path + ": line " + std::to_string(e.line) + ": element '" + e.name + "' has " + e.count_text + " " +
+                  each + ", more than the " + plural(h.data_bytes - before, "byte") + " the file has after the PLY header" +
+                  (before > 0 ? " and the elements before it" : ""));
+    }
+    before += e.count * (h.binary ? e.least_bytes : least);
   }
+}
+
+}  // namespace
+
+void check_ply_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!begins_as_ply(in)) return;
+  in.clear();
+  in.seekg(0);
+  check_counts(read_header(in, path), path);
 }
 
 }  // namespace sh::rt
