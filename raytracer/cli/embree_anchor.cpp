@@ -13,10 +13,8 @@ namespace {
 
 bool one_ray(const sh::rt::EmbreeScene& embree, const RayBatch& rays, std::size_t i, Query query) {
   sh::rt::Vec3 o = rays.origin(i), d = rays.direction(i);
-  float t_near = rays.t_near.empty() ? 0 : rays.t_near[i];
-  float t_far = rays.t_far.empty() ? INFINITY : rays.t_far[i];
-  if (query == Query::Any) return embree.occluded(o, d, t_near, t_far);
-  return embree.intersect(o, d, t_near, t_far).hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  if (query == Query::Any) return embree.occluded(o, d, rays.near(i), rays.far(i));
+  return embree.intersect(o, d, rays.near(i), rays.far(i)).hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // Embree 3 on the same rays as the tracer's kernels, as the speed anchor of
 // `shtrace bench` and `shtrace rays`.
+#include <cmath>
 #include <vector>
 
 #include "embree_scene.hpp"
@@ -15,6 +16,8 @@ struct RayBatch {
   sh::rt::Vec3 direction(std::size_t i) const {
     return {directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]};
   }
+  float near(std::size_t i) const { return t_near.empty() ? 0 : t_near[i]; }
+  float far(std::size_t i) const { return t_far.empty() ? INFINITY : t_far[i]; }
 };
 
 // The nearest hit (rtcIntersect) or whether anything is hit (rtcOccluded).

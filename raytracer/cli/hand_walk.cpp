@@ -219,13 +219,13 @@ std::size_t HandWalk::run(const RayBatch& rays, Query query, std::vector<std::in
   std::atomic<std::size_t> hits{0};
   // A visit pushes at most kBvhWidth - 1 nodes and goes one level down.
   std::size_t deepest = static_cast<std::size_t>((sh::rt::kBvhWidth - 1) * bvh_.depth + 2);
+  bool any_hit = query == Query::Any;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
     std::vector<Pushed> stack(deepest);
     std::size_t local = 0;
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       OneRay r(rays.origin(i), rays.direction(i));
-      bool any_hit = query == Query::Any;
-      float t_limit = any_hit ? rays.t_far[i] : sh::rt::kFar;
+      float t_limit = any_hit ? rays.far(i) : sh::rt::kFar;
       triangles[i] = Walk(bvh_, r, t_limit, any_hit, stack.data()).triangle();
       local += triangles[i] >= 0;
     }

@@ -190,6 +190,7 @@ std::vector<std::int32_t> hit_or_not(const std::vector<std::int32_t>& triangles)
   for (std::size_t i = 0; i < triangles.size(); ++i) out[i] = triangles[i] >= 0;
   return out;
 }
+
 std::vector<std::int32_t> hit_or_not(const std::vector<float>& blocked) {
   std::vector<std::int32_t> out(blocked.size());
   for (std::size_t i = 0; i < blocked.size(); ++i) out[i] = blocked[i] > 0;
