@@ -208,6 +208,19 @@ TEST_F(PlyHeader, ReadAsTheLibraryReadsIt) {
   EXPECT_TRUE(mentions(error_of(last), "last.ply: line 3: element 'e' has 4294967295 instances of no property"));
 }
 
+// The library ends a header line at "\n", "\r", "\0" or "\f" and splits it
+// at spaces and tabs only: an end_header it does not see would leave it
+// spinning at the end of the file, one it sees must not be rejected.
+TEST_F(PlyHeader, LinesAndWordsEndWhereTheLibraryEndsThem) {
+  std::string tab = write("tab.ply", vertices_ + "element face 4\nproperty list uchar int vertex_indices\nend_header\v" + data_);
+  EXPECT_TRUE(mentions(error_of(tab), "tab.ply: the PLY header has no end_header line (the file ends at line 16)"));
+  for (const std::string& end : {std::string("\r"), std::string("\f"), std::string(1, '\0'), std::string("\r\n")}) {
+    std::string path = write("ends.ply", vertices_ + "element face 4\nproperty list uchar int vertex_indices\ncomment x" + end +
+                                             " \tend_header x\n" + data_);
+    EXPECT_EQ(sh::rt::load_scene(path).mesh.triangles(), 4u) << static_cast<int>(end[0]);
+  }
+}
+
 // An element of no property takes a line an instance in text: the faces
 // after it are the file's own.
 TEST_F(PlyHeader, AnElementOfNoPropertiesStillLoads) {

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "sh/error.hpp"
@@ -60,30 +59,55 @@ bool begins_as_ply(std::istream& in) {
   return got == 3 || std::isspace(static_cast<unsigned char>(start[3]));
 }
 
-// One line without its end ("\n" or "\r\n"); false at the end of the file
-// with nothing read.
-bool read_line(std::istream& in, std::string& line, const std::string& path, std::size_t number) {
+// The header's lines as the library reads them: ended by "\n", "\r",
+// "\0" or "\f" ("\r\n" is one end), numbered as an editor shows them (a
+// "\0" or "\f" starts no new line there).
+class HeaderLines {
+ public:
+  HeaderLines(std::istream& in, const std::string& path) : in_(in), path_(path) {}
+  // The next line without its end; false at the end of the file.
+  bool next(std::string& line);
+  std::size_t number() const { return number_; }  // of the line next() gave last
+
+ private:
+  std::istream& in_;
+  const std::string& path_;
+  std::size_t number_ = 0, next_number_ = 1;
+};
+
+bool HeaderLines::next(std::string& line) {
   line.clear();
+  std::size_t starts = next_number_;
   char c;
-  while (in.get(c)) {
-    if (c == '\n') break;
+  bool ended = false;
+  while (!ended && in_.get(c)) {
+    ended = c == '\n' || c == '\r' || c == '\0' || c == '\f';
+    if (c == '\r' && in_.peek() == '\n') in_.get(c);
+    if (c == '\n' || c == '\r') ++next_number_;
+    if (ended) break;
     if (line.size() > kLongestHeaderLine)
-      throw Error(path + ": line " + std::to_string(number) + " of the PLY header is longer than " +
+      throw Error(path_ + ": line " + std::to_string(starts) + " of the PLY header is longer than " +
                   std::to_string(kLongestHeaderLine) + " bytes");
     line += c;
   }
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  return in || !line.empty();
+  if (!ended && line.empty()) return false;
+  number_ = starts;
+  return true;
 }
 
 std::string plural(std::uint64_t n, const char* unit) {
   return std::to_string(n) + " " + unit + (n == 1 ? "" : "s");
 }
 
+// A line's words as the library splits them: at spaces and tabs only (a
+// vertical tab is part of a word, so "end_header\v" ends no header).
 std::vector<std::string> words(const std::string& line) {
-  std::istringstream in(line);
   std::vector<std::string> out;
-  for (std::string w; in >> w;) out.push_back(w);
+  for (std::size_t at = line.find_first_not_of(" \t"); at != std::string::npos; at = line.find_first_not_of(" \t", at)) {
+    std::size_t end = line.find_first_of(" \t", at);
+    out.push_back(line.substr(at, end - at));
+    at = end;
+  }
   return out;
 }
 
@@ -109,16 +133,17 @@ void add_property(Element& e, const std::vector<std::string>& words, bool binary
 // The rest of the header, after the first line; throws where it has no end.
 Header read_header(std::istream& in, const std::string& path) {
   Header h;
+  HeaderLines lines(in, path);
   std::string line;
-  read_line(in, line, path, 1);
-  for (std::size_t number = 2;; ++number) {
-    if (!read_line(in, line, path, number))
-      throw Error(path + ": the PLY header has no end_header line (the file ends at line " + std::to_string(number - 1) + ")");
+  lines.next(line);
+  for (;;) {
+    if (!lines.next(line))
+      throw Error(path + ": the PLY header has no end_header line (the file ends at line " + std::to_string(lines.number()) + ")");
     std::vector<std::string> w = words(line);
     if (w.empty()) continue;
     if (w[0] == "end_header") break;
     if (w[0] == "format" && w.size() > 1) h.binary = w[1] != "ascii";
-    if (w[0] == "element" && w.size() >= 3) h.elements.push_back({w[1], w[2], count_of(w[2]), number});
+    if (w[0] == "element" && w.size() >= 3) h.elements.push_back({w[1], w[2], count_of(w[2]), lines.number()});
     if (w[0] == "property" && !h.elements.empty() && w.size() > 1) add_property(h.elements.back(), w, h.binary);
   }
   in.clear();  // an end_header line without a line end leaves the stream failed
