@@ -174,10 +174,25 @@ std::string binary_field(std::string& s, Rng& rng) {
   return "f32 at " + std::to_string(at) + " := " + std::to_string(value);
 }
 
+// A space, tab or line end swapped for another character that separates
+// words somewhere: readers disagree on which do (a header check that took a
+// vertical tab for a space passed a header its reader never ended).
+std::string swap_separator(std::string& s, Rng& rng) {
+  const std::string spaces = " \t\n\r";
+  std::vector<std::size_t> at;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (spaces.find(s[i]) != std::string::npos) at.push_back(i);
+  if (at.empty()) return flip_bytes(s, rng);
+  const char separators[] = {' ', '\t', '\n', '\r', '\v', '\f', '\0'};
+  std::size_t i = at[below(rng, at.size())];
+  s[i] = pick(rng, separators);
+  return "separator at byte " + std::to_string(i) + " := " + std::to_string(static_cast<int>(s[i]));
+}
+
 std::string blind(const Seed& seed, std::string& s, Rng& rng) {
   if (s.empty()) return "empty";
   bool binary = !seed.float_offsets.empty();
-  switch (below(rng, binary ? 8 : 7)) {
+  switch (below(rng, binary ? 9 : 8)) {
     case 0: return truncate(s, rng);
     case 1: return flip_bytes(s, rng);
     case 2: return flip_bits(s, rng);
@@ -185,6 +200,7 @@ std::string blind(const Seed& seed, std::string& s, Rng& rng) {
     case 4: return repeat_line(s, rng);
     case 5:
     case 6: return swap_number(s, rng);
+    case 7: return swap_separator(s, rng);
     default: return binary_field(s, rng);
   }
 }
