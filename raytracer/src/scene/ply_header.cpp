@@ -4,12 +4,22 @@
 #include <cctype>
 #include <charconv>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <vector>
 
 #include "sh/error.hpp"
 
+// The model library's PLY reader ends a header line at "\n", "\r", "\0" or
+// "\f" and splits it into words at spaces and tabs; where a line begins
+// with "\r", "\0" or "\f" it passes over the line after it, and it reads
+// each line into a buffer that keeps what longer lines before it left
+// there (after a comment it reads on into those leftovers).  A header it
+// cannot end keeps it reading the last line again forever.  The check
+// reads the lines as the library does, asks for the format's plain
+// grammar in them (where the leftovers hold no word that begins a header
+// line), and names the line where a header leaves it.
 namespace sh::rt {
 namespace {
 
@@ -23,9 +33,6 @@ struct Element {
   // The fewest bytes an instance takes: in binary its scalars' and its
   // lists' counts' sizes, in text a character a value.
   std::uint64_t least_bytes = 0;
-  // The library skips a binary property of a type it does not know, and
-  // the element's properties after it: they bound nothing.
-  bool skips_the_rest = false;
 };
 
 struct Header {
@@ -34,6 +41,7 @@ struct Header {
   std::uint64_t data_bytes = UINT64_MAX;  // after the end_header line; unknown bounds nothing
 };
 
+// The size of a binary scalar of the type, 0 for a word that names none.
 std::uint64_t binary_size(const std::string& type) {
   for (const char* t : {"char", "uchar", "int8", "uint8"})
     if (type == t) return 1;
@@ -41,58 +49,87 @@ std::uint64_t binary_size(const std::string& type) {
     if (type == t) return 2;
   for (const char* t : {"int", "uint", "float", "int32", "uint32", "float32"})
     if (type == t) return 4;
-  for (const char* t : {"double", "float64"})
+  for (const char* t : {"double", "float64", "double64"})
     if (type == t) return 8;
   return 0;
 }
 
-// Whether the file begins as the library's PLY reader takes it: "ply" in
-// any case, then the end of that word.  Only a few bytes are read, so a
-// file of another format with a long first line is left alone.
+bool ends_line(int c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; }
+
+// Whether the library's PLY reader takes the file: its first line (after
+// line ends the file may begin with) begins with "ply" in any case.  Only
+// the file's start is read, so a file of another format with a long first
+// line is left alone.
 bool begins_as_ply(std::istream& in) {
-  char start[4] = {};
+  if (ends_line(in.peek())) in.ignore(kLongestHeaderLine, '\n');
+  char start[3] = {};
   in.read(start, sizeof start);
-  std::streamsize got = in.gcount();
-  if (got < 3) return false;
+  if (in.gcount() < 3) return false;
   for (int i = 0; i < 3; ++i)
     if (std::tolower(static_cast<unsigned char>(start[i])) != "ply"[i]) return false;
-  return got == 3 || std::isspace(static_cast<unsigned char>(start[3]));
+  return true;
 }
 
-// The header's lines as the library reads them: ended by "\n", "\r",
-// "\0" or "\f" ("\r\n" is one end), numbered as an editor shows them (a
-// "\0" or "\f" starts no new line there).
+std::string printable(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += static_cast<char>(c);
+      continue;
+    }
+    char escaped[8];
+    std::snprintf(escaped, sizeof escaped, "\\x%02x", c);
+    out += escaped;
+  }
+  return out;
+}
+
+// The header's lines as the library reads them: a line ends at "\n",
+// "\r", "\0" or "\f"; a "\n" where a line would begin is passed over (a
+// blank line, or the rest of a "\r\n"), but at a "\r", "\0" or "\f" there
+// the library passes over everything up to the next "\n", the next line
+// with it, which is an error here.  Lines are numbered as an editor shows
+// them ("\n", "\r\n" and a lone "\r" end them).
 class HeaderLines {
  public:
   HeaderLines(std::istream& in, const std::string& path) : in_(in), path_(path) {}
-  // The next line without its end; false at the end of the file.
-  bool next(std::string& line);
+  // The next line without its end; false at the end of the file.  `ended`
+  // is false for a last line without a line end.
+  bool next(std::string& line, bool& ended);
   std::size_t number() const { return number_; }  // of the line next() gave last
 
  private:
   std::istream& in_;
   const std::string& path_;
-  std::size_t number_ = 0, next_number_ = 1;
+  std::size_t number_ = 0, breaks_ = 0;
 };
 
-bool HeaderLines::next(std::string& line) {
+bool HeaderLines::next(std::string& line, bool& ended) {
   line.clear();
-  std::size_t starts = next_number_;
+  ended = false;
+  int first = in_.peek();
+  if (first == std::char_traits<char>::eof()) return false;
+  number_ = breaks_ + 1;
+  if (first != '\n' && ends_line(first))
+    throw Error(path_ + ": line " + std::to_string(number_) + " of the PLY header begins with the byte " +
+                printable(std::string(1, static_cast<char>(first))) +
+                ", where the model library passes over everything up to the next line feed");
+  if (first == '\n') {
+    in_.get();
+    number_ = ++breaks_ + 1;
+  }
   char c;
-  bool ended = false;
-  while (!ended && in_.get(c)) {
-    ended = c == '\n' || c == '\r' || c == '\0' || c == '\f';
-    if (c == '\r' && in_.peek() == '\n') in_.get(c);
-    if (c == '\n' || c == '\r') ++next_number_;
-    if (ended) break;
+  while (in_.get(c)) {
+    if (ends_line(c)) {
+      if (c == '\n' || (c == '\r' && in_.peek() != '\n')) ++breaks_;
+      return ended = true;
+    }
     if (line.size() > kLongestHeaderLine)
-      throw Error(path_ + ": line " + std::to_string(starts) + " of the PLY header is longer than " +
+      throw Error(path_ + ": line " + std::to_string(number_) + " of the PLY header is longer than " +
                   std::to_string(kLongestHeaderLine) + " bytes");
     line += c;
   }
-  if (!ended && line.empty()) return false;
-  number_ = starts;
-  return true;
+  return !line.empty();
 }
 
 std::string plural(std::uint64_t n, const char* unit) {
@@ -111,47 +148,114 @@ std::vector<std::string> words(const std::string& line) {
   return out;
 }
 
-// An element line's count; a count that is not a number bounds nothing
-// (0), and one past 64 bits everything.
-std::uint64_t count_of(const std::string& text) {
-  std::uint64_t count = 0;
-  auto [end, status] = std::from_chars(text.data(), text.data() + text.size(), count);
-  if (end != text.data() + text.size()) return 0;
-  return status == std::errc::result_out_of_range ? UINT64_MAX : count;
-}
+class HeaderReader {
+ public:
+  HeaderReader(std::istream& in, const std::string& path) : in_(in), path_(path), lines_(in, path) {}
+  Header read();
 
-void add_property(Element& e, const std::vector<std::string>& words, bool binary) {
-  if (!binary) {
-    e.least_bytes += 1;
-    return;
+ private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw Error(path_ + ": line " + std::to_string(lines_.number()) + " of the PLY header: " + why);
   }
-  std::uint64_t size = binary_size(words[words[1] == "list" && words.size() > 2 ? 2 : 1]);
-  if (size == 0) e.skips_the_rest = true;
-  if (!e.skips_the_rest) e.least_bytes += size;
+  void first_line(const std::string& line);
+  void element(const std::vector<std::string>& w);
+  void property(const std::vector<std::string>& w);
+  void no_keywords(const std::vector<std::string>& w, std::size_t from);
+  std::uint64_t scalar_size(const std::string& type);
+
+  std::istream& in_;
+  const std::string& path_;
+  HeaderLines lines_;
+  Header h_;
+  bool begun_ = false;  // a line after the first, blank ones aside, was read
+};
+
+void HeaderReader::first_line(const std::string& line) {
+  std::vector<std::string> w = words(line);
+  std::string magic = w.size() == 1 ? w[0] : "";
+  std::transform(magic.begin(), magic.end(), magic.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (magic != "ply") fail("the first line is '" + printable(line) + "', not 'ply'");
 }
 
-// The rest of the header, after the first line; throws where it has no end.
-Header read_header(std::istream& in, const std::string& path) {
-  Header h;
-  HeaderLines lines(in, path);
+// The words that begin header lines: the library may read an element's,
+// a property's or an obj_info line's words again after a shorter comment
+// line (what it leaves of them in its buffer), so none of those may be one.
+const char* const kKeywords[] = {"ply", "format", "comment", "obj_info", "element", "property", "end_header"};
+
+void HeaderReader::no_keywords(const std::vector<std::string>& w, std::size_t from) {
+  for (std::size_t i = from; i < w.size(); ++i)
+    for (const char* keyword : kKeywords)
+      if (w[i] == keyword)
+        fail("'" + w[i] + "' as a name or in an obj_info line, where the model library may read it as a header line's "
+             "first word");
+}
+
+// "element NAME COUNT", the count a decimal number.
+void HeaderReader::element(const std::vector<std::string>& w) {
+  if (w.size() != 3) fail("an element line is 'element NAME COUNT', not " + plural(w.size(), "word"));
+  no_keywords(w, 1);
+  Element e{w[1], w[2], 0, lines_.number(), 0};
+  auto [end, status] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
+  if (w[2].empty() || end != w[2].data() + w[2].size() || !std::isdigit(static_cast<unsigned char>(w[2][0])))
+    fail("element '" + printable(w[1]) + "' has the count '" + printable(w[2]) + "', not a number");
+  if (status == std::errc::result_out_of_range) e.count = UINT64_MAX;
+  h_.elements.push_back(e);
+}
+
+std::uint64_t HeaderReader::scalar_size(const std::string& type) {
+  std::uint64_t size = binary_size(type);
+  if (size == 0) fail("'" + printable(type) + "' is not a PLY scalar type (char, uchar, short, ushort, int, uint, float, double)");
+  return size;
+}
+
+// "property TYPE NAME" or "property list COUNT_TYPE TYPE NAME", inside an
+// element.
+void HeaderReader::property(const std::vector<std::string>& w) {
+  if (h_.elements.empty()) fail("a property before any element");
+  bool list = w.size() > 1 && w[1] == "list";
+  if (w.size() != (list ? 5u : 3u))
+    fail(list ? "a list property is 'property list COUNT_TYPE TYPE NAME'" : "a property is 'property TYPE NAME'");
+  no_keywords(w, w.size() - 1);
+  std::uint64_t size = scalar_size(w[list ? 2 : 1]);
+  if (list) scalar_size(w[3]);
+  h_.elements.back().least_bytes += h_.binary ? size : 1;
+}
+
+Header HeaderReader::read() {
   std::string line;
-  lines.next(line);
+  bool ended = false;
+  lines_.next(line, ended);
+  first_line(line);
   for (;;) {
-    if (!lines.next(line))
-      throw Error(path + ": the PLY header has no end_header line (the file ends at line " + std::to_string(lines.number()) + ")");
+    if (!lines_.next(line, ended))
+      throw Error(path_ + ": the PLY header has no end_header line (the file ends at line " +
+                  std::to_string(lines_.number()) + ")");
     std::vector<std::string> w = words(line);
     if (w.empty()) continue;
-    if (w[0] == "end_header") break;
-    if (w[0] == "format" && w.size() > 1) h.binary = w[1] != "ascii";
-    if (w[0] == "element" && w.size() >= 3) h.elements.push_back({w[1], w[2], count_of(w[2]), lines.number()});
-    if (w[0] == "property" && !h.elements.empty() && w.size() > 1) add_property(h.elements.back(), w, h.binary);
+    if (w[0] == "end_header") {
+      if (!ended) fail("end_header is the file's last bytes, without a line end, which the model library does not read");
+      break;
+    }
+    bool first = !begun_;
+    begun_ = true;
+    if (w[0] == "format" && first) {
+      h_.binary = w.size() > 1 && w[1] != "ascii";
+    } else if (w[0] == "element") {
+      element(w);
+    } else if (w[0] == "property") {
+      property(w);
+    } else if (w[0] == "obj_info") {
+      no_keywords(w, 1);
+    } else if (w[0] != "comment") {
+      fail("'" + printable(w[0]) + "' begins no PLY header line (format after ply, comment, obj_info, element, "
+           "property, end_header)");
+    }
   }
-  in.clear();  // an end_header line without a line end leaves the stream failed
-  auto header_bytes = in.tellg();
+  auto header_bytes = in_.tellg();
   std::error_code error;
-  auto size = std::filesystem::file_size(path, error);
-  if (!error && header_bytes >= 0) h.data_bytes = size - static_cast<std::uint64_t>(header_bytes);
-  return h;
+  auto size = std::filesystem::file_size(path_, error);
+  if (!error && header_bytes >= 0) h_.data_bytes = size - static_cast<std::uint64_t>(header_bytes);
+  return h_;
 }
 
 // Instances follow one another, so the elements' least bytes add up.  A
@@ -181,7 +285,7 @@ void check_ply_header(const std::string& path) {
   if (!begins_as_ply(in)) return;
   in.clear();
   in.seekg(0);
-  check_counts(read_header(in, path), path);
+  check_counts(HeaderReader(in, path).read(), path);
 }
 
 }  // namespace sh::rt

@@ -4,13 +4,14 @@
 
 namespace sh::rt {
 
-// Throws sh::Error naming `path` and the line where a file that begins as
-// the model library's PLY reader takes it ("ply", in any case) has a
-// header that reader would not end reading: no end_header line, or an
-// element with more instances than the file has bytes after its header
+// Throws sh::Error naming `path` and the line where a file that the model
+// library's PLY reader takes (its first line begins with "ply", in any
+// case) has a header that reader might not end reading: no end_header line
+// as the reader reads lines, a line the format's plain grammar does not
+// have (the reader ignores it, and its leftovers can lead it astray), or
+// an element with more instances than the file has bytes after its header
 // (the reader walks every instance, even of an element without
-// properties, and a count of 2^32 - 1 kept it busy past the load's time
-// limit).  Any other file is left alone.
+// properties).  Any other file is left alone.
 void check_ply_header(const std::string& path);
 
 }  // namespace sh::rt
