@@ -161,13 +161,16 @@ class HeaderReader {
   void element(const std::vector<std::string>& w);
   void property(const std::vector<std::string>& w);
   void no_keywords(const std::vector<std::string>& w, std::size_t from);
-  std::uint64_t scalar_size(const std::string& type);
+  void ignored(const std::string& line);
 
   std::istream& in_;
   const std::string& path_;
   HeaderLines lines_;
   Header h_;
   bool begun_ = false;  // a line after the first, blank ones aside, was read
+  // The library ends an element's properties at one of a type it does not
+  // know: the ones after it bound nothing.
+  bool properties_ended_ = false;
 };
 
 void HeaderReader::first_line(const std::string& line) {
@@ -177,35 +180,39 @@ void HeaderReader::first_line(const std::string& line) {
   if (magic != "ply") fail("the first line is '" + printable(line) + "', not 'ply'");
 }
 
-// The words that begin header lines: the library may read an element's,
-// a property's or an obj_info line's words again after a shorter comment
-// line (what it leaves of them in its buffer), so none of those may be one.
+// The words that begin header lines.  The library keeps what a line leaves
+// in its buffer and may read it again after a shorter comment line, from
+// any byte on, so a line it ignores may not hold the words that start an
+// element, a property, a comment or the header's end anywhere, and a name
+// may not be a header line's first word.
 const char* const kKeywords[] = {"ply", "format", "comment", "obj_info", "element", "property", "end_header"};
+const char* const kStarts[] = {"element", "property", "comment", "end_header"};
 
 void HeaderReader::no_keywords(const std::vector<std::string>& w, std::size_t from) {
   for (std::size_t i = from; i < w.size(); ++i)
     for (const char* keyword : kKeywords)
-      if (w[i] == keyword)
-        fail("'" + w[i] + "' as a name or in an obj_info line, where the model library may read it as a header line's "
-             "first word");
+      if (w[i] == keyword) fail("'" + w[i] + "' as a name, where the model library may read it as a header line's first word");
+}
+
+// A line the library reads past: obj_info, another format, or any other.
+void HeaderReader::ignored(const std::string& line) {
+  for (const char* start : kStarts)
+    if (line.find(start) != std::string::npos)
+      fail("a line the model library passes over ('" + printable(line.substr(0, 40)) + "') holds '" + start +
+           "', which the library may read again as a header line");
 }
 
 // "element NAME COUNT", the count a decimal number.
 void HeaderReader::element(const std::vector<std::string>& w) {
   if (w.size() != 3) fail("an element line is 'element NAME COUNT', not " + plural(w.size(), "word"));
   no_keywords(w, 1);
+  properties_ended_ = false;
   Element e{w[1], w[2], 0, lines_.number(), 0};
   auto [end, status] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
   if (w[2].empty() || end != w[2].data() + w[2].size() || !std::isdigit(static_cast<unsigned char>(w[2][0])))
     fail("element '" + printable(w[1]) + "' has the count '" + printable(w[2]) + "', not a number");
   if (status == std::errc::result_out_of_range) e.count = UINT64_MAX;
   h_.elements.push_back(e);
-}
-
-std::uint64_t HeaderReader::scalar_size(const std::string& type) {
-  std::uint64_t size = binary_size(type);
-  if (size == 0) fail("'" + printable(type) + "' is not a PLY scalar type (char, uchar, short, ushort, int, uint, float, double)");
-  return size;
 }
 
 // "property TYPE NAME" or "property list COUNT_TYPE TYPE NAME", inside an
@@ -216,9 +223,9 @@ void HeaderReader::property(const std::vector<std::string>& w) {
   if (w.size() != (list ? 5u : 3u))
     fail(list ? "a list property is 'property list COUNT_TYPE TYPE NAME'" : "a property is 'property TYPE NAME'");
   no_keywords(w, w.size() - 1);
-  std::uint64_t size = scalar_size(w[list ? 2 : 1]);
-  if (list) scalar_size(w[3]);
-  h_.elements.back().least_bytes += h_.binary ? size : 1;
+  std::uint64_t size = binary_size(w[list ? 2 : 1]);
+  properties_ended_ = properties_ended_ || size == 0 || (list && binary_size(w[3]) == 0);
+  if (!properties_ended_) h_.elements.back().least_bytes += h_.binary ? size : 1;
 }
 
 Header HeaderReader::read() {
@@ -244,11 +251,8 @@ Header HeaderReader::read() {
       element(w);
     } else if (w[0] == "property") {
       property(w);
-    } else if (w[0] == "obj_info") {
-      no_keywords(w, 1);
     } else if (w[0] != "comment") {
-      fail("'" + printable(w[0]) + "' begins no PLY header line (format after ply, comment, obj_info, element, "
-           "property, end_header)");
+      ignored(line);
     }
   }
   auto header_bytes = in_.tellg();
