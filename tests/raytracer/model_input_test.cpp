@@ -10,7 +10,6 @@
 #include <unistd.h>
 
 #include <csignal>
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 
@@ -181,84 +180,67 @@ class PlyHeader : public ModelInput {
   const std::string data_ = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 };
 
-TEST_F(PlyHeader, WithoutEndHeaderNamesTheLastLine) {
-  std::string cut = write("cut.ply", "ply\nformat ascii 1.0\ncomment a tetrahedr");
-  EXPECT_TRUE(mentions(error_of(cut), "cut.ply: the PLY header has no end_header line (the file ends at line 3)"));
-  std::string binary = write("binary.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n" +
-                                               std::string(36, '\0'));
-  EXPECT_TRUE(mentions(error_of(binary), "binary.ply: line 5 of the PLY header begins with the byte \\x00"));
-  std::string run_on = write("run_on.ply", "ply\nformat binary_little_endian 1.0\n" + std::string(70000, 'x'));
-  EXPECT_TRUE(mentions(error_of(run_on), "run_on.ply: line 3 of the PLY header is longer than 65536 bytes"));
+// The library reads a header's last line again for ever where it finds no
+// end_header it can read: the check names the line it reads on to.
+TEST_F(PlyHeader, WithoutAnEndHeaderTheLibraryReadsNamesTheLastLine) {
+  auto no_end = [](const std::string& file, int line) {
+    return file + ": the model library finds no end_header line it can read in this PLY header: it reads on to line " +
+           std::to_string(line) + " and then reads it again for ever";
+  };
+  EXPECT_TRUE(mentions(error_of(write("cut.ply", "ply\nformat ascii 1.0\ncomment a tetrahedr")), no_end("cut.ply", 3)));
+  std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n" + std::string(36, '\0');
+  EXPECT_TRUE(mentions(error_of(write("binary.ply", binary)), no_end("binary.ply", 4)));
+  EXPECT_TRUE(mentions(error_of(write("upper.ply", "PLY\nformat ascii 1.0\nelement vertex 3\nEND_HEADER\n")), no_end("upper.ply", 4)));
+  EXPECT_TRUE(mentions(error_of(write("last.ply", "ply\nformat ascii 1.0\nelement e 4294967295\nend_header")), no_end("last.ply", 4)));
+  // Words part at spaces and tabs only: the data is read as header lines.
+  std::string tab = vertices_ + faces_.substr(0, faces_.size() - 11) + "end_header\v" + data_;
+  EXPECT_TRUE(mentions(error_of(write("tab.ply", tab)), no_end("tab.ply", 16)));
+  // At a line that begins with "\r", "\0" or "\f" the library passes over
+  // everything up to the next "\n": here the end_header.
+  for (const std::string& end : {std::string("\r"), std::string("\f"), std::string(1, '\0')}) {
+    std::string skips = write("skips.ply", vertices_ + faces_.substr(0, faces_.size() - 11) + "comment x\n" + end + "end_header\n" + data_);
+    EXPECT_TRUE(mentions(error_of(skips), no_end("skips.ply", 18))) << static_cast<int>(end[0]);
+  }
 }
 
 TEST_F(PlyHeader, MoreInstancesThanTheDataHoldsNamesTheElement) {
-  std::string empty = write("empty.ply", vertices_ + "element nothing 4294967295\n" + faces_ + data_);
-  EXPECT_TRUE(mentions(error_of(empty), "empty.ply: line 7: element 'nothing' has 4294967295 instances of no property"));
   std::string past_64_bits = write("wide.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 99999999999999999999\n"
                                                "property float x\nproperty float y\nproperty float z\nend_header\n" +
                                                std::string(36, '\0'));
-  EXPECT_TRUE(mentions(error_of(past_64_bits), "wide.ply: line 3: element 'vertex' has 99999999999999999999 instances of "
-                                               "12 bytes at least, more than the 36 bytes the file has after the PLY header"));
+  EXPECT_TRUE(mentions(error_of(past_64_bits), "wide.ply: line 3: element 'vertex' has 99999999999999999999 (1661992959 as "
+                                               "the model library reads it) instances of 12 bytes at least, more than the "
+                                               "36 bytes the file has after the PLY header"));
   std::string short_faces = write("short.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
                                               "property float y\nproperty float z\n" + faces_ + std::string(50, '\0'));
   EXPECT_TRUE(mentions(error_of(short_faces), "short.ply: line 7: element 'face' has 4 instances of 1 byte at least, more "
                                               "than the 2 bytes the file has after the PLY header and the elements before it"));
-}
-
-TEST_F(PlyHeader, ReadAsTheLibraryReadsIt) {
-  std::string upper = write("upper.ply", "PLY\nformat ascii 1.0\nelement vertex 3\n");
-  EXPECT_TRUE(mentions(error_of(upper), "upper.ply: the PLY header has no end_header line (the file ends at line 3)"));
-  std::string last = write("last.ply", "ply\nformat ascii 1.0\nelement e 4294967295\nend_header");
-  EXPECT_TRUE(mentions(error_of(last), "last.ply: line 4 of the PLY header: end_header is the file's last bytes, without "
-                                       "a line end"));
-}
-
-// The library ends a header line at "\n", "\r", "\0" or "\f" and splits it
-// at spaces and tabs only: "end_header" followed by a vertical tab is no
-// end_header (the library would read on to the end of the file and spin
-// there), and at a line that begins with "\r", "\0" or "\f" it passes over
-// the next line.
-TEST_F(PlyHeader, LinesEndWhereTheLibraryEndsThem) {
-  const std::string faces = "element face 4\nproperty list uchar int vertex_indices\n";
-  std::string tab = write("tab.ply", vertices_ + faces + "end_header\v" + data_);
-  EXPECT_TRUE(mentions(error_of(tab), "tab.ply: line 9 of the PLY header: a line the model library passes over "
-                                     "('end_header\\x0b0 0 0') holds 'end_header'"));
-  for (const std::string& end : {std::string("\r"), std::string("\f"), std::string(1, '\0'), std::string("\r\n")}) {
-    std::string ends = write("ends.ply", vertices_ + faces + "comment x" + end + "end_header\n" + data_);
-    EXPECT_EQ(sh::rt::load_scene(ends).mesh.triangles(), 4u) << static_cast<int>(end[0]);
-    std::string skips = write("skips.ply", vertices_ + faces + "comment x\n" + end + "end_header\n" + data_);
-    char byte[8];
-    std::snprintf(byte, sizeof byte, "\\x%02x", end[0]);
-    EXPECT_TRUE(mentions(error_of(skips), std::string("skips.ply: line 10 of the PLY header begins with the byte ") + byte +
-                                              ", where the model library passes over everything up to the next line feed"));
-  }
+  // In text an instance is a line: the library reads the last line again
+  // for each one the file lacks.
+  std::string lines = write("lines.ply", vertices_ + faces_ + data_.substr(0, data_.size() - 8));
+  EXPECT_TRUE(mentions(error_of(lines), "lines.ply: line 7: element 'face' has 4 instances of a line each, more than the "
+                                        "3 lines the file has after the PLY header and the elements before it"));
 }
 
 // Each of these kept the library reading for the load's whole time limit
-// while the header's counts looked sound (a review's findings).
-TEST_F(PlyHeader, HeadersOutsideThePlainGrammarAreRefusedByLine) {
-  const std::string tail = "element face 0\nend_header\n";
-  auto error_in = [&](const std::string& header) { return error_of(write("odd.ply", header + tail)); };
-  EXPECT_TRUE(mentions(error_in("ply\nformat ascii 1.0\nelement vertex 4294967295x\n"),
-                       "odd.ply: line 3 of the PLY header: element 'vertex' has the count '4294967295x', not a number"));
-  std::string lead = write("lead.ply", "\nply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
-  EXPECT_TRUE(mentions(error_of(lead), "lead.ply: the PLY header has no end_header line (the file ends at line 5)"));
-  EXPECT_TRUE(mentions(error_in("plyx\nformat ascii 1.0\n"), "odd.ply: line 1 of the PLY header: the first line is 'plyx', not 'ply'"));
-  EXPECT_TRUE(mentions(error_in("ply\nformat ascii 1.0\nelement vertex 0\n\r"), "odd.ply: line 4 of the PLY header begins with the byte \\x0d"));
-  EXPECT_TRUE(mentions(error_in("ply\nformat ascii 1.0\nobj_info 12345678 element vertex 4294967295\ncomment 123456789\n"),
-                       "odd.ply: line 3 of the PLY header: a line the model library passes over ('obj_info 12345678 "
-                       "element vertex 4294967') holds 'element'"));
-  EXPECT_TRUE(mentions(error_in("ply\nformat ascii 1.0\nsee the comment below\n"),
-                       "odd.ply: line 3 of the PLY header: a line the model library passes over ('see the comment below') "
-                       "holds 'comment'"));
-  EXPECT_TRUE(mentions(error_in("ply\nformat ascii 1.0\nelement vertex 3\nproperty float end_header\n"),
-                       "odd.ply: line 4 of the PLY header: 'end_header' as a name"));
-  // The library ends an element's properties at a type it does not know.
-  EXPECT_TRUE(mentions(error_in("ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty flOat y\n"
-                                "property double z\n"),
-                       "odd.ply: line 3: element 'vertex' has 2 instances of 4 bytes at least"));
-  EXPECT_TRUE(mentions(error_in("ply\nformat ascii 1.0\nproperty float x\n"),
-                       "odd.ply: line 3 of the PLY header: a property before any element"));
+// while a plainer reading of the header found sound counts (two reviews'
+// findings): the count the library reads is the one checked.
+TEST_F(PlyHeader, TheCountsTheLibraryReadsAreChecked) {
+  auto error_in = [&](const std::string& header) {
+    return error_of(write("odd.ply", "ply\nformat ascii 1.0\n" + header + "end_header\n"));
+  };
+  // Digits with a letter after them, or a name of digits (the library
+  // reads an unknown element's count from its name).
+  EXPECT_TRUE(mentions(error_in("element vertex 4294967295x\n"), "odd.ply: line 3: element 'vertex' has 4294967295 instances"));
+  EXPECT_TRUE(mentions(error_in("element 100000000 0\n"), "odd.ply: line 3: element '100000000 0' has 100000000 instances"));
+  // What a longer line leaves in the library's buffer, read on after a
+  // shorter comment, or a texture's comment, which it reads as an element.
+  EXPECT_TRUE(mentions(error_in("obj_info 12345678 element vertex 4294967295\ncomment 123456789\n"),
+                       "odd.ply: line 4: element 'vertex' has 4294967295 instances"));
+  EXPECT_TRUE(mentions(error_in("comment TextureFile element vertex 4294967295\n"),
+                       "odd.ply: line 3: element 'vertex' has 4294967295 instances"));
+  EXPECT_TRUE(mentions(error_in("element vertex 0\nproperty list element vertex 4294967295\n"
+                                "property list element vertex 4294967295\ncomment 11111\n"),
+                       "element 'vertex' has 4294967295 instances"));
 }
 
 // What writers put in headers stays readable: "\r\n" line ends, blank
@@ -271,7 +253,10 @@ TEST_F(PlyHeader, PlainHeadersStillLoad) {
                         "comment TextureFile wood.png\nobj_info num_cols 640\nCreated by Blender3D 247 - www.blender.org, source file: \n  element vertex 4\n\tproperty float x\n"
                         "property float y\nproperty float z\n\nelement face 4\nproperty list uchar int vertex_indices\n"
                         "end_header written by hand\n";
-  for (const std::string& header : {crlf, written}) {
+  std::string cr = crlf;
+  for (std::size_t at = 0; (at = cr.find("\r\n", at)) != std::string::npos;) cr.erase(at + 1, 1);
+  std::string crlf_blank = "ply\r\nformat ascii 1.0\r\n\r\n" + crlf.substr(crlf.find("element"));
+  for (const std::string& header : {crlf, cr, crlf_blank, written}) {
     std::string path = write("plain.ply", header + data_);
     EXPECT_EQ(sh::rt::load_scene(path).mesh.triangles(), 4u) << header;
   }
