@@ -238,6 +238,11 @@ TEST_F(PlyHeader, TheCountsTheLibraryReadsAreChecked) {
                        "odd.ply: line 4: element 'vertex' has 4294967295 instances"));
   EXPECT_TRUE(mentions(error_in("comment TextureFile element vertex 4294967295\n"),
                        "odd.ply: line 3: element 'vertex' has 4294967295 instances"));
+  // A property name the library does not know: it passes over the rest of
+  // that line, which moves the leftovers a later comment reads into.
+  std::string unknown_name = write("q.ply", "ply\nformat ascii\nobj_info " + std::string(29, 'a') +
+                                                "end_header\nelement vertex 1\nproperty int q\ncomment x\n\n");
+  EXPECT_TRUE(mentions(error_of(unknown_name), "q.ply: the model library finds no end_header line it can read"));
   EXPECT_TRUE(mentions(error_in("element vertex 0\nproperty list element vertex 4294967295\n"
                                 "property list element vertex 4294967295\ncomment 11111\n"),
                        "element 'vertex' has 4294967295 instances"));
@@ -260,6 +265,11 @@ TEST_F(PlyHeader, PlainHeadersStillLoad) {
     std::string path = write("plain.ply", header + data_);
     EXPECT_EQ(sh::rt::load_scene(path).mesh.triangles(), 4u) << header;
   }
+  // A property name the library does not know ends its line there: the
+  // bare "element" after it reads no leftover of the name.
+  std::string unknown_name = write("q.ply", vertices_ + "property int qqqqqqqq9\nelement\n" + faces_ +
+                                                "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n" + data_.substr(24));
+  EXPECT_EQ(sh::rt::load_scene(unknown_name).mesh.triangles(), 4u);
 }
 
 // An element of no property takes a line an instance in text: the faces

@@ -16,6 +16,7 @@ namespace {
 
 // More than any header a writer makes; the check reads no further.
 constexpr std::size_t kHeaderBytes = 4 << 20;
+constexpr std::size_t kFirstBytes = 4 << 10;
 
 std::string printable(const std::string& text) {
   std::string out;
@@ -96,23 +97,33 @@ void CountCheck::run() {
   }
 }
 
+// The header as the library reads it, from the file's first bytes: a few
+// at first (headers are short, and the load may run under a tight memory
+// limit), more while the header runs past them.
+LibraryPlyHeader read_header(const std::string& path, std::uint64_t size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string start;
+  for (std::size_t want = kFirstBytes;; want *= 4) {
+    std::size_t had = start.size();
+    start.resize(want);
+    in.read(start.data() + had, static_cast<std::streamsize>(want - had));
+    start.resize(had + static_cast<std::size_t>(in.gcount()));
+    try {
+      return read_like_the_library(start, size <= start.size());
+    } catch (const std::length_error&) {
+      if (want >= kHeaderBytes)
+        throw Error(path + ": the PLY header runs past its first " + std::to_string(kHeaderBytes >> 20) + " MiB");
+    }
+  }
+}
+
 }  // namespace
 
 void check_ply_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string start(kHeaderBytes, '\0');
-  in.read(start.data(), static_cast<std::streamsize>(start.size()));
-  start.resize(static_cast<std::size_t>(in.gcount()));
   std::error_code error;
   std::uint64_t size = std::filesystem::file_size(path, error);
   if (error) return;  // the loader names what is wrong with the file
-  bool whole = size <= start.size();
-  LibraryPlyHeader h;
-  try {
-    h = read_like_the_library(start, whole);
-  } catch (const std::length_error&) {
-    throw Error(path + ": the PLY header runs past its first " + std::to_string(kHeaderBytes >> 20) + " MiB");
-  }
+  LibraryPlyHeader h = read_header(path, size);
   if (!h.read) return;  // the library refuses the file at once
   if (!h.ends)
     throw Error(path + ": the model library finds no end_header line it can read in this PLY header: it reads on to "

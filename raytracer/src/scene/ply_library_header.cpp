@@ -145,11 +145,13 @@ bool LibraryReader::property(LineBuffer& b, LibraryPlyElement& e, bool binary) {
   if (scalar == 0) return b.skip_line(), false;
   if (size == 0) size = scalar;
   if (!b.skip_spaces()) return false;
-  b.any_token({"red", "green", "blue", "alpha", "vertex_index", "vertex_indices", "texcoord", "material_index",
+  // A name the library does not know it passes over to the next line.
+  bool known = b.any_token({"red", "green", "blue", "alpha", "vertex_index", "vertex_indices", "texcoord", "material_index",
                "ambient_red", "ambient_green", "ambient_blue", "ambient_alpha", "diffuse_red", "diffuse_green",
                "diffuse_blue", "diffuse_alpha", "specular_red", "specular_green", "specular_blue", "specular_alpha",
                "opacity", "specular_power", "r", "g", "b", "u", "s", "tx", "texture_u", "v", "t", "ty", "texture_v",
                "x", "y", "z", "nx", "ny", "nz"});
+  if (!known) b.skip_line();
   b.skip_spaces_and_line_ends();
   e.least_bytes += binary ? size : 1;
   return true;
