@@ -203,6 +203,13 @@ TEST_F(PlyHeader, WithoutAnEndHeaderTheLibraryReadsNamesTheLastLine) {
   }
 }
 
+// The check reads no more than 4 MiB of a header, far more than a writer
+// makes.
+TEST_F(PlyHeader, AHeaderPastFourMiBIsRefused) {
+  std::string long_comment = write("long.ply", "ply\nformat ascii 1.0\ncomment " + std::string(5 << 20, 'x') + "\nend_header\n");
+  EXPECT_TRUE(mentions(error_of(long_comment), "long.ply: the PLY header runs past its first 4 MiB"));
+}
+
 TEST_F(PlyHeader, MoreInstancesThanTheDataHoldsNamesTheElement) {
   std::string past_64_bits = write("wide.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 99999999999999999999\n"
                                                "property float x\nproperty float y\nproperty float z\nend_header\n" +

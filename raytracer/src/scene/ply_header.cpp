@@ -32,8 +32,6 @@ std::string printable(const std::string& text) {
   return out;
 }
 
-bool ends_line(char c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; }
-
 std::string plural(std::uint64_t n, const char* unit) {
   return std::to_string(n) + " " + unit + (n == 1 ? "" : "s");
 }
@@ -49,10 +47,10 @@ std::uint64_t lines_from(const std::string& path, std::uint64_t from) {
   std::vector<char> chunk(1 << 16);
   while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
     auto got = static_cast<std::size_t>(in.gcount());
-    lines += static_cast<std::uint64_t>(std::count_if(chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(got), ends_line));
+    lines += static_cast<std::uint64_t>(std::count_if(chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(got), ends_ply_line));
     last = chunk[got - 1];
   }
-  return lines + (ends_line(last) ? 0 : 1);
+  return lines + (ends_ply_line(last) ? 0 : 1);
 }
 
 class CountCheck {

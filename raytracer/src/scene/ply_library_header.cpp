@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <stdexcept>
@@ -9,28 +10,34 @@
 namespace sh::rt {
 namespace {
 
-bool ends_line(char c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; }
 bool spacing(char c) { return c == ' ' || c == '\t'; }
 
-// The library's line buffer: what it holds now, zeros after it.
+// The library's line buffer: what it holds from its front on, zeros after
+// it.  The library erases what it reads from the front; here the front
+// moves instead, so that passing over a word costs nothing and a place in
+// the buffer can be kept and gone back to.
 class LineBuffer {
  public:
-  char at(std::size_t i) const { return i < bytes_.size() ? bytes_[i] : '\0'; }
+  char at(std::size_t i) const { return front_ + i < bytes_.size() ? bytes_[front_ + i] : '\0'; }
   void set(std::size_t i, char c) {
-    if (i >= bytes_.size()) bytes_.resize(i + 1, '\0');
-    bytes_[i] = c;
+    if (front_ + i >= bytes_.size()) bytes_.resize(front_ + i + 1, '\0');
+    bytes_[front_ + i] = c;
   }
-  void drop(std::size_t n) { bytes_.erase(0, std::min(n, bytes_.size())); }
-  bool operator==(const LineBuffer& other) const { return trimmed() == other.trimmed(); }
-  // What it holds up to its first zero.
-  std::string text() const { return bytes_.substr(0, bytes_.find('\0')); }
+  void drop(std::size_t n) { front_ = std::min(front_ + n, bytes_.size()); }
+  std::size_t front() const { return front_; }
+  void go_back_to(std::size_t front) { front_ = front; }
+  // What it holds up to the end of its first line.
+  std::string line_text() const {
+    std::size_t end = bytes_.find_first_of(std::string("\n\r\f\0", 4), front_);
+    return bytes_.substr(front_, end == std::string::npos ? std::string::npos : end - front_);
+  }
 
   // The library's ways of moving along a line; each drops what it passes.
   bool skip_spaces() {
     std::size_t n = 0;
     while (spacing(at(n))) ++n;
     drop(n);
-    return !ends_line(at(0));
+    return !ends_ply_line(at(0));
   }
   bool skip_line() {
     std::size_t n = 0;
@@ -49,7 +56,7 @@ class LineBuffer {
     for (std::size_t i = 0; i < word.size(); ++i)
       if (at(i) != word[i]) return false;
     char after = at(word.size());
-    if (!spacing(after) && !ends_line(after)) return false;
+    if (!spacing(after) && !ends_ply_line(after)) return false;
     drop(word.size() + (after != '\0' ? 1 : 0));
     return true;
   }
@@ -60,8 +67,8 @@ class LineBuffer {
   }
 
  private:
-  std::string trimmed() const { return bytes_.substr(0, bytes_.find_last_not_of('\0') + 1); }
   std::string bytes_;
+  std::size_t front_ = 0;
 };
 
 // A scalar type's size, 0 where the library knows no such type.
@@ -81,7 +88,6 @@ class LibraryReader {
  private:
   char byte(std::size_t at) const;
   bool next_line(LineBuffer& b);
-  std::size_t line_at(std::size_t at) const;
   void skip_comments(LineBuffer& b);
   bool element(LineBuffer& b, LibraryPlyElement& e, bool binary);
   bool property(LineBuffer& b, LibraryPlyElement& e, bool binary);
@@ -90,7 +96,8 @@ class LibraryReader {
   const std::string& file_;
   bool whole_;
   std::size_t pos_ = 0;
-  std::size_t line_start_ = 0;  // where the line next_line read last began
+  std::size_t newlines_ = 0;  // line feeds before pos_
+  std::size_t line_ = 0;      // the file's line next_line read last (as an editor numbers it)
 };
 
 // Past a whole file's end the library's cache holds line feeds.
@@ -103,34 +110,30 @@ char LibraryReader::byte(std::size_t at) const {
 bool LibraryReader::next_line(LineBuffer& b) {
   std::size_t end = whole_ ? file_.size() : SIZE_MAX;
   if (pos_ >= end) return false;
-  if (ends_line(byte(pos_))) {
+  if (ends_ply_line(byte(pos_))) {
     while (byte(pos_) != '\n') ++pos_;
+    ++newlines_;
     if (++pos_ >= end) return false;
   }
-  line_start_ = pos_;
+  line_ = newlines_ + 1;
   std::size_t i = 0;
-  while (!ends_line(byte(pos_))) {
+  while (!ends_ply_line(byte(pos_))) {
     b.set(i++, byte(pos_));
     if (++pos_ >= end) return false;
   }
   b.set(i, '\n');
-  ++pos_;
+  if (byte(pos_++) == '\n') ++newlines_;
   return true;
-}
-
-std::size_t LibraryReader::line_at(std::size_t at) const {
-  return 1 + static_cast<std::size_t>(std::count(file_.begin(), file_.begin() + static_cast<std::ptrdiff_t>(std::min(at, file_.size())), '\n'));
 }
 
 // A comment is passed over to the end of its line (into the leftovers
 // after it), but for a texture's, which stays to be read as an element.
 void LibraryReader::skip_comments(LineBuffer& b) {
-  LineBuffer rest = b;
-  if (!rest.skip_spaces() || !rest.token("comment")) return;
-  if (!rest.skip_spaces()) rest.skip_line();
-  if (rest.token("TextureFile")) return;
-  rest.skip_line();
-  b = rest;
+  std::size_t front = b.front();
+  if (!b.skip_spaces() || !b.token("comment")) return b.go_back_to(front);
+  if (!b.skip_spaces()) b.skip_line();
+  if (b.token("TextureFile")) return b.go_back_to(front);
+  b.skip_line();
 }
 
 bool LibraryReader::property(LineBuffer& b, LibraryPlyElement& e, bool binary) {
@@ -161,7 +164,7 @@ bool LibraryReader::property(LineBuffer& b, LibraryPlyElement& e, bool binary) {
 // its properties, line by line until one is not.
 bool LibraryReader::element(LineBuffer& b, LibraryPlyElement& e, bool binary) {
   if (!b.skip_spaces() || !b.any_token({"element", "comment"}) || !b.skip_spaces()) return false;
-  e.line = line_at(line_start_);
+  e.line = line_;
   bool known = false;
   for (const char* name : {"vertex", "face", "tristrips", "edge", "material", "TextureFile"})
     if (b.token(name)) {
@@ -169,7 +172,7 @@ bool LibraryReader::element(LineBuffer& b, LibraryPlyElement& e, bool binary) {
       known = true;
       break;
     }
-  if (!known) e.name = b.text().substr(0, b.text().find_first_of("\n\r\f"));
+  if (!known) e.name = b.line_text();
   if (!b.skip_spaces()) return false;
   if (e.name == "TextureFile") {
     b.skip_spaces_and_line_ends();
@@ -188,10 +191,11 @@ bool LibraryReader::element(LineBuffer& b, LibraryPlyElement& e, bool binary) {
 }
 
 // The header's lines up to end_header; false where the library would read
-// its last line again for ever (the file ends first).
+// its last line again for ever (the file ends first).  Past the file's end
+// nothing is written to the buffer, so the library is stuck once a line
+// it cannot read finds the buffer's front where the last one did.
 bool LibraryReader::header(LineBuffer& b, LibraryPlyHeader& h) {
-  LineBuffer stalled;
-  bool was_stalled = false;
+  std::size_t stalled_at = SIZE_MAX;
   for (;;) {
     skip_comments(b);
     LibraryPlyElement e;
@@ -201,9 +205,8 @@ bool LibraryReader::header(LineBuffer& b, LibraryPlyHeader& h) {
     }
     if (b.token("end_header")) return true;
     if (!next_line(b)) {
-      if (was_stalled && b == stalled) return false;
-      stalled = b;
-      was_stalled = true;
+      if (b.front() == stalled_at) return false;
+      stalled_at = b.front();
     }
   }
 }
@@ -218,11 +221,11 @@ LibraryPlyHeader LibraryReader::read() {
   format.skip_spaces_and_line_ends();
   if (!format.token("format")) return h;
   h.binary = !format.token("ascii");
-  if (h.binary && format.text().compare(0, 7, "binary_") != 0) return h;
+  if (h.binary && format.line_text().compare(0, 7, "binary_") != 0) return h;
   h.read = true;
   next_line(b);
   h.ends = header(b, h);
-  h.line = line_at(line_start_);
+  h.line = line_;
   if (!h.ends) return h;
   // Binary data from the next byte (a "\n" left of a "\r\n" passed over);
   // text from the next line.

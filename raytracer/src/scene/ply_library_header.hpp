@@ -32,6 +32,9 @@ struct LibraryPlyHeader {
   std::uint64_t data_start = 0;  // the byte the library reads data from
 };
 
+// Whether the library ends a PLY line at `c`.
+inline bool ends_ply_line(char c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; }
+
 // `start` holds the file's first bytes (all of them where `whole`); throws
 // std::length_error where the header runs past them.
 LibraryPlyHeader read_like_the_library(const std::string& start, bool whole);
