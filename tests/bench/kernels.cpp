@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 namespace bench {
 
@@ -304,12 +306,13 @@ void blur_fused_cpp(const Image& im, int y0, int y1) {
 }
 
 // The widest vectors the host has (simd.hpp), a vector of pixels per step.
-// The direct blur reads each row's taps as the cpu backend does: with
-// AVX-512 from two unaligned loads, of the vector from its first tap and
-// the vector after it, each tap a lane shift of the two (five loads a row,
-// most of them across a cache line, left the load port the bottleneck);
-// with AVX2 a load a tap.  The passes load each tap.  The edges and the
-// row's last partial step as the C++ form.
+// The direct blur reads each row's taps in the host's faster way
+// (simd::row_taps: lane shifts of two loads on AMD, a load a tap on
+// Intel and with AVX2), takes two output rows a trip with AVX-512 (six
+// input rows read, not ten), and reads a vector's taps that reach past
+// the row's ends from a clamped copy, as the backend's edge batches do.
+// The passes load each tap; their edges and a row's last partial step are
+// the C++ form's.
 #if defined(BENCH_HAND_SIMD)
 namespace {
 
@@ -320,21 +323,76 @@ using simd::kLanes;
 // `from` (the image's rows start on one).
 int on_a_vector(int from) { return (from + kLanes - 1) / kLanes * kLanes; }
 
+// The taps of `row` for the vector of pixels at x; `Inside`: every value
+// row_taps reads, row[x - kBlurRadius .. + 2 * kLanes), lies in the row.
+template <simd::Taps How, bool Inside>
+void taps_at(const float* row, int x, int w, F (&taps)[kTaps]) {
+  if constexpr (Inside) {
+    simd::row_taps<How>(row + x - kBlurRadius, taps);
+  } else {
+    // The row's values from x - kBlurRadius on, its end values repeated
+    // past its ends: what a clamped read finds there.
+    alignas(64) float copy[2 * kLanes];
+    int from = x - kBlurRadius, lo = std::clamp(-from, 0, 2 * kLanes), hi = std::clamp(w - from, lo, 2 * kLanes);
+    std::fill(copy, copy + lo, row[0]);
+    std::copy(row + from + lo, row + from + hi, copy + lo);
+    std::fill(copy + hi, copy + 2 * kLanes, row[w - 1]);
+    simd::row_taps<How>(copy, taps);
+  }
+}
+
+// Rows output rows of the direct blur at x, from the input rows
+// r[0 .. Rows + kTaps - 1): each input row's taps are read once and added
+// to every output row that reads it, each output row adding its rows and
+// taps in the program's order.
+template <int Rows, simd::Taps How, bool Inside>
+void blur_step(const float* const* r, float* const* out, int x, int w) {
+  F sum[Rows];
+  for (F& s : sum) s = simd::zero();
+  // Input row K's taps, added tap by tap to each output row that reads
+  // it; K a constant, so that every loop here unrolls and the output
+  // rows' adds interleave.
+  auto add_input_row = [&]<int K>(std::integral_constant<int, K>) {
+    F taps[kTaps];
+    taps_at<How, Inside>(r[K], x, w, taps);
+    for (const F& tap : taps)
+      for (int j = 0; j < Rows; ++j)
+        if (K >= j && K < j + kTaps) sum[j] = simd::add(sum[j], tap);
+  };
+  [&]<int... K>(std::integer_sequence<int, K...>) {
+    (add_input_row(std::integral_constant<int, K>{}), ...);
+  }(std::make_integer_sequence<int, Rows + kTaps - 1>{});
+  for (int j = 0; j < Rows; ++j) simd::store_out(out[j] + x, simd::mul(sum[j], simd::splat(kBoxWeight)));
+}
+
+template <int Rows, simd::Taps How>
+void blur_rows_simd_direct(const Image& im, int y) {
+  const float* r[Rows + kTaps - 1];
+  float* out[Rows];
+  for (int k = 0; k < Rows + kTaps - 1; ++k) r[k] = row_at(im, y + k - kBlurRadius);
+  for (int j = 0; j < Rows; ++j) out[j] = im.out + static_cast<std::size_t>(y + j) * im.w;
+  // The vectors before the row's inside, inside it (a loop of its own),
+  // and after it.
+  auto inside = [&](int x) { return x >= kBlurRadius && x - kBlurRadius + 2 * kLanes <= im.w; };
+  int x = 0;
+  for (; x + kLanes <= im.w && !inside(x); x += kLanes) blur_step<Rows, How, false>(r, out, x, im.w);
+  for (; x + kLanes <= im.w && inside(x); x += kLanes) blur_step<Rows, How, true>(r, out, x, im.w);
+  for (; x + kLanes <= im.w; x += kLanes) blur_step<Rows, How, false>(r, out, x, im.w);
+  for (int j = 0; j < Rows; ++j)
+    for (int xs = x; xs < im.w; ++xs) out[j][xs] = box_at(im, y + j, xs);
+}
+
+template <simd::Taps How>
+void blur_simd_rows(const Image& im, int y0, int y1) {
+  int y = y0;
+  for (; y + simd::kStencilRows <= y1; y += simd::kStencilRows) blur_rows_simd_direct<simd::kStencilRows, How>(im, y);
+  for (; y < y1; ++y) blur_rows_simd_direct<1, How>(im, y);
+}
+
 }  // namespace
 
 void blur_simd(const Image& im, int y0, int y1) {
-  each_row(im, y0, y1, [&](int y, float* out) {
-    const float* r[kTaps];
-    for (int k = 0; k < kTaps; ++k) r[k] = row_at(im, y + k - kBlurRadius);
-    int x = 0;
-    for (; x < std::min(on_a_vector(interior_lo(im)), im.w); ++x) out[x] = box_at(im, y, x);
-    for (; x + kLanes <= interior_hi(im); x += kLanes) {
-      F sum = simd::zero();
-      for (int k = 0; k < kTaps; ++k) sum = simd::add_row_taps<kTaps>(sum, r[k] + x - kBlurRadius);
-      simd::store_out(out + x, simd::mul(sum, simd::splat(kBoxWeight)));
-    }
-    for (; x < im.w; ++x) out[x] = box_at(im, y, x);
-  });
+  simd::with_host_taps([&](auto how) { blur_simd_rows<how.value>(im, y0, y1); });
   _mm_sfence();
 }
 

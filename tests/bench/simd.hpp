@@ -7,12 +7,16 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 
 #if defined(__AVX512F__) || defined(__AVX2__)
 #define BENCH_HAND_SIMD 1
 
 namespace bench::simd {
+
+// How a stencil reads a row of taps (row_taps).
+enum class Taps { Shifted, Loaded };
 
 #if defined(__AVX512F__)
 using F = __m512;
@@ -37,6 +41,10 @@ inline bool none(Mask m) { return m == 0; }
 // Where m holds, if_true; elsewhere otherwise.
 inline F choose(Mask m, F if_true, F otherwise) { return _mm512_mask_mov_ps(otherwise, m, if_true); }
 
+// Output rows the direct blur takes a trip: with 32 registers two rows
+// share the loads and shifts of the input rows both read.
+inline constexpr int kStencilRows = 2;
+
 namespace detail {
 // Lanes K .. K + 15 of first:next.
 template <int K>
@@ -49,19 +57,36 @@ F lanes_from(F first, F next) {
                                                         _mm512_castps_si512(first), K));
 }
 template <std::size_t... K>
-F add_row_taps(F sum, F first, F next, std::index_sequence<K...>) {
-  ((sum = add(sum, lanes_from<static_cast<int>(K)>(first, next))), ...);
-  return sum;
+void row_taps(F first, F next, F* taps, std::index_sequence<K...>) {
+  ((taps[K] = lanes_from<static_cast<int>(K)>(first, next)), ...);
 }
 }  // namespace detail
 
-// sum + the vector at from + 0, + the vector at from + 1, ... up to
-// from + Taps - 1, added in that order: two loads and a lane shift
-// (`valignd`) a tap, as the cpu backend reads a row of taps with AVX-512.
-template <int Taps>
-F add_row_taps(F sum, const float* from) {
-  static_assert(Taps <= kLanes, "a row's taps lie in two vectors");
-  return detail::add_row_taps(sum, load(from), load(from + kLanes), std::make_index_sequence<Taps>{});
+// The vectors at from + 0, from + 1, ... from + Taps - 1, read as How
+// says: Shifted, two loads and a lane shift (`valignd`) a tap, as the cpu
+// backend reads a row of taps with AVX-512; Loaded, a load a tap.  Reads
+// from[0 .. 2 * kLanes).
+template <Taps How, int N>
+void row_taps(const float* from, F (&taps)[N]) {
+  static_assert(N <= kLanes, "a row's taps lie in two vectors");
+  if constexpr (How == Taps::Shifted)
+    detail::row_taps(load(from), load(from + kLanes), taps, std::make_index_sequence<N>{});
+  else
+    for (int k = 0; k < N; ++k) taps[k] = load(from + k);
+}
+
+// The faster way on this host: on a Zen 4 host the shifts freed the load
+// port, whose loads across cache lines bound the direct blur (22 % faster);
+// on an Intel host, with one port for shifts and two for loads, a load a
+// tap is 6 % faster (BENCHMARKS.md, issue 25).
+// fn(std::integral_constant<Taps, the host's way>{}).
+template <class Fn>
+void with_host_taps(Fn fn) {
+  static const bool shifted = __builtin_cpu_is("amd");
+  if (shifted)
+    fn(std::integral_constant<Taps, Taps::Shifted>{});
+  else
+    fn(std::integral_constant<Taps, Taps::Loaded>{});
 }
 
 // p[0], p[3], p[6], ...: one coordinate of kLanes 3-float records.
@@ -102,12 +127,21 @@ inline Mask both(Mask a, Mask b) { return _mm256_and_ps(a, b); }
 inline bool none(Mask m) { return _mm256_movemask_ps(m) == 0; }
 inline F choose(Mask m, F if_true, F otherwise) { return _mm256_blendv_ps(otherwise, if_true, m); }
 
+// One output row a trip: with 16 registers the loads two rows would
+// share are folded into their adds again (the cpu backend's reasoning too).
+inline constexpr int kStencilRows = 1;
+
 // A load a tap: without AVX-512 a lane shift across a vector's halves is
-// two instructions, slower than the load (the cpu backend's reasoning too).
-template <int Taps>
-F add_row_taps(F sum, const float* from) {
-  for (int k = 0; k < Taps; ++k) sum = add(sum, load(from + k));
-  return sum;
+// two instructions, slower than the load.  Reads from[0 .. 2 * kLanes).
+template <Taps How, int N>
+void row_taps(const float* from, F (&taps)[N]) {
+  static_assert(How == Taps::Loaded, "a lane shift across halves is not worth its two instructions");
+  for (int k = 0; k < N; ++k) taps[k] = load(from + k);
+}
+
+template <class Fn>
+void with_host_taps(Fn fn) {
+  fn(std::integral_constant<Taps, Taps::Loaded>{});
 }
 
 inline F every_third(const float* p) {
