@@ -312,7 +312,9 @@ void blur_fused_cpp(const Image& im, int y0, int y1) {
 // input rows read, not ten), and reads a vector's taps that reach past
 // the row's ends from a clamped copy, as the backend's edge batches do.
 // The passes load each tap; their edges and a row's last partial step are
-// the C++ form's.
+// the C++ form's; the rows' pass writes its rows into the cache, where the
+// columns' pass reads them next (streamed past it, the two passes took
+// 3.22 ms on an Intel host with a large L3, cached 2.35).
 #if defined(BENCH_HAND_SIMD)
 namespace {
 
@@ -409,11 +411,10 @@ void blur_rows_simd(const Image& im, int y0, int y1) {
     for (; x + kLanes <= interior_hi(im); x += kLanes) {
       F sum = simd::zero();
       for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) sum = simd::add(sum, simd::load(r + x + dx));
-      simd::store_out(out + x, simd::mul(sum, simd::splat(kLineWeight)));
+      simd::store(out + x, simd::mul(sum, simd::splat(kLineWeight)));
     }
     for (; x < im.w; ++x) out[x] = at(x);
   });
-  _mm_sfence();
 }
 
 void blur_columns_simd(const Image& im, int y0, int y1) {
