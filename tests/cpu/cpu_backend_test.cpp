@@ -68,6 +68,63 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
+// Tests of truth values, `repeat` times over in a loop of the program's
+// own: some hundred repeats make a kernel large enough for the short
+// pipeline, one keeps it on O3.
+Program truth_tests(int repeat) {
+  return SH_BEGIN_PROGRAM("truths") {
+    InputAttrib1f x, y, z;
+    OutputAttrib1f out;
+    Attrib1f sum = 0.0f;
+    SH_FOR(Attrib1i i = 0, i < 2, i += 1) {
+      for (int k = 0; k < repeat; ++k) {
+        Attrib1f xk = x + static_cast<float>(k % 5);
+        Attrib1f inside = xk > 0.0f && y >= 0.0f && !(z > 1.0f);
+        Attrib1f beyond = xk < -1.0f || y < -1.0f;
+        sum += cond(inside || beyond, xk, y);
+      }
+    } SH_ENDFOR;
+    out = sum;
+  } SH_END;
+}
+
+float truth_tests_cpp(int repeat, float x, float y, float z) {
+  float sum = 0.0f;
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < repeat; ++k) {
+      float xk = x + static_cast<float>(k % 5);
+      bool inside = xk > 0.0f && y >= 0.0f && !(z > 1.0f), beyond = xk < -1.0f || y < -1.0f;
+      sum += inside || beyond ? xk : y;
+    }
+  return sum;
+}
+
+// A program's && and || of comparisons are the comparisons' masks and-ed
+// and or-ed: not the minimum and maximum of their 1s and 0s, tested again
+// (truth_values.hpp), on both of the optimiser's pipelines and at every
+// width, with the program's results.
+TEST(CpuBackend, AndsAndOrsOfComparisonsAreOfTheirMasks) {
+  std::vector<float> xs, ys, zs;
+  for (float x : {-3.0f, -1.5f, -0.5f, 0.0f, 0.5f})
+    for (float y : {-2.0f, -0.5f, 0.0f, 2.0f})
+      for (float z : {0.0f, 1.0f, 1.5f}) xs.push_back(x), ys.push_back(y), zs.push_back(z);
+  for (int repeat : {1, 300})
+    for (const char* width : {"scalar", "8", "16"}) {
+      Options o;
+      o.set("cpu.width", width);
+      Program p = truth_tests(repeat);
+      std::string ir = kernel_for(p, backend("cpu", o))->listing();
+      EXPECT_FALSE(std::regex_search(ir, std::regex("call .*@llvm\\.(minnum|maxnum)")))
+          << repeat << " repeats, width " << width;
+      EXPECT_NE(ir.find(std::string(width) == "scalar" ? "and i1" : "and <"), std::string::npos) << ir;
+      Channel<Attrib1f> x(xs), y(ys), z(zs), out;
+      run(p, {x, y, z}, {out}, backend("cpu", o));
+      for (std::size_t i = 0; i < xs.size(); ++i)
+        EXPECT_EQ(out.values()[i], truth_tests_cpp(repeat, xs[i], ys[i], zs[i]))
+            << repeat << " repeats, width " << width << ", x " << xs[i] << ", y " << ys[i] << ", z " << zs[i];
+    }
+}
+
 // The listing's basic blocks whose labels start with `prefix`, joined.
 std::string blocks(const std::string& ir, const std::string& prefix) {
   std::istringstream lines(ir);

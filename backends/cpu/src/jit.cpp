@@ -35,6 +35,7 @@
 #include <tbb/task_arena.h>
 
 #include "codegen.hpp"
+#include "truth_values.hpp"
 #include "sh/analysis.hpp"
 #include "sh/detail/disk_cache.hpp"
 #include "sh/error.hpp"
@@ -110,6 +111,7 @@ llvm::FunctionPassManager short_pipeline() {
   fpm.addPass(llvm::EarlyCSEPass(true));
   fpm.addPass(llvm::SimplifyCFGPass());
   fpm.addPass(llvm::InstCombinePass());
+  fpm.addPass(TruthValuesPass());
   // Not GVN: on every tracer measured (each scene and accelerator, scalar
   // to 16 lanes) early CSE here gave the same module as GVN did (the lazy
   // octree's 3 instructions smaller) in about a third of the time.
@@ -130,6 +132,8 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm, bool large) {
   pb.registerFunctionAnalyses(fam);
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
+  pb.registerPeepholeEPCallback(
+      [](llvm::FunctionPassManager& fpm, llvm::OptimizationLevel) { fpm.addPass(TruthValuesPass()); });
   if (large)
     llvm::createModuleToFunctionPassAdaptor(short_pipeline()).run(m, mam);
   else
