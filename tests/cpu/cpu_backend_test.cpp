@@ -99,6 +99,56 @@ float truth_tests_cpp(int repeat, float x, float y, float z) {
   return sum;
 }
 
+// && and || that share their operands, forty deep: 80 minima and maxima
+// but 2^40 paths through them, each value rewritten once.
+TEST(CpuBackend, TruthValuesThatShareOperandsCompileAndAgree) {
+  Program p = SH_BEGIN_PROGRAM("shared_truths") {
+    InputAttrib1f x, y;
+    OutputAttrib1f out;
+    Attrib1f a = x > 0.0f, b = y > 0.0f;
+    for (int k = 0; k < 40; ++k) {
+      Attrib1f both = a && b;
+      b = a || b;
+      a = both;
+    }
+    out = cond(a, x, y);
+  } SH_END;
+  std::vector<float> xs{-1, -1, 2, 2}, ys{-3, 3, -3, 3};
+  for (const char* width : {"scalar", "16"}) {
+    Options o;
+    o.set("cpu.width", width);
+    Channel<Attrib1f> x(xs), y(ys), out;
+    run(p, {x, y}, {out}, backend("cpu", o));
+    for (std::size_t i = 0; i < xs.size(); ++i)
+      EXPECT_EQ(out.values()[i], xs[i] > 0 && ys[i] > 0 ? xs[i] : ys[i]) << width << ", element " << i;
+  }
+}
+
+// A truth value set by a uniform branch to 1 or -1 (a 0 the lowering
+// hides from the optimiser) is a select of two vectors by one bit: its
+// test with a varying one is the bit, splat, and the lanes' masks.
+TEST(CpuBackend, ATruthValueOfAUniformBranchMeetsVaryingOnes) {
+  Attrib1f on = 1.0f;
+  Program p = SH_BEGIN_PROGRAM("uniform_truth") {
+    InputAttrib1f x;
+    OutputAttrib1f out;
+    Attrib1f t = x > 5.0f;  // varying: its lanes' own values until the branch
+    SH_IF(on > 0.5f) { t = 1.0f; } SH_ELSE { t = -1.0f; } SH_ENDIF;
+    out = cond(t && x > 0.0f, x, -x);
+  } SH_END;
+  std::vector<float> xs{-2, -1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14};
+  for (const char* width : {"scalar", "8", "16"})
+    for (float setting : {1.0f, 0.0f}) {
+      on = setting;
+      Options o;
+      o.set("cpu.width", width);
+      Channel<Attrib1f> x(xs), out;
+      run(p, {x}, {out}, backend("cpu", o));
+      for (std::size_t i = 0; i < xs.size(); ++i)
+        EXPECT_EQ(out.values()[i], setting > 0.5f && xs[i] > 0 ? xs[i] : -xs[i]) << width << ", on " << setting;
+    }
+}
+
 // A program's && and || of comparisons are the comparisons' masks and-ed
 // and or-ed: not the minimum and maximum of their 1s and 0s, tested again
 // (truth_values.hpp), on both of the optimiser's pipelines and at every

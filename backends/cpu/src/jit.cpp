@@ -117,6 +117,7 @@ llvm::FunctionPassManager short_pipeline() {
   // octree's 3 instructions smaller) in about a third of the time.
   fpm.addPass(llvm::EarlyCSEPass());
   fpm.addPass(llvm::SimplifyCFGPass());
+  fpm.addPass(TruthValuesPass());  // of the selects SimplifyCFG made of branches
   return fpm;
 }
 
@@ -132,8 +133,13 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm, bool large) {
   pb.registerFunctionAnalyses(fam);
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
+  // After each run of the combiner, and last: the pipeline's last
+  // SimplifyCFG makes selects of branches that set a truth value.
   pb.registerPeepholeEPCallback(
       [](llvm::FunctionPassManager& fpm, llvm::OptimizationLevel) { fpm.addPass(TruthValuesPass()); });
+  pb.registerOptimizerLastEPCallback([](llvm::ModulePassManager& mpm, llvm::OptimizationLevel) {
+    mpm.addPass(llvm::createModuleToFunctionPassAdaptor(TruthValuesPass()));
+  });
   if (large)
     llvm::createModuleToFunctionPassAdaptor(short_pipeline()).run(m, mam);
   else

@@ -1,11 +1,13 @@
 #include "truth_values.hpp"
 
+#include <unordered_map>
 #include <vector>
 
 #include <llvm/IR/IRBuilder.h>
 #include <llvm/IR/InstIterator.h>
 #include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/PatternMatch.h>
+#include <llvm/IR/ValueHandle.h>
 #include <llvm/Transforms/Utils/Local.h>
 
 namespace sh::cpu {
@@ -17,8 +19,8 @@ using namespace llvm::PatternMatch;
 // many tests is a chain as long as its tests.
 constexpr int kDeepest = 64;
 
-// c where select(c, t, f) of constants is c's truth value (t > 0, f not),
-// and its negation, always, never; a value that is none of these: false.
+// What select(c, t, f) of constants is as a truth value: c (t > 0, f
+// not), its negation, always or never.
 enum class Truth { Condition, Negated, Always, Never };
 
 bool select_truth(llvm::Value* v, llvm::Value*& condition, Truth& truth) {
@@ -30,55 +32,91 @@ bool select_truth(llvm::Value* v, llvm::Value*& condition, Truth& truth) {
   return true;
 }
 
-// Whether `v > 0` can be written from conditions: v a select of constants
-// that are not NaN, or the minimum or maximum of two such values (neither
-// NaN, so the minimum is positive exactly where both are).
-bool has_truth(llvm::Value* v, int depth) {
-  llvm::Value* condition = nullptr;
-  Truth truth{};
-  if (select_truth(v, condition, truth)) return true;
-  auto* call = llvm::dyn_cast<llvm::IntrinsicInst>(v);
-  if (!call || depth == kDeepest) return false;
-  llvm::Intrinsic::ID id = call->getIntrinsicID();
-  if (id != llvm::Intrinsic::minnum && id != llvm::Intrinsic::maxnum) return false;
-  return has_truth(call->getArgOperand(0), depth + 1) && has_truth(call->getArgOperand(1), depth + 1);
-}
+// One test `x > 0` rewritten from conditions.  Values are visited once
+// each: a program's && and || may share their operands, and the tree of
+// minima and maxima they make is then a graph of many more paths than
+// nodes.
+class Rewrite {
+ public:
+  explicit Rewrite(llvm::Instruction* test) : test_(test), b_(test) {}
 
-// `v > 0` from the conditions has_truth found, built where b is.
-llvm::Value* truth_of(llvm::Value* v, llvm::IRBuilder<>& b) {
-  llvm::Value* condition = nullptr;
-  Truth truth{};
-  if (select_truth(v, condition, truth)) {
-    switch (truth) {
-      case Truth::Condition: return condition;
-      case Truth::Negated: return b.CreateNot(condition);
-      case Truth::Always: return llvm::ConstantInt::getTrue(condition->getType());
-      case Truth::Never: return llvm::ConstantInt::getFalse(condition->getType());
+  // Whether x can be written from conditions: x a select of constants that
+  // are not NaN (its condition one bit, or one a lane), or the minimum or
+  // maximum of two such values (neither NaN, so the minimum is positive
+  // exactly where both are).
+  bool possible(llvm::Value* x, int depth = 0) {
+    auto [at, fresh] = possible_.try_emplace(x, false);
+    if (!fresh) return at->second;
+    llvm::Value* condition = nullptr;
+    Truth truth{};
+    bool can = false;
+    if (select_truth(x, condition, truth)) {
+      can = true;
+    } else if (auto* call = llvm::dyn_cast<llvm::IntrinsicInst>(x); call && depth < kDeepest) {
+      llvm::Intrinsic::ID id = call->getIntrinsicID();
+      can = (id == llvm::Intrinsic::minnum || id == llvm::Intrinsic::maxnum) &&
+            possible(call->getArgOperand(0), depth + 1) && possible(call->getArgOperand(1), depth + 1);
     }
+    return possible_[x] = can;
   }
-  auto* call = llvm::cast<llvm::IntrinsicInst>(v);
-  llvm::Value* a = truth_of(call->getArgOperand(0), b);
-  llvm::Value* c = truth_of(call->getArgOperand(1), b);
-  return call->getIntrinsicID() == llvm::Intrinsic::minnum ? b.CreateAnd(a, c) : b.CreateOr(a, c);
-}
+
+  // `x > 0` from the conditions possible() found, built before the test.
+  llvm::Value* truth(llvm::Value* x) {
+    if (auto at = built_.find(x); at != built_.end()) return at->second;
+    llvm::Value* condition = nullptr;
+    Truth kind{};
+    llvm::Value* made = nullptr;
+    if (select_truth(x, condition, kind)) {
+      made = kind == Truth::Always  ? llvm::ConstantInt::getTrue(test_->getType())
+             : kind == Truth::Never ? llvm::ConstantInt::getFalse(test_->getType())
+                                    : lanes(condition);
+      if (kind == Truth::Negated) made = b_.CreateNot(made);
+    } else {
+      auto* call = llvm::cast<llvm::IntrinsicInst>(x);
+      llvm::Value* a = truth(call->getArgOperand(0));
+      llvm::Value* c = truth(call->getArgOperand(1));
+      made = call->getIntrinsicID() == llvm::Intrinsic::minnum ? b_.CreateAnd(a, c) : b_.CreateOr(a, c);
+    }
+    return built_[x] = made;
+  }
+
+ private:
+  // A condition with as many lanes as the test: one bit that chooses
+  // between vectors (a uniform branch's 1 or 0) is splat.
+  llvm::Value* lanes(llvm::Value* condition) {
+    auto* vector = llvm::dyn_cast<llvm::VectorType>(test_->getType());
+    if (!vector || condition->getType()->isVectorTy()) return condition;
+    return b_.CreateVectorSplat(vector->getElementCount(), condition);
+  }
+
+  llvm::Instruction* test_;
+  llvm::IRBuilder<> b_;
+  std::unordered_map<llvm::Value*, bool> possible_;
+  std::unordered_map<llvm::Value*, llvm::Value*> built_;
+};
 
 }  // namespace
 
 llvm::PreservedAnalyses TruthValuesPass::run(llvm::Function& f, llvm::FunctionAnalysisManager&) {
-  std::vector<llvm::Instruction*> tests;
+  // Held by handles: deleting one test's dead operands may delete a test
+  // found after it (a select's condition that nothing else uses).
+  std::vector<llvm::WeakVH> tests;
   for (llvm::Instruction& i : llvm::instructions(f)) {
-    llvm::Value* x = nullptr;
     llvm::FCmpInst::Predicate predicate{};
-    if (match(&i, m_FCmp(predicate, m_Value(x), m_AnyZeroFP())) && predicate == llvm::FCmpInst::FCMP_OGT &&
-        has_truth(x, 0))
-      tests.push_back(&i);
+    if (match(&i, m_FCmp(predicate, m_Value(), m_AnyZeroFP())) && predicate == llvm::FCmpInst::FCMP_OGT)
+      tests.emplace_back(&i);
   }
-  for (llvm::Instruction* test : tests) {
-    llvm::IRBuilder<> b(test);
-    test->replaceAllUsesWith(truth_of(test->getOperand(0), b));
+  bool changed = false;
+  for (llvm::WeakVH& held : tests) {
+    auto* test = llvm::dyn_cast_or_null<llvm::FCmpInst>(static_cast<llvm::Value*>(held));
+    if (!test) continue;
+    Rewrite rewrite(test);
+    if (!rewrite.possible(test->getOperand(0))) continue;
+    test->replaceAllUsesWith(rewrite.truth(test->getOperand(0)));
     llvm::RecursivelyDeleteTriviallyDeadInstructions(test);
+    changed = true;
   }
-  return tests.empty() ? llvm::PreservedAnalyses::all() : llvm::PreservedAnalyses::none();
+  return changed ? llvm::PreservedAnalyses::none() : llvm::PreservedAnalyses::all();
 }
 
 }  // namespace sh::cpu
