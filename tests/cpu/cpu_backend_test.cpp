@@ -81,7 +81,8 @@ Program truth_tests(int repeat) {
         Attrib1f xk = x + static_cast<float>(k % 5);
         Attrib1f inside = xk > 0.0f && y >= 0.0f && !(z > 1.0f);
         Attrib1f beyond = xk < -1.0f || y < -1.0f;
-        sum += cond(inside || beyond, xk, y);
+        Attrib1f chosen = cond(z > 0.5f, xk > 1.0f, y > 1.0f);  // a truth value chosen by another
+        sum += cond(inside || beyond, xk, y) + cond(chosen && y < 1.5f, z, 0.0f);
       }
     } SH_ENDFOR;
     out = sum;
@@ -94,7 +95,8 @@ float truth_tests_cpp(int repeat, float x, float y, float z) {
     for (int k = 0; k < repeat; ++k) {
       float xk = x + static_cast<float>(k % 5);
       bool inside = xk > 0.0f && y >= 0.0f && !(z > 1.0f), beyond = xk < -1.0f || y < -1.0f;
-      sum += inside || beyond ? xk : y;
+      bool chosen = z > 0.5f ? xk > 1.0f : y > 1.0f;
+      sum += (inside || beyond ? xk : y) + (chosen && y < 1.5f ? z : 0.0f);
     }
   return sum;
 }

@@ -41,17 +41,22 @@ class Rewrite {
   explicit Rewrite(llvm::Instruction* test) : test_(test), b_(test) {}
 
   // Whether x can be written from conditions: x a select of constants that
-  // are not NaN (its condition one bit, or one a lane), or the minimum or
-  // maximum of two such values (neither NaN, so the minimum is positive
-  // exactly where both are).
+  // are not NaN (its condition one bit, or one a lane), a mask converted
+  // to 1s and 0s, a constant that is not NaN, a select between two such
+  // values, or their minimum or maximum (neither NaN, so the minimum is
+  // positive exactly where both are).
   bool possible(llvm::Value* x, int depth = 0) {
     auto [at, fresh] = possible_.try_emplace(x, false);
     if (!fresh) return at->second;
     llvm::Value* condition = nullptr;
     Truth truth{};
+    const llvm::APFloat* constant = nullptr;
+    llvm::Value *a = nullptr, *b = nullptr;
     bool can = false;
-    if (select_truth(x, condition, truth)) {
+    if (select_truth(x, condition, truth) || mask(x) || (match(x, m_APFloat(constant)) && !constant->isNaN())) {
       can = true;
+    } else if (depth < kDeepest && match(x, m_Select(m_Value(condition), m_Value(a), m_Value(b)))) {
+      can = possible(a, depth + 1) && possible(b, depth + 1);
     } else if (auto* call = llvm::dyn_cast<llvm::IntrinsicInst>(x); call && depth < kDeepest) {
       llvm::Intrinsic::ID id = call->getIntrinsicID();
       can = (id == llvm::Intrinsic::minnum || id == llvm::Intrinsic::maxnum) &&
@@ -65,22 +70,39 @@ class Rewrite {
     if (auto at = built_.find(x); at != built_.end()) return at->second;
     llvm::Value* condition = nullptr;
     Truth kind{};
+    const llvm::APFloat* constant = nullptr;
+    llvm::Value *a = nullptr, *b = nullptr;
     llvm::Value* made = nullptr;
     if (select_truth(x, condition, kind)) {
       made = kind == Truth::Always  ? llvm::ConstantInt::getTrue(test_->getType())
              : kind == Truth::Never ? llvm::ConstantInt::getFalse(test_->getType())
                                     : lanes(condition);
       if (kind == Truth::Negated) made = b_.CreateNot(made);
+    } else if (llvm::Value* bits = mask(x)) {
+      made = bits;
+    } else if (match(x, m_APFloat(constant))) {
+      made = constant->isNonZero() && !constant->isNegative() ? llvm::ConstantInt::getTrue(test_->getType())
+                                                              : llvm::ConstantInt::getFalse(test_->getType());
+    } else if (match(x, m_Select(m_Value(condition), m_Value(a), m_Value(b)))) {
+      made = b_.CreateSelect(condition, truth(a), truth(b));
     } else {
       auto* call = llvm::cast<llvm::IntrinsicInst>(x);
-      llvm::Value* a = truth(call->getArgOperand(0));
-      llvm::Value* c = truth(call->getArgOperand(1));
-      made = call->getIntrinsicID() == llvm::Intrinsic::minnum ? b_.CreateAnd(a, c) : b_.CreateOr(a, c);
+      llvm::Value* first = truth(call->getArgOperand(0));
+      llvm::Value* second = truth(call->getArgOperand(1));
+      made = call->getIntrinsicID() == llvm::Intrinsic::minnum ? b_.CreateAnd(first, second)
+                                                               : b_.CreateOr(first, second);
     }
     return built_[x] = made;
   }
 
  private:
+  // The mask m where x is uitofp(m): 1s and 0s converted from bits, as the
+  // lowering converts an integer truth value.
+  static llvm::Value* mask(llvm::Value* x) {
+    llvm::Value* bits = nullptr;
+    return match(x, m_UIToFP(m_Value(bits))) && bits->getType()->isIntOrIntVectorTy(1) ? bits : nullptr;
+  }
+
   // A condition with as many lanes as the test: one bit that chooses
   // between vectors (a uniform branch's 1 or 0) is splat.
   llvm::Value* lanes(llvm::Value* condition) {
