@@ -368,7 +368,7 @@ void blur_step(const float* const* r, float* const* out, int x, int w) {
 }
 
 template <int Rows, simd::Taps How>
-void blur_rows_simd_direct(const Image& im, int y) {
+void direct_blur_rows(const Image& im, int y) {
   const float* r[Rows + kTaps - 1];
   float* out[Rows];
   for (int k = 0; k < Rows + kTaps - 1; ++k) r[k] = row_at(im, y + k - kBlurRadius);
@@ -385,16 +385,16 @@ void blur_rows_simd_direct(const Image& im, int y) {
 }
 
 template <simd::Taps How>
-void blur_simd_rows(const Image& im, int y0, int y1) {
+void direct_blur(const Image& im, int y0, int y1) {
   int y = y0;
-  for (; y + simd::kStencilRows <= y1; y += simd::kStencilRows) blur_rows_simd_direct<simd::kStencilRows, How>(im, y);
-  for (; y < y1; ++y) blur_rows_simd_direct<1, How>(im, y);
+  for (; y + simd::kStencilRows <= y1; y += simd::kStencilRows) direct_blur_rows<simd::kStencilRows, How>(im, y);
+  for (; y < y1; ++y) direct_blur_rows<1, How>(im, y);
 }
 
 }  // namespace
 
 void blur_simd(const Image& im, int y0, int y1) {
-  simd::with_host_taps([&](auto how) { blur_simd_rows<how.value>(im, y0, y1); });
+  simd::with_host_taps([&](auto how) { direct_blur<how.value>(im, y0, y1); });
   _mm_sfence();
 }
 

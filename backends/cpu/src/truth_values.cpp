@@ -19,18 +19,8 @@ using namespace llvm::PatternMatch;
 // many tests is a chain as long as its tests.
 constexpr int kDeepest = 64;
 
-// What select(c, t, f) of constants is as a truth value: c (t > 0, f
-// not), its negation, always or never.
-enum class Truth { Condition, Negated, Always, Never };
-
-bool select_truth(llvm::Value* v, llvm::Value*& condition, Truth& truth) {
-  const llvm::APFloat *t = nullptr, *f = nullptr;
-  if (!match(v, m_Select(m_Value(condition), m_APFloat(t), m_APFloat(f))) || t->isNaN() || f->isNaN()) return false;
-  bool when_true = t->isNonZero() && !t->isNegative(), when_false = f->isNonZero() && !f->isNegative();
-  truth = when_true == when_false ? (when_true ? Truth::Always : Truth::Never)
-                                  : (when_true ? Truth::Condition : Truth::Negated);
-  return true;
-}
+// Whether a constant that is not NaN is true (greater than 0).
+bool positive(const llvm::APFloat& c) { return c.isNonZero() && !c.isNegative(); }
 
 // One test `x > 0` rewritten from conditions.  Values are visited once
 // each: a program's && and || may share their operands, and the tree of
@@ -40,51 +30,41 @@ class Rewrite {
  public:
   explicit Rewrite(llvm::Instruction* test) : test_(test), b_(test) {}
 
-  // Whether x can be written from conditions: x a select of constants that
-  // are not NaN (its condition one bit, or one a lane), a mask converted
-  // to 1s and 0s, a constant that is not NaN, a select between two such
-  // values, or their minimum or maximum (neither NaN, so the minimum is
-  // positive exactly where both are).
+  // Whether x can be written from conditions: x a mask converted to 1s and
+  // 0s, a constant that is not NaN, a select between two such values (its
+  // condition one bit, or one a lane), or their minimum or maximum
+  // (neither NaN, so the minimum is positive exactly where both are).
   bool possible(llvm::Value* x, int depth = 0) {
     auto [at, fresh] = possible_.try_emplace(x, false);
     if (!fresh) return at->second;
-    llvm::Value* condition = nullptr;
-    Truth truth{};
     const llvm::APFloat* constant = nullptr;
     llvm::Value *a = nullptr, *b = nullptr;
     bool can = false;
-    if (select_truth(x, condition, truth) || mask(x) || (match(x, m_APFloat(constant)) && !constant->isNaN())) {
+    if (mask(x) || (match(x, m_APFloat(constant)) && !constant->isNaN())) {
       can = true;
-    } else if (depth < kDeepest && match(x, m_Select(m_Value(condition), m_Value(a), m_Value(b)))) {
+    } else if (depth < kDeepest && match(x, m_Select(m_Value(), m_Value(a), m_Value(b)))) {
       can = possible(a, depth + 1) && possible(b, depth + 1);
     } else if (auto* call = llvm::dyn_cast<llvm::IntrinsicInst>(x); call && depth < kDeepest) {
       llvm::Intrinsic::ID id = call->getIntrinsicID();
       can = (id == llvm::Intrinsic::minnum || id == llvm::Intrinsic::maxnum) &&
             possible(call->getArgOperand(0), depth + 1) && possible(call->getArgOperand(1), depth + 1);
     }
-    return possible_[x] = can;
+    return possible_[x] = can;  // not `at`: the calls above may have moved it
   }
 
   // `x > 0` from the conditions possible() found, built before the test.
   llvm::Value* truth(llvm::Value* x) {
     if (auto at = built_.find(x); at != built_.end()) return at->second;
-    llvm::Value* condition = nullptr;
-    Truth kind{};
     const llvm::APFloat* constant = nullptr;
-    llvm::Value *a = nullptr, *b = nullptr;
+    llvm::Value *condition = nullptr, *a = nullptr, *b = nullptr;
     llvm::Value* made = nullptr;
-    if (select_truth(x, condition, kind)) {
-      made = kind == Truth::Always  ? llvm::ConstantInt::getTrue(test_->getType())
-             : kind == Truth::Never ? llvm::ConstantInt::getFalse(test_->getType())
-                                    : lanes(condition);
-      if (kind == Truth::Negated) made = b_.CreateNot(made);
-    } else if (llvm::Value* bits = mask(x)) {
+    if (llvm::Value* bits = mask(x)) {
       made = bits;
     } else if (match(x, m_APFloat(constant))) {
-      made = constant->isNonZero() && !constant->isNegative() ? llvm::ConstantInt::getTrue(test_->getType())
-                                                              : llvm::ConstantInt::getFalse(test_->getType());
+      made = positive(*constant) ? llvm::ConstantInt::getTrue(test_->getType())
+                                 : llvm::ConstantInt::getFalse(test_->getType());
     } else if (match(x, m_Select(m_Value(condition), m_Value(a), m_Value(b)))) {
-      made = b_.CreateSelect(condition, truth(a), truth(b));
+      made = choose(condition, truth(a), truth(b));
     } else {
       auto* call = llvm::cast<llvm::IntrinsicInst>(x);
       llvm::Value* first = truth(call->getArgOperand(0));
@@ -103,12 +83,19 @@ class Rewrite {
     return match(x, m_UIToFP(m_Value(bits))) && bits->getType()->isIntOrIntVectorTy(1) ? bits : nullptr;
   }
 
-  // A condition with as many lanes as the test: one bit that chooses
-  // between vectors (a uniform branch's 1 or 0) is splat.
-  llvm::Value* lanes(llvm::Value* condition) {
-    auto* vector = llvm::dyn_cast<llvm::VectorType>(test_->getType());
-    if (!vector || condition->getType()->isVectorTy()) return condition;
-    return b_.CreateVectorSplat(vector->getElementCount(), condition);
+  // condition ? if_true : otherwise, of truths: where they are always and
+  // never, the condition itself (or its negation), with as many lanes as
+  // the test (one bit that chooses between vectors, as a uniform branch's
+  // 1 or -1 does, is splat).
+  llvm::Value* choose(llvm::Value* condition, llvm::Value* if_true, llvm::Value* otherwise) {
+    if (if_true == otherwise) return if_true;
+    auto* always = llvm::ConstantInt::getTrue(test_->getType());
+    auto* never = llvm::ConstantInt::getFalse(test_->getType());
+    bool plain = if_true == always && otherwise == never, negated = if_true == never && otherwise == always;
+    if (!plain && !negated) return b_.CreateSelect(condition, if_true, otherwise);
+    if (auto* vector = llvm::dyn_cast<llvm::VectorType>(test_->getType()); vector && !condition->getType()->isVectorTy())
+      condition = b_.CreateVectorSplat(vector->getElementCount(), condition);
+    return plain ? condition : b_.CreateNot(condition);
   }
 
   llvm::Instruction* test_;
